@@ -1,0 +1,98 @@
+"""The sidecar metadata file `<model>.eigengait.yaml` beside a character's MJCF (optional, validated).
+
+```yaml
+eigengait: 1                     # format version
+feet:                            # foot name -> MJCF site names of its toe and heel points
+  left: {toe: left_toe, heel: left_heel}
+gait_order: [left, right]        # order in which feet take the ground in a gait cycle
+mirror:                          # left/right symmetry through the plane normal to `axis` (body frames)
+  axis: y
+  pairs: {left_thigh: right_thigh}
+stiffness:                       # anisotropic joint stiffness (kx, ky, kz) in N·m/rad, joint frame
+  torso: [500, 800, 300]
+damping_ratio: 0.1               # damping = damping_ratio × stiffness (s)
+relax_poses:                     # named relax poses: joint -> rotation vector in degrees, joint frame
+  crouched: {left_thigh: [0, -35, 0]}
+```
+Without a sidecar, feet are found from site pairs named `<foot>_toe` / `<foot>_heel`.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Literal
+
+import yaml
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
+
+from eigengait.errors import UserInputError
+
+FORMAT_VERSION = 1
+
+
+class Foot(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+    toe: str
+    heel: str | None = None
+
+
+class Mirror(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+    axis: Literal["x", "y", "z"] = "y"
+    pairs: dict[str, str] = Field(default_factory=dict)
+
+
+class CharacterMetadata(BaseModel):
+    """Validated content of a character sidecar file."""
+    model_config = ConfigDict(extra="forbid")
+    eigengait: int = FORMAT_VERSION
+    feet: dict[str, Foot] = Field(default_factory=dict)
+    gait_order: list[str] = Field(default_factory=list)
+    mirror: Mirror | None = None
+    stiffness: dict[str, tuple[float, float, float]] = Field(default_factory=dict)
+    damping_ratio: float = Field(0.1, ge=0.0)
+    relax_poses: dict[str, dict[str, tuple[float, float, float] | float]] = Field(default_factory=dict)
+
+    @field_validator("eigengait")
+    @classmethod
+    def _known_version(cls, v: int) -> int:
+        if v != FORMAT_VERSION:
+            raise ValueError(f"unsupported format version {v}; this eigengait reads version {FORMAT_VERSION}")
+        return v
+
+    @field_validator("stiffness")
+    @classmethod
+    def _positive_stiffness(cls, v):
+        for joint, k in v.items():
+            if min(k) <= 0:
+                raise ValueError(f"stiffness of joint '{joint}' must be positive in every axis, got {list(k)}")
+        return v
+
+
+def sidecar_path(mjcf: Path) -> Path:
+    """The sidecar file that belongs to an MJCF file: `NAME.xml` -> `NAME.eigengait.yaml`."""
+    return mjcf.with_name(mjcf.stem + ".eigengait.yaml")
+
+
+def first_error(err: ValidationError) -> tuple[str, str]:
+    """(field path, message) of the first pydantic error, for one clear user message."""
+    e = err.errors()[0]
+    loc = ".".join(str(p) for p in e["loc"]) or "(top level)"
+    return loc, e["msg"]
+
+
+def load_metadata(path: Path) -> CharacterMetadata:
+    """Read and validate a sidecar file; raise UserInputError naming the file and field."""
+    try:
+        raw = yaml.safe_load(path.read_text()) or {}
+    except yaml.YAMLError as exc:
+        raise UserInputError(f"not valid YAML ({exc.__class__.__name__}: {exc})", file=path,
+                             fix="check indentation and brackets") from None
+    if not isinstance(raw, dict):
+        raise UserInputError("expected a mapping at the top level", file=path)
+    try:
+        return CharacterMetadata.model_validate(raw)
+    except ValidationError as err:
+        field, msg = first_error(err)
+        raise UserInputError(msg, file=path, field=field,
+                             fix="see the sidecar format in the README (Characters)") from None

@@ -1,0 +1,68 @@
+"""ModeSet: a character's vibration modes in one phase, saved and loaded as `.npz`.
+
+* `frequencies_hz` (m,): non-rigid modes, ascending; user-facing mode numbers start at 1 (index 0 → mode 1).
+* `shapes` (nv × m): mass-normalized generalized displacements (φᵀ M φ = 1), MuJoCo velocity coordinates.
+* `torque_basis` (n_internal × m): the internal-dof part of each shape scaled to unit Euclidean norm, so a mode
+  activation ψ is in N·m. Sign convention: each column's largest-magnitude entry is positive.
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from eigengait.errors import UserInputError
+
+FORMAT_VERSION = 1
+
+
+@dataclass
+class ModeSet:
+    character: str
+    relax_pose: str | dict
+    phase: str                      # "air" or "ground"
+    foot: str | None                # stance foot for the ground phase
+    dofs: int                       # internal degrees of freedom
+    rigid_modes: int                # zero modes dropped (6 in the air, 3 with a pinned toe)
+    frequencies_hz: np.ndarray
+    shapes: np.ndarray
+    torque_basis: np.ndarray
+    dof_labels: list[str] = field(default_factory=list)   # "joint:x" for each internal dof
+
+    @property
+    def count(self) -> int:
+        return len(self.frequencies_hz)
+
+    def summary(self) -> dict:
+        """The JSON object the CLI prints."""
+        return {"character": self.character, "relax_pose": self.relax_pose, "phase": self.phase, "foot": self.foot,
+                "dofs": self.dofs, "rigid_modes": self.rigid_modes,
+                "frequencies_hz": [round(float(f), 6) for f in self.frequencies_hz]}
+
+    def save(self, path: str | Path) -> None:
+        meta = {k: v for k, v in asdict(self).items() if not isinstance(v, np.ndarray)}
+        np.savez(Path(path), meta=json.dumps({"eigengait_modeset": FORMAT_VERSION, **meta}),
+                 frequencies_hz=self.frequencies_hz, shapes=self.shapes, torque_basis=self.torque_basis)
+
+    @classmethod
+    def load(cls, path: str | Path) -> "ModeSet":
+        try:
+            with np.load(Path(path), allow_pickle=False) as z:
+                meta = json.loads(str(z["meta"]))
+                arrays = {k: z[k] for k in ("frequencies_hz", "shapes", "torque_basis")}
+        except (OSError, ValueError, KeyError) as exc:
+            raise UserInputError(f"not a mode-set file ({exc})", file=path, fix="recompute it with `eigengait modes`") from None
+        if meta.pop("eigengait_modeset", None) != FORMAT_VERSION:
+            raise UserInputError("unsupported mode-set version", file=path, field="eigengait_modeset")
+        return cls(**meta, **arrays)
+
+
+def unit_torque_basis(shapes_internal: np.ndarray) -> np.ndarray:
+    """Columns scaled to unit norm with their largest-magnitude entry positive."""
+    norms = np.linalg.norm(shapes_internal, axis=0)
+    basis = shapes_internal / np.where(norms > 0, norms, 1)
+    signs = np.sign(basis[np.argmax(abs(basis), axis=0), np.arange(basis.shape[1])])
+    return basis * np.where(signs == 0, 1, signs)
