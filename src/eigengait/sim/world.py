@@ -48,9 +48,10 @@ class World:
     pose: str | dict
     options: WorldOptions
     model: mujoco.MjModel
-    root_body: int
-    internal_qvel: np.ndarray          # qvel indices of internal dofs, model order
-    internal_qpos_joints: list[int]    # joint ids of internal joints, model order
+    spec: mujoco.MjSpec = field(repr=False)
+    root_body: int = 0
+    internal_qvel: np.ndarray = None          # qvel indices of internal dofs, model order
+    internal_qpos_joints: list[int] = None    # joint ids of internal joints, model order
     foot_spheres: dict[str, list[int]] = field(default_factory=dict)   # foot -> contact geom ids
     foot_sensor: dict[str, int] = field(default_factory=dict)         # "<foot>_toe"/"<foot>_heel" -> sensordata adr
 
@@ -70,6 +71,10 @@ class World:
         data = mujoco.MjData(self.model)
         mujoco.mj_forward(self.model, data)
         return data
+
+    def mjcf(self) -> str:
+        """The model as MJCF text, exactly as compiled and simulated."""
+        return self.spec.to_xml()
 
     def mass(self) -> float:
         return float(self.model.body_subtreemass[self.root_body])
@@ -211,5 +216,5 @@ def build_world(character: Character, pose: str | dict = DEFAULT_POSE, options: 
             for foot, f in character.feet.items()}
     sensors = {model.sensor(i).name[len("pos:"):]: int(model.sensor_adr[i])
                for i in range(model.nsensor) if model.sensor(i).name.startswith("pos:")}
-    return World(character=character, pose=pose, options=options, model=model, root_body=root_id,
+    return World(character=character, pose=pose, options=options, model=model, spec=spec, root_body=root_id,
                  internal_qvel=qvel, internal_qpos_joints=internal_joints, foot_spheres=feet, foot_sensor=sensors)

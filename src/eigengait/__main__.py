@@ -1,0 +1,3 @@
+from eigengait.cli import main
+
+main()

@@ -1,0 +1,117 @@
+"""The `eigengait` command: one sub-command per job.
+
+Bad input raises `UserInputError`; `main()` prints it as one message on stderr and exits with status 2.
+Command groups living beside their package register themselves through a `register(app)` function.
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+from typing import Optional
+
+import typer
+from rich.console import Console
+from rich.table import Table
+
+from eigengait.errors import UserInputError
+
+app = typer.Typer(add_completion=False, no_args_is_help=True,
+                  help="Physics-based character animation from natural vibration modes.")
+character_app = typer.Typer(no_args_is_help=True, help="Inspect and export characters.")
+app.add_typer(character_app, name="character")
+console = Console()
+
+
+@app.command("characters")
+def characters_command(as_json: bool = typer.Option(False, "--json", help="Print JSON instead of a table.")):
+    """List the built-in characters with bodies, internal DOF and mass."""
+    from eigengait.character import builtin_names, load_character
+    from eigengait.sim import build_world
+
+    rows = []
+    for name in builtin_names():
+        character = load_character(name)
+        world = build_world(character)
+        rows.append({"name": name, "bodies": world.model.nbody - 1, "joints": len(character.joints),
+                     "dofs": character.internal_dofs, "mass_kg": round(world.mass(), 2),
+                     "feet": list(character.feet)})
+    if as_json:
+        print(json.dumps(rows))
+        return
+    table = Table(title="Built-in characters")
+    for col in ("name", "bodies", "joints", "internal DOF", "mass (kg)", "feet"):
+        table.add_column(col)
+    for r in rows:
+        table.add_row(r["name"], str(r["bodies"]), str(r["joints"]), str(r["dofs"]), f"{r['mass_kg']:.1f}",
+                      ", ".join(r["feet"]) or "-")
+    console.print(table)
+
+
+@character_app.command("export")
+def character_export(name: str = typer.Argument(..., help="Built-in name or MJCF path."),
+                     output: Path = typer.Option(..., "-o", "--output", help="MJCF file to write."),
+                     relax: Optional[str] = typer.Option(None, "--relax", help="Relax pose: preset or JOINT=rx,ry,rz;..."),
+                     force: bool = typer.Option(False, "--force", help="Overwrite an existing file.")):
+    """Write the character's MJCF exactly as simulated (springs, motors, contact spheres, floor)."""
+    from eigengait.character import load_character
+    from eigengait.character.relax import parse_relax_argument
+    from eigengait.sim.world import build_world
+
+    if output.exists() and not force:
+        raise UserInputError("the output file exists and was left untouched", file=output,
+                             fix="choose another name or pass --force")
+    world = build_world(load_character(name), parse_relax_argument(relax))
+    output.write_text(world.mjcf())
+    console.print(f"wrote {output}")
+
+
+@app.command("modes")
+def modes_command(character: str = typer.Argument(..., help="Built-in name or MJCF path."),
+                  phase: str = typer.Option("air", "--phase", help="air (free body) or ground (toe pinned)."),
+                  foot: Optional[str] = typer.Option(None, "--foot", help="Stance foot for the ground phase."),
+                  relax: Optional[str] = typer.Option(None, "--relax", help="Relax pose: preset or JOINT=rx,ry,rz;..."),
+                  as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
+                  save: Optional[Path] = typer.Option(None, "--save", help="Save the ModeSet (.npz).")):
+    """Natural vibration modes about the relax pose. Mode 1 is the lowest non-rigid mode."""
+    from eigengait.character import load_character
+    from eigengait.character.relax import parse_relax_argument
+    from eigengait.modal import compute_modes
+
+    modes = compute_modes(load_character(character), phase, foot, parse_relax_argument(relax))
+    if save:
+        modes.save(save)
+    if as_json:
+        print(json.dumps(modes.summary()))
+        return
+    title = f"{modes.character} — {modes.phase} phase" + (f", {modes.foot} toe pinned" if modes.foot else "")
+    table = Table(title=title, caption=f"{modes.dofs} internal DOF; {modes.rigid_modes} rigid-body modes dropped")
+    table.add_column("mode", justify="right")
+    table.add_column("frequency (Hz)", justify="right")
+    table.add_column("period (s)", justify="right")
+    table.add_column("largest joint motion")
+    for i, f in enumerate(modes.frequencies_hz):
+        col = modes.torque_basis[:, i]
+        table.add_row(str(i + 1), f"{f:.3f}", f"{1 / f:.3f}", modes.dof_labels[int(abs(col).argmax())])
+    console.print(table)
+
+
+def main() -> None:
+    """Entry point: run the app, turning bad input into one message and exit status 2."""
+    try:
+        app(standalone_mode=False)
+    except UserInputError as err:
+        Console(stderr=True).print(f"[bold red]error:[/] {err}", highlight=False, soft_wrap=True)
+        sys.exit(2)
+    except (typer.Exit, SystemExit) as exc:
+        code = getattr(exc, "exit_code", getattr(exc, "code", 0))
+        sys.exit(code or 0)
+    except Exception as exc:  # click usage errors
+        import click
+        if isinstance(exc, click.ClickException):
+            exc.show()
+            sys.exit(2)
+        if isinstance(exc, click.exceptions.Abort):
+            sys.exit(130)
+        raise
