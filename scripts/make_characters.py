@@ -114,8 +114,8 @@ def biped(extra_arms: bool) -> Limb:
 
 def humanoid() -> None:
     poses = {
-        "crouched": {"left_thigh": [0, -35, 0], "right_thigh": [0, -35, 0], "left_shin": [0, 60, 0],
-                     "right_shin": [0, 60, 0], "torso": [0, 15, 0]},
+        "crouched": {"left_thigh": [0, -35, 0], "right_thigh": [0, -35, 0], "left_shin": [0, 35, 0],
+                     "right_shin": [0, 35, 0], "torso": [0, 15, 0]},
         "legs-apart": {"left_thigh": [-12, 0, 0], "right_thigh": [12, 0, 0]},
         "one-leg": {"right_thigh": [0, -50, 0], "right_shin": [0, 80, 0]},
     }

@@ -74,7 +74,7 @@ def load_character(name_or_path: str | Path) -> Character:
     spec = _parse(path)
     side = sidecar_path(path)
     meta = load_metadata(side) if side.exists() else CharacterMetadata()
-    root = _root_body(spec, path)
+    _root_body(spec, path)
     try:
         model = spec.compile()
     except Exception as exc:
@@ -85,7 +85,7 @@ def load_character(name_or_path: str | Path) -> Character:
         jtype = mujoco.mjtJoint(model.jnt_type[j])
         name = model.joint(j).name
         if jtype == mujoco.mjtJoint.mjJNT_FREE:
-            if model.jnt_bodyid[j] != spec.body(root.name).id:
+            if model.body_parentid[model.jnt_bodyid[j]] != 0:
                 raise UserInputError("only the root body may have a free joint", file=path, field=f"joint '{name}'")
             continue
         if jtype not in JOINT_DOFS:

@@ -191,6 +191,7 @@ def build_world(character: Character, pose: str | dict = DEFAULT_POSE, options: 
     """Compile the character at `pose` into a world, standing with its lowest point on the floor."""
     spec = posed_spec(character, pose)
     root = next(b for b in spec.worldbody.bodies if b.joints)
+    root.name = root.name or "root"
     spec.option.timestep = options.timestep
     spec.option.gravity = [0, 0, -GRAVITY if options.gravity else 0.0]
     spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST

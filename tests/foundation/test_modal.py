@@ -1,0 +1,124 @@
+"""Modal analysis: reduced vs maximal coordinates, closed forms, simulation, and the built-in library."""
+
+import mujoco
+import numpy as np
+import pytest
+import yaml
+
+from eigengait.character import builtin_names, load_character
+from eigengait.modal import ModeSet, compute_modes
+from eigengait.modal.maximal import maximal_modes
+from eigengait.modal.reduced import mass_matrix
+from eigengait.sim import WorldOptions, build_world
+from random_tree import random_tree
+
+
+@pytest.mark.parametrize("seed", range(8))
+def test_reduced_and_maximal_formulations_agree_on_random_trees(tmp_path, seed):
+    rng = np.random.default_rng(seed)
+    character = load_character(random_tree(rng, tmp_path, n_bodies=int(rng.integers(3, 9))))
+    world = build_world(character, options=WorldOptions(gravity=False, floor=False))
+    for phase, pin in (("air", None), ("ground", "tip_toe")):
+        reduced = compute_modes(world, phase)
+        lam, joint_shapes, rigid = maximal_modes(world, pin)
+        f_max = np.sqrt(lam) / (2 * np.pi)
+        assert rigid == reduced.rigid_modes == (6 if phase == "air" else 3)
+        np.testing.assert_allclose(f_max, reduced.frequencies_hz, rtol=1e-6)
+        # joint-space shapes agree up to sign (distinct frequencies only)
+        distinct = np.r_[True, np.diff(reduced.frequencies_hz) > 1e-6 * reduced.frequencies_hz[1:]]
+        distinct &= np.r_[np.diff(reduced.frequencies_hz) > 1e-6 * reduced.frequencies_hz[:-1], True]
+        ours = reduced.shapes[world.internal_qvel][:, distinct]
+        theirs = joint_shapes[:, distinct]
+        cos = np.abs(np.sum(ours * theirs, 0)) / np.linalg.norm(ours, axis=0) / np.linalg.norm(theirs, axis=0)
+        np.testing.assert_allclose(cos, 1.0, atol=1e-6)
+
+
+def two_boxes(tmp_path, k):
+    """Two identical boxes end to end along x, joined by a ball joint at the shared face."""
+    xml = """<mujoco><worldbody><body name="a" pos="0 0 1"><freejoint/>
+      <geom type="box" size="0.3 0.05 0.1" pos="-0.3 0 0"/>
+      <body name="b"><joint name="j" type="ball" stiffness="1"/><geom type="box" size="0.3 0.05 0.1" pos="0.3 0 0"/>
+      </body></body></worldbody></mujoco>"""
+    (tmp_path / "pair.xml").write_text(xml)
+    (tmp_path / "pair.eigengait.yaml").write_text(yaml.safe_dump({"eigengait": 1, "stiffness": {"j": [float(x) for x in k]},
+                                                                   "damping_ratio": 0.0}))
+    return load_character(tmp_path / "pair.xml")
+
+
+def test_two_box_frequencies_match_closed_form(tmp_path):
+    # Symmetric free-free pair: each box spins about its own COM, relative angle 2α, so ω² = 2k / I_c.
+    k = np.array([30.0, 70.0, 110.0])
+    character = two_boxes(tmp_path, k)
+    m = 1000 * 0.6 * 0.1 * 0.2
+    a, b, c = 0.6, 0.1, 0.2
+    inertia = m / 12 * np.array([b**2 + c**2, a**2 + c**2, a**2 + b**2])
+    expected = np.sort(np.sqrt(2 * k / inertia) / (2 * np.pi))
+    modes = compute_modes(character, "air")
+    np.testing.assert_allclose(modes.frequencies_hz, expected, rtol=1e-9)
+
+
+def test_simulated_oscillation_matches_modal_frequency_with_anisotropic_springs(tmp_path):
+    character = two_boxes(tmp_path, [30.0, 70.0, 110.0])
+    world = build_world(character, options=WorldOptions(gravity=False, floor=False, timestep=0.0005))
+    assert world.model.nu == 6  # 3 motors + 3 anisotropic spring actuators
+    modes = compute_modes(world, "air")
+    M = mass_matrix(world)
+    for i in range(modes.count):
+        data = world.new_data()
+        mujoco.mj_integratePos(world.model, data.qpos, modes.shapes[:, i] * 0.02, 1.0)
+        period = 1 / modes.frequencies_hz[i]
+        n = int(3 * period / world.model.opt.timestep)
+        coord = np.empty(n)
+        dq = np.zeros(world.model.nv)
+        for s in range(n):
+            mujoco.mj_step(world.model, data)
+            mujoco.mj_differentiatePos(world.model, dq, 1.0, world.model.qpos0, data.qpos)
+            coord[s] = modes.shapes[:, i] @ M @ dq
+        crossings = np.flatnonzero(np.diff(np.sign(coord)) > 0) * world.model.opt.timestep
+        measured = np.mean(np.diff(crossings))
+        assert abs(measured / period - 1) < 0.01
+
+
+@pytest.mark.parametrize("name", builtin_names())
+def test_builtin_characters_have_modes_in_both_phases(name):
+    character = load_character(name)
+    world = build_world(character, options=WorldOptions(gravity=False))
+    air = compute_modes(world, "air")
+    ground = compute_modes(world, "ground")
+    assert (air.rigid_modes, ground.rigid_modes) == (6, 3)
+    assert air.count == ground.count == character.internal_dofs
+    assert 0.5 <= air.frequencies_hz[0] <= 5.0 and 0.5 <= ground.frequencies_hz[0] <= 5.0
+    M = mass_matrix(world)
+    np.testing.assert_allclose(air.shapes.T @ M @ air.shapes, np.eye(air.count), atol=1e-8)
+    np.testing.assert_allclose(np.linalg.norm(air.torque_basis, axis=0), 1.0)
+
+
+def test_library_matches_the_thesis_sizes():
+    dofs = {n: load_character(n).internal_dofs for n in ("humanoid", "monster", "kangaroo")}
+    assert dofs == {"humanoid": 30, "monster": 42, "kangaroo": 36}
+    humanoid = build_world(load_character("humanoid"))
+    assert humanoid.model.nbody - 1 == 11 and 50 < humanoid.mass() < 90
+
+
+def test_relax_pose_moves_the_spring_rest_and_the_modes():
+    character = load_character("humanoid")
+    default = build_world(character, options=WorldOptions(gravity=False))
+    crouched = build_world(character, "crouched", WorldOptions(gravity=False))
+    d0, d1 = default.new_data(), crouched.new_data()
+    pelvis = default.root_body
+    assert d1.xpos[pelvis][2] < d0.xpos[pelvis][2] - 0.05      # the hips are lower when crouched
+    for _ in range(400):                                       # springs rest at the new pose: nothing moves
+        mujoco.mj_step(crouched.model, d1)
+    assert np.abs(d1.qvel).max() < 1e-6
+    f0 = compute_modes(default, "ground").frequencies_hz
+    f1 = compute_modes(crouched, "ground").frequencies_hz
+    assert np.abs(f1 / f0 - 1).max() > 0.01
+
+
+def test_modeset_round_trip(tmp_path):
+    modes = compute_modes(load_character("kangaroo"), "ground")
+    modes.save(tmp_path / "k.npz")
+    back = ModeSet.load(tmp_path / "k.npz")
+    assert back.summary() == modes.summary()
+    np.testing.assert_array_equal(back.shapes, modes.shapes)
+    np.testing.assert_array_equal(back.torque_basis, modes.torque_basis)
