@@ -36,6 +36,24 @@ def shade(polygons: np.ndarray, colour) -> np.ndarray:
     return np.c_[rgb, np.ones(len(rgb))]
 
 
+def subdivide(triangle: np.ndarray, size: float) -> np.ndarray:
+    """Split a triangle (3, 3) into k² similar triangles (k², 3, 3) with edges of about ``size``."""
+    k = max(1, int(np.ceil(np.linalg.norm(triangle - np.roll(triangle, 1, axis=0), axis=1).max() / size)))
+    a, b, c = triangle
+    out = []
+    for i in range(k):
+        for j in range(k - i):
+            p = lambda u, v: a + (b - a) * u / k + (c - a) * v / k  # noqa: E731
+            out.append([p(i, j), p(i + 1, j), p(i, j + 1)])
+            if j < k - i - 1:
+                out.append([p(i + 1, j), p(i + 1, j + 1), p(i, j + 1)])
+    return np.array(out)
+
+
+def _triangle_materials(faces, materials) -> list[int]:
+    return [m for f, m in zip(faces, materials) for _ in range(len(f) - 2)]
+
+
 class FrameRenderer:
     """Draws frames of one model with a fixed camera; ``bounds`` (2, 3) m fixes the view box."""
 
@@ -48,24 +66,35 @@ class FrameRenderer:
         span = np.maximum(hi - lo, 0.2 * (hi - lo).max()) * 1.1
         for setter, c, s in zip((self.ax.set_xlim, self.ax.set_ylim, self.ax.set_zlim), centre, span):
             setter(c - s / 2, c + s / 2)
-        self.ax.set_box_aspect(span / half)
+        self.ax.set_box_aspect(span / half, zoom=1.25)
         self.ax.view_init(*camera)
+        self.ax.set_proj_type("ortho")
+        elev, azim = np.radians(camera)
+        view = np.array([np.cos(elev) * np.cos(azim), np.cos(elev) * np.sin(azim), np.sin(elev)])
         self.ax.set_axis_off()
         self.title = title
         self.dynamic: list = []
+        self.static_polygons: list[np.ndarray] = []
+        static_colours = []
+        piece = 0.8 * float(model.spring_rest.min()) if len(model.spring_rest) else 1.0
         for mesh in model.obstacles:
-            polys = [mesh.vertices[f] for f in mesh.faces]
-            colours = []
-            for poly, m in zip(polys, mesh.face_material or [0] * len(polys)):
-                colours.append(shade(poly[None], mesh.materials.get(m, (0.6, 0.45, 0.3))[:3])[0])
-            self.ax.add_collection3d(Poly3DCollection(polys, facecolors=colours, edgecolors=(0, 0, 0, 0.3),
-                                                      linewidths=0.3))
+            # Cut into cloth-sized pieces and pushed away from the camera along the view direction (invisible in
+            # the orthographic view) so matplotlib's painter's sort puts touching cloth in front of the obstacle.
+            vertices = mesh.vertices - 0.75 * piece * view
+            materials = mesh.face_material or [0] * len(mesh.faces)
+            for triangle, m in zip(mesh.triangles, _triangle_materials(mesh.faces, materials)):
+                pieces = subdivide(vertices[triangle], piece)
+                self.static_polygons += list(pieces)
+                static_colours.append(shade(pieces, mesh.materials.get(m, (0.6, 0.45, 0.3))[:3]))
+        self.static_colours = np.concatenate(static_colours) if static_colours else np.zeros((0, 4))
+        self.fig.subplots_adjust(0, 0, 1, 1)
 
     def draw(self, positions: np.ndarray, time: float) -> np.ndarray:
         """RGB image (H, W, 3) of the surfaces at ``positions`` (N, 3)."""
         for artist in self.dynamic:
             artist.remove()
         self.dynamic = []
+        polygons, colours = list(self.static_polygons), [self.static_colours]
         for k, layout in enumerate(self.model.surfaces):
             colour = SURFACE_COLOURS[k % len(SURFACE_COLOURS)]
             if layout.rows == 1 or layout.cols == 1:
@@ -73,10 +102,12 @@ class FrameRenderer:
                 self.dynamic += self.ax.plot(*line.T, color=colour, lw=2, marker="o", ms=2)
                 continue
             quads = positions[layout.quads]
-            collection = Poly3DCollection(quads, facecolors=shade(quads, colour),
-                                          edgecolors=(0, 0, 0, 0.15), linewidths=0.2)
-            self.ax.add_collection3d(collection)
-            self.dynamic.append(collection)
+            polygons += list(quads)
+            colours.append(shade(quads, colour))
+        # One collection, so that cloth and obstacle polygons are depth-sorted together.
+        collection = Poly3DCollection(polygons, facecolors=np.concatenate(colours), edgecolors="none")
+        self.ax.add_collection3d(collection)
+        self.dynamic.append(collection)
         self.dynamic.append(self.ax.text2D(0.02, 0.95, f"{self.title}  t = {time:6.2f} s",
                                            transform=self.ax.transAxes, fontsize=11))
         buffer = io.BytesIO()
