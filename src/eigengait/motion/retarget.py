@@ -1,0 +1,295 @@
+"""Retarget a BVH clip onto a character by per-joint global rotation mapping.
+
+Method. For each mapped pair (BVH joint b → MJCF joint driving body k) the body's world orientation is
+
+    W_k(t) = Rw_b(t) · A_k · B_k⁰,
+
+where Rw_b(t) = C·G_b(t)·Cᵀ is the BVH joint's global rotation in world axes (C maps file axes to world axes:
+y-up/+Z-forward/+X-left files become z-up/+x-forward/+y-left), B_k⁰ is the body's world orientation in the
+character's relax pose, and A_k is the rest offset between the skeletons: the smallest rotation taking the body's
+rest bone direction onto the BVH joint's bone direction in the BVH rest pose (all channel rotations zero). Bone
+directions point from a joint to the mean of its nearest mapped descendants (else its first child, End Site or
+first geom). The root body takes the root joint's rotation with no offset. Joint quaternions follow from parent
+and child orientations; unmapped joints stay at their relax rotation; hinges keep the component about their axis.
+
+Root position: the BVH root trajectory in world axes, scaled by the ratio of the character's standing root height
+to the BVH root height above its lowest point in the first frame (a leg-length scale), moved to start at x = y = 0
+and lifted so that the feet touch the floor (5th percentile of the lowest foot point over the clip at z = 0).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import mujoco
+import numpy as np
+import yaml
+from pydantic import BaseModel, ConfigDict, ValidationError, field_validator
+
+from eigengait.control.balance.rotations import mat_to_quat, min_arc, quat_log, quat_to_mat
+from eigengait.errors import UserInputError
+from eigengait.motion.bvh import BvhClip, end_site_positions, global_transforms
+from eigengait.sim.world import World
+
+# World axis ← file axis, as signed file axis names (CMU convention: up +Y, forward +Z, left +X).
+CMU_AXES = {"x": "+z", "y": "+x", "z": "+y"}
+
+MOTIONBUILDER_HUMANOID = {
+    "Hips": "root", "Spine1": "torso", "Head": "head",
+    "LeftArm": "left_upper_arm", "LeftForeArm": "left_forearm",
+    "RightArm": "right_upper_arm", "RightForeArm": "right_forearm",
+    "LeftUpLeg": "left_thigh", "LeftLeg": "left_shin", "RightUpLeg": "right_thigh", "RightLeg": "right_shin",
+}
+DAZ_HUMANOID = {
+    "hip": "root", "chest": "torso", "head": "head",
+    "lShldr": "left_upper_arm", "lForeArm": "left_forearm", "rShldr": "right_upper_arm", "rForeArm": "right_forearm",
+    "lThigh": "left_thigh", "lShin": "left_shin", "rThigh": "right_thigh", "rShin": "right_shin",
+}
+BUILTIN_MAPPINGS = {"humanoid": {"motionbuilder": MOTIONBUILDER_HUMANOID, "daz": DAZ_HUMANOID}}
+
+
+class MappingFile(BaseModel):
+    """A mapping file (YAML): ``joints`` maps BVH joint names to MJCF joint names; the BVH root maps to the
+    MJCF free joint; ``axes`` gives each world axis as a signed file axis (default: the CMU convention)."""
+
+    model_config = ConfigDict(extra="forbid")
+    eigengait_mapping: int = 1
+    joints: dict[str, str]
+    axes: dict[str, str] = dict(CMU_AXES)
+
+    @field_validator("axes")
+    @classmethod
+    def _axes_are_a_rotation(cls, axes: dict[str, str]) -> dict[str, str]:
+        axis_matrix(axes)
+        return axes
+
+
+def axis_matrix(axes: dict[str, str]) -> np.ndarray:
+    """3×3 proper rotation C with world = C @ file, from {'x': '+z', 'y': '+x', 'z': '+y'}-style axes."""
+    if sorted(axes) != ["x", "y", "z"]:
+        raise ValueError("axes must give exactly x, y and z")
+    matrix = np.zeros((3, 3))
+    for row, world in enumerate("xyz"):
+        text = axes[world].strip().lower()
+        sign, name = (-1.0, text[1:]) if text.startswith("-") else (1.0, text.lstrip("+"))
+        if name not in ("x", "y", "z"):
+            raise ValueError(f"axis '{axes[world]}' must be one of ±x, ±y, ±z")
+        matrix[row, "xyz".index(name)] = sign
+    if not np.isclose(np.linalg.det(matrix), 1.0):
+        raise ValueError("axes must form a right-handed rotation (no mirroring)")
+    return matrix
+
+
+@dataclass
+class Mapping:
+    """BVH joint → MJCF joint (the BVH root → the MJCF free joint), and the file-to-world axis rotation."""
+
+    joints: dict[str, str]
+    axes: np.ndarray = field(default_factory=lambda: axis_matrix(CMU_AXES))
+
+
+def load_mapping(path: str | Path) -> Mapping:
+    """Read and validate a YAML mapping file."""
+    try:
+        raw = yaml.safe_load(Path(path).read_text())
+    except OSError as exc:
+        raise UserInputError(f"cannot read the mapping file ({exc.strerror}).", file=path, fix="check the path.") \
+            from None
+    except yaml.YAMLError as exc:
+        raise UserInputError(f"the mapping is not valid YAML ({exc}).", file=path, fix="fix the YAML syntax.") \
+            from None
+    try:
+        parsed = MappingFile.model_validate(raw if raw is not None else {})
+    except ValidationError as exc:
+        err = exc.errors()[0]
+        where = ".".join(str(p) for p in err["loc"]) or "(top level)"
+        raise UserInputError(err["msg"], file=path, field=where,
+                             fix="write 'joints: {BVH_JOINT: MJCF_JOINT, ...}' and optionally "
+                                 "'axes: {x: +z, y: +x, z: +y}'.") from None
+    return Mapping(joints=dict(parsed.joints), axes=axis_matrix(parsed.axes))
+
+
+def builtin_mapping(character_name: str, clip: BvhClip) -> Mapping:
+    """The built-in mapping whose BVH joints all exist in the clip (MotionBuilder- or Daz-friendly CMU)."""
+    names = {j.name for j in clip.joints}
+    for joints in BUILTIN_MAPPINGS.get(character_name, {}).values():
+        if set(joints) <= names:
+            return Mapping(joints=dict(joints))
+    families = ", ".join(BUILTIN_MAPPINGS.get(character_name, {})) or "none"
+    raise UserInputError(f"the clip's skeleton (root '{clip.joints[0].name}') matches no built-in mapping for "
+                         f"character '{character_name}' (known skeleton families: {families}).",
+                         field="BVH joints", fix="pass a mapping file (--mapping map.yaml) naming, for each MJCF "
+                                                  "joint, the BVH joint that drives it.")
+
+
+@dataclass
+class RetargetedClip:
+    """Character poses (F, nq) at the clip's frame times, the length scale (m per file unit) used."""
+
+    qpos: np.ndarray
+    frame_time: float
+    scale: float
+
+    @property
+    def duration(self) -> float:
+        return (len(self.qpos) - 1) * self.frame_time
+
+
+def _check_mapping(mapping: Mapping, clip: BvhClip, world: World) -> tuple[dict[int, int], int]:
+    """Validate names; returns {bvh joint index: MJCF joint id} and the BVH root index."""
+    model = world.model
+    names = {j.name: i for i, j in enumerate(clip.joints)}
+    pairs, root = {}, None
+    for bvh_name, joint_name in mapping.joints.items():
+        if bvh_name not in names:
+            raise UserInputError(f"the mapping names BVH joint '{bvh_name}', which the clip does not have.",
+                                 field=f"joints.{bvh_name}", fix=f"BVH joints are: {', '.join(names)}.")
+        jid = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, joint_name)
+        if jid < 0 and model.body(world.root_body).jntnum and joint_name == "root":
+            jid = int(model.body_jntadr[world.root_body])
+        if jid < 0:
+            raise UserInputError(f"the mapping names MJCF joint '{joint_name}', which the character does not have.",
+                                 field=f"joints.{bvh_name}",
+                                 fix=f"MJCF joints are: {', '.join(world.character.joints)} (and the free joint).")
+        if model.jnt_type[jid] == mujoco.mjtJoint.mjJNT_FREE:
+            root = names[bvh_name]
+        elif int(model.jnt_type[jid]) not in (int(mujoco.mjtJoint.mjJNT_BALL), int(mujoco.mjtJoint.mjJNT_HINGE)):
+            raise UserInputError(f"MJCF joint '{joint_name}' is neither ball nor hinge.", field=f"joints.{bvh_name}")
+        pairs[names[bvh_name]] = jid
+    if root is None:
+        raise UserInputError("the mapping does not drive the character's free joint.", field="joints",
+                             fix=f"map the BVH root '{clip.joints[0].name}' to the free joint "
+                                 f"('{model.joint(int(model.body_jntadr[world.root_body])).name or 'root'}').")
+    return pairs, root
+
+
+def _nearest_mapped(parents: list[int], start: int, mapped: set[int]) -> list[int]:
+    """Mapped descendants of `start` with no mapped node between them and `start`."""
+    children: dict[int, list[int]] = {}
+    for i, p in enumerate(parents):
+        children.setdefault(p, []).append(i)
+    found, stack = [], list(children.get(start, []))
+    while stack:
+        node = stack.pop()
+        if node in mapped:
+            found.append(node)
+        else:
+            stack.extend(children.get(node, []))
+    return found
+
+
+def _bvh_rest_bones(clip: BvhClip, pairs: dict[int, int]) -> dict[int, np.ndarray]:
+    """Bone direction of every mapped BVH joint in the zero-rotation rest pose, file axes."""
+    rest = BvhClip(clip.joints, clip.frame_time, np.zeros((1, clip.frames.shape[1])))
+    rot, pos = global_transforms(rest)
+    ends = end_site_positions(rest, rot, pos)
+    parents = [j.parent for j in clip.joints]
+    bones = {}
+    for b in pairs:
+        targets = _nearest_mapped(parents, b, set(pairs))
+        if targets:
+            bones[b] = pos[0, targets].mean(axis=0) - pos[0, b]
+        else:
+            children = [i for i, p in enumerate(parents) if p == b]
+            bones[b] = pos[0, children[0]] - pos[0, b] if children else ends.get(b, np.array([[0, 1, 0]]))[0] - \
+                pos[0, b]
+    return bones
+
+
+def _body_rest_bones(world: World, data: mujoco.MjData, bodies: dict[int, int]) -> dict[int, np.ndarray]:
+    """Bone direction (world, relax pose) of every driven body, keyed by body id."""
+    model = world.model
+    parents = [int(p) if i else -1 for i, p in enumerate(model.body_parentid)]
+    bones = {}
+    for body in bodies.values():
+        targets = _nearest_mapped(parents, body, set(bodies.values()))
+        if targets:
+            bones[body] = data.xpos[targets].mean(axis=0) - data.xpos[body]
+        else:
+            geoms = np.flatnonzero(model.geom_bodyid == body)
+            bones[body] = data.geom_xpos[geoms[0]] - data.xpos[body] if len(geoms) else np.array([0.0, 0, 1])
+    return bones
+
+
+def retarget(clip: BvhClip, world: World, mapping: Mapping, start_frame: int = 1) -> RetargetedClip:
+    """Character poses for frames ``start_frame..end`` of the clip (frame 0 of CMU files is a synthetic T-pose)."""
+    if not 0 <= start_frame < clip.n_frames - 1:
+        raise UserInputError(f"start frame {start_frame} leaves fewer than two frames of {clip.n_frames}.",
+                             field="start_frame", fix="use a smaller start frame.")
+    model = world.model
+    pairs, root = _check_mapping(mapping, clip, world)
+    data = mujoco.MjData(model)
+    mujoco.mj_kinematics(model, data)
+    rest_world = data.xmat.reshape(-1, 3, 3).copy()
+    body_of = {b: int(model.jnt_bodyid[j]) for b, j in pairs.items()}
+    axes = mapping.axes
+
+    rot, pos = global_transforms(clip)
+    rot, pos = rot[start_frame:], pos[start_frame:]
+    world_rot = axes @ rot @ axes.T                                    # (F, J, 3, 3) world axes
+    bvh_bones = _bvh_rest_bones(clip, pairs)
+    body_bones = _body_rest_bones(world, data, body_of)
+    orient = {}
+    for b, body in body_of.items():
+        offset = np.eye(3) if b == root else min_arc(body_bones[body], axes @ bvh_bones[b])
+        orient[body] = world_rot[:, b] @ offset @ rest_world[body]
+
+    n = len(rot)
+    qpos = np.tile(model.qpos0, (n, 1))
+    world_orient = {0: np.broadcast_to(np.eye(3), (n, 3, 3))}
+    joint_of_body = {body: pairs[b] for b, body in body_of.items()}
+    for body in range(1, model.nbody):
+        parent = int(model.body_parentid[body])
+        local = quat_to_mat(model.body_quat[body])
+        if body not in orient:
+            world_orient[body] = world_orient[parent] @ local
+            continue
+        world_orient[body] = orient[body]
+        jid = joint_of_body[body]
+        adr = model.jnt_qposadr[jid]
+        relative = np.swapaxes(local, -1, -2) @ np.swapaxes(world_orient[parent], -1, -2) @ orient[body]
+        quat = mat_to_quat(relative)
+        if model.jnt_type[jid] == mujoco.mjtJoint.mjJNT_FREE:
+            qpos[:, adr + 3:adr + 7] = mat_to_quat(orient[body])
+        elif model.jnt_type[jid] == mujoco.mjtJoint.mjJNT_BALL:
+            qpos[:, adr:adr + 4] = _continuous(quat)
+        else:
+            qpos[:, adr] = quat_log(quat) @ model.jnt_axis[jid]
+
+    height_bvh = (axes @ pos[0, root])[2] - _lowest_bvh_point(clip, axes, start_frame)
+    scale = float(data.xpos[world.root_body][2] / height_bvh)
+    root_adr = model.jnt_qposadr[pairs[root]]
+    root_path = scale * pos[:, root] @ axes.T
+    root_path[:, :2] -= root_path[0, :2]
+    qpos[:, root_adr:root_adr + 3] = root_path
+    qpos[:, root_adr + 2] -= _foot_floor_offset(world, qpos)
+    return RetargetedClip(qpos=qpos, frame_time=clip.frame_time, scale=scale)
+
+
+def _continuous(quat: np.ndarray) -> np.ndarray:
+    """Flip quaternion signs so consecutive frames stay in the same hemisphere."""
+    flips = np.sum(quat[1:] * quat[:-1], axis=-1) < 0
+    signs = np.concatenate([[1.0], np.where(np.cumsum(flips) % 2, -1.0, 1.0)])
+    return quat * signs[:, None]
+
+
+def _lowest_bvh_point(clip: BvhClip, axes: np.ndarray, frame: int) -> float:
+    """World height (file units) of the lowest joint or End Site in one frame."""
+    one = BvhClip(clip.joints, clip.frame_time, clip.frames[frame:frame + 1])
+    rot, pos = global_transforms(one)
+    points = np.concatenate([pos[0], *[p for p in end_site_positions(one, rot, pos).values()]]).reshape(-1, 3)
+    return float((points @ axes.T)[:, 2].min())
+
+
+def _foot_floor_offset(world: World, qpos: np.ndarray) -> float:
+    """Height (m) of the 5th percentile over frames of the lowest foot contact point (all geoms if no feet)."""
+    model, data = world.model, mujoco.MjData(world.model)
+    geoms = [g for gs in world.foot_spheres.values() for g in gs] or \
+        [g for g in range(model.ngeom) if model.geom_bodyid[g] != 0]
+    lows = np.empty(len(qpos))
+    for i, q in enumerate(qpos):
+        data.qpos[:] = q
+        mujoco.mj_kinematics(model, data)
+        lows[i] = np.min(data.geom_xpos[geoms, 2] - model.geom_rbound[geoms])
+    return float(np.percentile(lows, 5))
