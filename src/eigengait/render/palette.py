@@ -1,0 +1,150 @@
+"""Mode palette: one tile per vibration mode, its two extremes as translucent ghosts over the relax pose.
+
+Each tile shows the relax pose solid grey, the pose at −A in orange and at +A in teal, where A turns the mode's
+most-moving joint by `max_rotation_deg` (so every mode is equally visible; the animation default follows the
+equal-energy rule instead, see `eigengait.motion.modal_mix`). Tiles run left to right, top to bottom, in mode
+order (mode 1 = lowest frequency), each labelled with its number and frequency in Hz. Sizes are in pixels.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import mujoco
+import numpy as np
+
+from eigengait.errors import UserInputError
+from eigengait.modal.modeset import ModeSet
+from eigengait.motion.modal_mix import DEFAULT_MAX_ROTATION_DEG, displaced_qpos, peak_rotation_amplitudes
+from eigengait.render.video import CameraView, FrameRenderer, creature_geoms, geom_corners
+from eigengait.sim.world import World
+
+MINUS_RGBA = (1.0, 0.55, 0.1, 0.42)
+PLUS_RGBA = (0.05, 0.7, 0.6, 0.42)
+SOLID_RGBA = (0.82, 0.82, 0.85, 1.0)
+BACKGROUND = 255
+PALETTE_VIEW = CameraView(azimuth_deg=140.0, elevation_deg=-25.0, fill=0.85)
+
+
+@dataclass(frozen=True)
+class PaletteLayout:
+    """Pixel geometry: a title band, then rows of (label band + tile)."""
+    count: int
+    columns: int
+    tile_width: int = 240
+    tile_height: int = 240
+    label_height: int = 30
+    title_height: int = 78
+
+    @property
+    def rows(self) -> int:
+        return -(-self.count // self.columns)
+
+    @property
+    def cell_height(self) -> int:
+        return self.label_height + self.tile_height
+
+    @property
+    def size(self) -> tuple[int, int]:
+        """(height, width) of the whole image."""
+        return self.title_height + self.rows * self.cell_height, self.columns * self.tile_width
+
+    def tile_origin(self, index: int) -> tuple[int, int]:
+        """(row, column) pixel of the top-left corner of tile `index` (0-based), below its label."""
+        row, col = divmod(index, self.columns)
+        return self.title_height + row * self.cell_height + self.label_height, col * self.tile_width
+
+
+def palette_layout(count: int, columns: int | None = None, tile_px: int = 240) -> PaletteLayout:
+    """Layout for `count` tiles; by default about 1.2 times as many columns as rows."""
+    columns = columns or max(1, min(count, int(np.ceil(np.sqrt(count * 1.2)))))
+    return PaletteLayout(count=count, columns=columns, tile_width=tile_px, tile_height=tile_px)
+
+
+def mode_tiles(world: World, modes: ModeSet, count: int, tile_px: int = 240,
+               max_rotation_deg: float = DEFAULT_MAX_ROTATION_DEG) -> list[np.ndarray]:
+    """One RGB tile (tile_px × tile_px × 3) per mode 1..count: relax pose with ±A ghosts, one shared camera."""
+    amplitudes = peak_rotation_amplitudes(world, modes, max_rotation_deg)[:count]
+    displacement = modes.shapes[:, :count] * amplitudes
+    minus = displaced_qpos(world, -displacement.T)
+    plus = displaced_qpos(world, displacement.T)
+    fit_points = _corners_of_poses(world, np.vstack([world.model.qpos0, minus, plus]))
+    with FrameRenderer(world, tile_px, tile_px, PALETTE_VIEW, fit_points) as renderer:
+        return [renderer.render(world.model.qpos0, ((minus[i], MINUS_RGBA), (plus[i], PLUS_RGBA)), SOLID_RGBA)
+                for i in range(count)]
+
+
+def _corners_of_poses(world: World, qpos: np.ndarray) -> np.ndarray:
+    data = mujoco.MjData(world.model)
+    geoms = creature_geoms(world.model, world.root_body)
+    corners = []
+    for q in qpos:
+        data.qpos[:] = q
+        mujoco.mj_kinematics(world.model, data)
+        corners.append(geom_corners(world.model, data, geoms))
+    return np.concatenate(corners)
+
+
+def palette_title(modes: ModeSet) -> str:
+    where = f"{modes.phase} phase" + (f", {modes.foot} toe pinned" if modes.foot else "")
+    pose = "" if modes.relax_pose == "default" else f", relax pose {modes.relax_pose}"
+    return f"{modes.character} — {where}{pose}"
+
+
+def palette_image(world: World, modes: ModeSet, count: int | None = None, columns: int | None = None,
+                  tile_px: int = 240, max_rotation_deg: float = DEFAULT_MAX_ROTATION_DEG) -> np.ndarray:
+    """The palette of modes 1..count (default all) as an RGB uint8 image of size `palette_layout(...).size`."""
+    count = modes.count if count is None else count
+    if not 1 <= count <= modes.count:
+        raise UserInputError(f"cannot show {count} modes", field="--modes",
+                             fix=f"{modes.character} has {modes.count} modes in the {modes.phase} phase")
+    layout = palette_layout(count, columns, tile_px)
+    canvas = np.full((*layout.size, 3), BACKGROUND, dtype=np.uint8)
+    for i, tile in enumerate(mode_tiles(world, modes, count, tile_px, max_rotation_deg)):
+        top, left = layout.tile_origin(i)
+        canvas[top:top + tile_px, left:left + tile_px] = tile
+    return _draw_labels(canvas, layout, modes, max_rotation_deg)
+
+
+def _draw_labels(canvas: np.ndarray, layout: PaletteLayout, modes: ModeSet, max_rotation_deg: float) -> np.ndarray:
+    """Title, legend and per-tile labels drawn with matplotlib onto the canvas, same pixel size."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    height, width = canvas.shape[:2]
+    dpi = 100
+    fig = plt.figure(figsize=(width / dpi, height / dpi), dpi=dpi)
+    ax = fig.add_axes((0, 0, 1, 1))
+    ax.imshow(canvas, interpolation="nearest")
+    ax.set_axis_off()
+
+    def text(x: float, y: float, s: str, **style) -> None:
+        fig.text(x / width, 1 - y / height, s, va="center", **style)
+
+    text(width / 2, layout.title_height * 0.36, palette_title(modes), ha="center", fontsize=17, weight="bold")
+    text(width / 2, layout.title_height * 0.74,
+         f"grey: relax pose   ·   orange: −A   ·   teal: +A   ·   A turns the most-moving joint {max_rotation_deg:g}°",
+         ha="center", fontsize=10.5, color="#444444")
+    for i in range(layout.count):
+        top, left = layout.tile_origin(i)
+        y = top - layout.label_height / 2
+        text(left + 10, y, f"mode {i + 1}", ha="left", fontsize=12, weight="bold")
+        text(left + layout.tile_width - 10, y, f"{modes.frequencies_hz[i]:.2f} Hz", ha="right", fontsize=11,
+             color="#333333")
+    fig.canvas.draw()
+    image = np.asarray(fig.canvas.buffer_rgba())[..., :3].copy()
+    plt.close(fig)
+    return image
+
+
+def write_palette(world: World, modes: ModeSet, path: str | Path, count: int | None = None,
+                  columns: int | None = None, tile_px: int = 240,
+                  max_rotation_deg: float = DEFAULT_MAX_ROTATION_DEG) -> np.ndarray:
+    """Render the palette and save it as PNG; returns the image."""
+    import imageio.v3 as iio
+
+    image = palette_image(world, modes, count, columns, tile_px, max_rotation_deg)
+    iio.imwrite(Path(path), image)
+    return image

@@ -1,0 +1,205 @@
+"""Render a World's qpos sequence with MuJoCo's offscreen Renderer and write it as MP4 or GIF.
+
+The camera is a free camera that follows the creature's centre of mass horizontally (x, y) at the relax-pose COM
+height, looking down at `elevation_deg` so the floor fills the background. Distances are in metres, angles in
+degrees, sizes in pixels. MP4 is H.264 (libx264, yuv420p: plays in browsers and every player); GIF loops forever.
+"""
+
+from __future__ import annotations
+
+import copy
+from collections.abc import Iterator
+from dataclasses import dataclass
+from pathlib import Path
+
+import mujoco
+import numpy as np
+from rich.progress import BarColumn, Progress, TextColumn, TimeRemainingColumn
+
+from eigengait.errors import UserInputError
+from eigengait.sim.world import World
+
+VIDEO_SUFFIXES = (".mp4", ".gif")
+
+
+@dataclass(frozen=True)
+class CameraView:
+    """Free-camera placement. MuJoCo azimuth: 90° looks along +y (side view); 135° sees a +x-facing creature
+    from its front-right three-quarter. Elevations below −22.5° keep the horizon out of a 4:3 or square frame.
+    `distance_m=None` fits the creature in the frame so that it spans `fill` of the width or height."""
+    azimuth_deg: float = 135.0
+    elevation_deg: float = -25.0
+    distance_m: float | None = None
+    fill: float = 0.75
+
+    def axes(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Unit forward, right and up vectors of the camera in the world."""
+        az, el = np.deg2rad(self.azimuth_deg), np.deg2rad(self.elevation_deg)
+        forward = np.array([np.cos(el) * np.cos(az), np.cos(el) * np.sin(az), np.sin(el)])
+        right = np.cross(forward, [0.0, 0.0, 1.0])
+        right /= np.linalg.norm(right)
+        return forward, right, np.cross(right, forward)
+
+
+def visual_model(world: World, width: int, height: int) -> mujoco.MjModel:
+    """A copy of the world's model with an offscreen buffer of the requested size and softer lighting."""
+    if width < 16 or height < 16 or width % 2 or height % 2:
+        raise UserInputError(f"image size {width}×{height} is not usable", field="--width/--height",
+                             fix="use even sizes of at least 16 pixels (H.264 needs even sizes)")
+    model = copy.deepcopy(world.model)
+    model.vis.global_.offwidth = max(width, model.vis.global_.offwidth)
+    model.vis.global_.offheight = max(height, model.vis.global_.offheight)
+    model.vis.headlight.ambient[:] = 0.25
+    model.vis.headlight.diffuse[:] = 0.3
+    model.vis.headlight.specular[:] = 0.05
+    model.vis.quality.shadowsize = 2048
+    return model
+
+
+def creature_geoms(model: mujoco.MjModel, root_body: int) -> np.ndarray:
+    """Ids of the geoms on the creature's bodies (everything below `root_body`)."""
+    def inside(body: int) -> bool:
+        while body > 0:
+            if body == root_body:
+                return True
+            body = int(model.body_parentid[body])
+        return False
+    return np.array([g for g in range(model.ngeom) if inside(int(model.geom_bodyid[g]))])
+
+
+def geom_corners(model: mujoco.MjModel, data: mujoco.MjData, geoms: np.ndarray) -> np.ndarray:
+    """World corners (8·len(geoms) × 3, m) of each geom's bounding box at the pose in `data`."""
+    signs = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], dtype=float)
+    aabb = model.geom_aabb[geoms]
+    local = aabb[:, None, :3] + signs[None] * aabb[:, None, 3:]
+    rot = data.geom_xmat[geoms].reshape(-1, 3, 3)
+    return (np.einsum("gij,gkj->gki", rot, local) + data.geom_xpos[geoms][:, None]).reshape(-1, 3)
+
+
+def fit_camera(points: np.ndarray, view: CameraView, aspect: float, fovy_deg: float) -> tuple[np.ndarray, float]:
+    """Look-at point (m) and distance (m) that frame the world points with the view's direction and fill."""
+    forward, right, up = view.axes()
+    rel = points - points.mean(axis=0)
+    x, y, depth = rel @ right, rel @ up, rel @ forward
+    lookat = points.mean(axis=0) + right * (x.max() + x.min()) / 2 + up * (y.max() + y.min()) / 2
+    tan_half = np.tan(np.deg2rad(fovy_deg) / 2)
+    half_span = max(np.ptp(y) / 2 / tan_half, np.ptp(x) / 2 / (tan_half * aspect))
+    return lookat, half_span / view.fill - depth.min()
+
+
+class FrameRenderer:
+    """Offscreen renderer of a world's poses; use as a context manager (it owns a GL context).
+
+    The camera is fitted to `fit_points` (world points, m; default: the relax pose) and then follows the COM
+    horizontally at constant height.
+    """
+
+    def __init__(self, world: World, width: int = 640, height: int = 480, view: CameraView = CameraView(),
+                 fit_points: np.ndarray | None = None):
+        self.world = world
+        self.model = visual_model(world, width, height)
+        self.data = mujoco.MjData(self.model)
+        self.ghost_data = mujoco.MjData(self.model)
+        self.renderer = mujoco.Renderer(self.model, height=height, width=width)
+        self.renderer.scene.flags[mujoco.mjtRndFlag.mjRND_SHADOW] = True
+        self.geoms = creature_geoms(self.model, world.root_body)
+        mujoco.mj_forward(self.model, self.data)
+        if fit_points is None:
+            fit_points = geom_corners(self.model, self.data, self.geoms)
+        lookat, distance = fit_camera(fit_points, view, width / height, self.model.vis.global_.fovy)
+        self.camera = mujoco.MjvCamera()
+        self.camera.type = mujoco.mjtCamera.mjCAMERA_FREE
+        self.camera.azimuth = view.azimuth_deg
+        self.camera.elevation = view.elevation_deg
+        self.camera.distance = view.distance_m or distance
+        self.height_m = float(lookat[2])
+        self.lookat_offset = lookat[:2] - self.data.subtree_com[world.root_body][:2]
+
+    def __enter__(self) -> "FrameRenderer":
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
+
+    def close(self) -> None:
+        self.renderer.close()
+
+    def render(self, qpos: np.ndarray, ghosts: tuple[tuple[np.ndarray, tuple], ...] = (),
+               solid_rgba: tuple | None = None) -> np.ndarray:
+        """RGB image (height × width × 3, uint8) of the pose, camera on the current COM.
+
+        `ghosts` are extra poses (qpos, rgba) drawn translucent in one flat colour each, shrunk by 3% so they
+        hide inside the solid pose wherever they coincide with it. `solid_rgba` recolours the solid pose.
+        """
+        self.data.qpos[:] = qpos
+        mujoco.mj_kinematics(self.model, self.data)
+        mujoco.mj_comPos(self.model, self.data)
+        com = self.data.subtree_com[self.world.root_body]
+        self.camera.lookat[:] = [*(com[:2] + self.lookat_offset), self.height_m]
+        self.renderer.update_scene(self.data, self.camera)
+        if solid_rgba is not None:
+            self._recolour(0, solid_rgba)
+        for ghost_qpos, rgba in ghosts:
+            self._add_ghost(ghost_qpos, rgba)
+        return self.renderer.render()
+
+    def _recolour(self, first: int, rgba: tuple, scale: float = 1.0) -> None:
+        scene = self.renderer.scene
+        for i in range(first, scene.ngeom):
+            geom = scene.geoms[i]
+            if geom.objtype == mujoco.mjtObj.mjOBJ_GEOM and geom.objid in self.geoms:
+                geom.rgba[:] = rgba
+                geom.size[:] *= scale
+
+    def _add_ghost(self, qpos: np.ndarray, rgba: tuple) -> None:
+        first = self.renderer.scene.ngeom
+        self.ghost_data.qpos[:] = qpos
+        mujoco.mj_kinematics(self.model, self.ghost_data)
+        mujoco.mjv_addGeoms(self.model, self.ghost_data, mujoco.MjvOption(), mujoco.MjvPerturb(),
+                            mujoco.mjtCatBit.mjCAT_DYNAMIC, self.renderer.scene)
+        self._recolour(first, rgba, scale=0.97)
+
+
+def iter_frames(world: World, qpos: np.ndarray, width: int = 640, height: int = 480,
+                view: CameraView = CameraView(), progress: bool = False) -> Iterator[np.ndarray]:
+    """Frames of a qpos sequence (T × nq), one RGB uint8 image at a time, with a progress bar if asked."""
+    with FrameRenderer(world, width, height, view) as renderer, _progress(progress) as bar:
+        task = bar.add_task("rendering", total=len(qpos))
+        for q in qpos:
+            yield renderer.render(q)
+            bar.advance(task)
+
+
+def _progress(visible: bool) -> Progress:
+    return Progress(TextColumn("{task.description}"), BarColumn(), TextColumn("{task.completed}/{task.total} frames"),
+                    TimeRemainingColumn(), disable=not visible, transient=True)
+
+
+def write_video(frames: Iterator[np.ndarray], path: str | Path, fps: float) -> int:
+    """Write frames to an .mp4 (H.264, yuv420p) or .gif (looping) chosen by suffix; returns the frame count."""
+    import imageio.v2 as imageio
+
+    path = Path(path)
+    suffix = path.suffix.lower()
+    if suffix not in VIDEO_SUFFIXES:
+        raise UserInputError(f"cannot write video format '{suffix}'", file=path, fix="name the file .mp4 or .gif")
+    if suffix == ".mp4":
+        writer = imageio.get_writer(path, format="FFMPEG", fps=fps, codec="libx264", pixelformat="yuv420p",
+                                    quality=8, macro_block_size=2, ffmpeg_log_level="error")
+    else:
+        writer = imageio.get_writer(path, format="GIF", mode="I", duration=1000.0 / fps, loop=0)
+    count = 0
+    with writer:
+        for frame in frames:
+            writer.append_data(frame)
+            count += 1
+    return count
+
+
+def render_video(world: World, qpos: np.ndarray, fps: float, path: str | Path, width: int = 640, height: int = 480,
+                 view: CameraView = CameraView(), progress: bool = False) -> int:
+    """Render a qpos sequence (T × nq) sampled at `fps` to a video file; returns the frame count."""
+    if Path(path).suffix.lower() not in VIDEO_SUFFIXES:
+        raise UserInputError(f"cannot write video format '{Path(path).suffix}'", file=path,
+                             fix="name the file .mp4 or .gif")
+    return write_video(iter_frames(world, qpos, width, height, view, progress), path, fps)
