@@ -26,7 +26,7 @@ from eigengait.modal.modeset import ModeSet
 from eigengait.sim.world import World
 
 DEFAULT_MAX_ROTATION_DEG = 25.0
-MIX_SYNTAX = "MODE:AMPLITUDE[@PHASE_DEGREES], comma separated, e.g. '1:0.5,3:0.3@90'"
+MIX_SYNTAX = "MODE:AMPLITUDE or MODE:AMPLITUDE@PHASE_DEGREES, comma separated, e.g. '1:0.5,3:0.3@90'"
 
 
 @dataclass(frozen=True)
