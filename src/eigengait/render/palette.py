@@ -64,26 +64,30 @@ def palette_layout(count: int, columns: int | None = None, tile_px: int = 240) -
 
 def mode_tiles(world: World, modes: ModeSet, count: int, tile_px: int = 240,
                max_rotation_deg: float = DEFAULT_MAX_ROTATION_DEG) -> list[np.ndarray]:
-    """One RGB tile (tile_px × tile_px × 3) per mode 1..count: relax pose with ±A ghosts, one shared camera."""
+    """One RGB tile (tile_px × tile_px × 3) per mode 1..count: relax pose with ±A ghosts.
+
+    Each tile's camera aims at the relax pose's centre and steps back just enough to keep both extremes in view.
+    """
     amplitudes = peak_rotation_amplitudes(world, modes, max_rotation_deg)[:count]
     displacement = modes.shapes[:, :count] * amplitudes
     minus = displaced_qpos(world, -displacement.T)
     plus = displaced_qpos(world, displacement.T)
-    fit_points = _corners_of_poses(world, np.vstack([world.model.qpos0, minus, plus]))
-    with FrameRenderer(world, tile_px, tile_px, PALETTE_VIEW, fit_points) as renderer:
-        return [renderer.render(world.model.qpos0, ((minus[i], MINUS_RGBA), (plus[i], PLUS_RGBA)), SOLID_RGBA)
-                for i in range(count)]
+    relax = _corners(world, world.model.qpos0)
+    centre = (relax.min(axis=0) + relax.max(axis=0)) / 2
+    tiles = []
+    with FrameRenderer(world, tile_px, tile_px, PALETTE_VIEW) as renderer:
+        for i in range(count):
+            renderer.fit(np.vstack([relax, _corners(world, minus[i]), _corners(world, plus[i])]), centre)
+            tiles.append(renderer.render(world.model.qpos0, ((minus[i], MINUS_RGBA), (plus[i], PLUS_RGBA)),
+                                         SOLID_RGBA))
+    return tiles
 
 
-def _corners_of_poses(world: World, qpos: np.ndarray) -> np.ndarray:
+def _corners(world: World, qpos: np.ndarray) -> np.ndarray:
     data = mujoco.MjData(world.model)
-    geoms = creature_geoms(world.model, world.root_body)
-    corners = []
-    for q in qpos:
-        data.qpos[:] = q
-        mujoco.mj_kinematics(world.model, data)
-        corners.append(geom_corners(world.model, data, geoms))
-    return np.concatenate(corners)
+    data.qpos[:] = qpos
+    mujoco.mj_kinematics(world.model, data)
+    return geom_corners(world.model, data, creature_geoms(world.model, world.root_body))
 
 
 def palette_title(modes: ModeSet) -> str:

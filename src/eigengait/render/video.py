@@ -76,15 +76,25 @@ def geom_corners(model: mujoco.MjModel, data: mujoco.MjData, geoms: np.ndarray) 
     return (np.einsum("gij,gkj->gki", rot, local) + data.geom_xpos[geoms][:, None]).reshape(-1, 3)
 
 
-def fit_camera(points: np.ndarray, view: CameraView, aspect: float, fovy_deg: float) -> tuple[np.ndarray, float]:
-    """Look-at point (m) and distance (m) that frame the world points with the view's direction and fill."""
+def fit_camera(points: np.ndarray, view: CameraView, aspect: float, fovy_deg: float,
+               centre: np.ndarray | None = None) -> tuple[np.ndarray, float]:
+    """Look-at point (m) and distance (m) that frame the world points with the view's direction and fill.
+
+    Without `centre` the camera aims at the middle of the points' image; with it, at `centre`'s image (the frame
+    then widens to keep every point in view around it).
+    """
     forward, right, up = view.axes()
-    rel = points - points.mean(axis=0)
+    origin = points.mean(axis=0) if centre is None else centre
+    rel = points - origin
     x, y, depth = rel @ right, rel @ up, rel @ forward
-    lookat = points.mean(axis=0) + right * (x.max() + x.min()) / 2 + up * (y.max() + y.min()) / 2
+    if centre is None:
+        shift_x, shift_y = (x.max() + x.min()) / 2, (y.max() + y.min()) / 2
+    else:
+        shift_x = shift_y = 0.0
+    half_x, half_y = np.abs(x - shift_x).max(), np.abs(y - shift_y).max()
     tan_half = np.tan(np.deg2rad(fovy_deg) / 2)
-    half_span = max(np.ptp(y) / 2 / tan_half, np.ptp(x) / 2 / (tan_half * aspect))
-    return lookat, half_span / view.fill - depth.min()
+    half_span = max(half_y / tan_half, half_x / (tan_half * aspect))
+    return origin + right * shift_x + up * shift_y, half_span / view.fill - depth.min()
 
 
 class FrameRenderer:
@@ -103,17 +113,22 @@ class FrameRenderer:
         self.renderer = mujoco.Renderer(self.model, height=height, width=width)
         self.renderer.scene.flags[mujoco.mjtRndFlag.mjRND_SHADOW] = True
         self.geoms = creature_geoms(self.model, world.root_body)
-        mujoco.mj_forward(self.model, self.data)
-        if fit_points is None:
-            fit_points = geom_corners(self.model, self.data, self.geoms)
-        lookat, distance = fit_camera(fit_points, view, width / height, self.model.vis.global_.fovy)
+        self.view = view
         self.camera = mujoco.MjvCamera()
         self.camera.type = mujoco.mjtCamera.mjCAMERA_FREE
         self.camera.azimuth = view.azimuth_deg
         self.camera.elevation = view.elevation_deg
-        self.camera.distance = view.distance_m or distance
+        mujoco.mj_forward(self.model, self.data)
+        self.relax_com = self.data.subtree_com[world.root_body].copy()
+        self.fit(geom_corners(self.model, self.data, self.geoms) if fit_points is None else fit_points)
+
+    def fit(self, points: np.ndarray, centre: np.ndarray | None = None) -> None:
+        """Aim the camera so the world points (m) fill the view (see `fit_camera`)."""
+        width, height = self.renderer.width, self.renderer.height
+        lookat, distance = fit_camera(points, self.view, width / height, self.model.vis.global_.fovy, centre)
+        self.camera.distance = self.view.distance_m or distance
         self.height_m = float(lookat[2])
-        self.lookat_offset = lookat[:2] - self.data.subtree_com[world.root_body][:2]
+        self.lookat_offset = lookat[:2] - self.relax_com[:2]
 
     def __enter__(self) -> "FrameRenderer":
         return self
