@@ -9,12 +9,15 @@ y-up/+Z-forward/+X-left files become z-up/+x-forward/+y-left), B_k⁰ is the bod
 character's relax pose, and A_k is the rest offset between the skeletons: the smallest rotation taking the body's
 rest bone direction onto the BVH joint's bone direction in the BVH rest pose (all channel rotations zero). Bone
 directions point from a joint to the mean of its nearest mapped descendants (else its first child, End Site or
-first geom). The root body takes the root joint's rotation with no offset. Joint quaternions follow from parent
+first geom). A body that carries a foot (toe and heel sites) uses heel → toe as its bone and the BVH bone is
+flattened onto the floor plane (the sole is flat in the rest pose): the built-in humanoid has no ankle, so its
+shin-and-foot body follows the mocap foot, which keeps stance feet flat. The root body takes the root joint's rotation with no offset. Joint quaternions follow from parent
 and child orientations; unmapped joints stay at their relax rotation; hinges keep the component about their axis.
 
 Root position: the BVH root trajectory in world axes, scaled by the ratio of the character's standing root height
 to the BVH root height above its lowest point in the first frame (a leg-length scale), moved to start at x = y = 0
-and lifted so that the feet touch the floor (5th percentile of the lowest foot point over the clip at z = 0).
+and shifted vertically so that the feet touch the floor: per frame, minus the 1-second running minimum of the lowest
+foot point (smoothed), which also removes slow drift of the capture floor.
 """
 
 from __future__ import annotations
@@ -39,12 +42,12 @@ MOTIONBUILDER_HUMANOID = {
     "Hips": "root", "Spine1": "torso", "Head": "head",
     "LeftArm": "left_upper_arm", "LeftForeArm": "left_forearm",
     "RightArm": "right_upper_arm", "RightForeArm": "right_forearm",
-    "LeftUpLeg": "left_thigh", "LeftLeg": "left_shin", "RightUpLeg": "right_thigh", "RightLeg": "right_shin",
+    "LeftUpLeg": "left_thigh", "LeftFoot": "left_shin", "RightUpLeg": "right_thigh", "RightFoot": "right_shin",
 }
 DAZ_HUMANOID = {
     "hip": "root", "chest": "torso", "head": "head",
     "lShldr": "left_upper_arm", "lForeArm": "left_forearm", "rShldr": "right_upper_arm", "rForeArm": "right_forearm",
-    "lThigh": "left_thigh", "lShin": "left_shin", "rThigh": "right_thigh", "rShin": "right_shin",
+    "lThigh": "left_thigh", "lFoot": "left_shin", "rThigh": "right_thigh", "rFoot": "right_shin",
 }
 BUILTIN_MAPPINGS = {"humanoid": {"motionbuilder": MOTIONBUILDER_HUMANOID, "daz": DAZ_HUMANOID}}
 
@@ -197,12 +200,27 @@ def _bvh_rest_bones(clip: BvhClip, pairs: dict[int, int]) -> dict[int, np.ndarra
     return bones
 
 
+def _foot_sites(world: World) -> dict[int, tuple[int, int]]:
+    """Body id → (heel site id, toe site id) for feet with both sites."""
+    model, out = world.model, {}
+    for foot in world.character.feet.values():
+        if foot.toe and foot.heel:
+            toe, heel = model.site(foot.toe).id, model.site(foot.heel).id
+            out[int(model.site_bodyid[toe])] = (heel, toe)
+    return out
+
+
 def _body_rest_bones(world: World, data: mujoco.MjData, bodies: dict[int, int]) -> dict[int, np.ndarray]:
     """Bone direction (world, relax pose) of every driven body, keyed by body id."""
     model = world.model
     parents = [int(p) if i else -1 for i, p in enumerate(model.body_parentid)]
+    feet = _foot_sites(world)
     bones = {}
     for body in bodies.values():
+        if body in feet:
+            heel, toe = feet[body]
+            bones[body] = data.site_xpos[toe] - data.site_xpos[heel]
+            continue
         targets = _nearest_mapped(parents, body, set(bodies.values()))
         if targets:
             bones[body] = data.xpos[targets].mean(axis=0) - data.xpos[body]
@@ -230,9 +248,13 @@ def retarget(clip: BvhClip, world: World, mapping: Mapping, start_frame: int = 1
     world_rot = axes @ rot @ axes.T                                    # (F, J, 3, 3) world axes
     bvh_bones = _bvh_rest_bones(clip, pairs)
     body_bones = _body_rest_bones(world, data, body_of)
+    feet = _foot_sites(world)
     orient = {}
     for b, body in body_of.items():
-        offset = np.eye(3) if b == root else min_arc(body_bones[body], axes @ bvh_bones[b])
+        bone = axes @ bvh_bones[b]
+        if body in feet:
+            bone[2] = 0.0
+        offset = np.eye(3) if b == root else min_arc(body_bones[body], bone)
         orient[body] = world_rot[:, b] @ offset @ rest_world[body]
 
     n = len(rot)
@@ -251,7 +273,7 @@ def retarget(clip: BvhClip, world: World, mapping: Mapping, start_frame: int = 1
         relative = np.swapaxes(local, -1, -2) @ np.swapaxes(world_orient[parent], -1, -2) @ orient[body]
         quat = mat_to_quat(relative)
         if model.jnt_type[jid] == mujoco.mjtJoint.mjJNT_FREE:
-            qpos[:, adr + 3:adr + 7] = mat_to_quat(orient[body])
+            qpos[:, adr + 3:adr + 7] = _continuous(mat_to_quat(orient[body]))
         elif model.jnt_type[jid] == mujoco.mjtJoint.mjJNT_BALL:
             qpos[:, adr:adr + 4] = _continuous(quat)
         else:
@@ -263,7 +285,7 @@ def retarget(clip: BvhClip, world: World, mapping: Mapping, start_frame: int = 1
     root_path = scale * pos[:, root] @ axes.T
     root_path[:, :2] -= root_path[0, :2]
     qpos[:, root_adr:root_adr + 3] = root_path
-    qpos[:, root_adr + 2] -= _foot_floor_offset(world, qpos)
+    qpos[:, root_adr + 2] -= _foot_floor_offset(world, qpos, clip.frame_time)
     return RetargetedClip(qpos=qpos, frame_time=clip.frame_time, scale=scale)
 
 
@@ -282,8 +304,8 @@ def _lowest_bvh_point(clip: BvhClip, axes: np.ndarray, frame: int) -> float:
     return float((points @ axes.T)[:, 2].min())
 
 
-def _foot_floor_offset(world: World, qpos: np.ndarray) -> float:
-    """Height (m) of the 5th percentile over frames of the lowest foot contact point (all geoms if no feet)."""
+def _foot_floor_offset(world: World, qpos: np.ndarray, frame_time: float) -> np.ndarray:
+    """Per-frame floor height (m): smoothed 1-s running minimum of the lowest foot point (all geoms if no feet)."""
     model, data = world.model, mujoco.MjData(world.model)
     geoms = [g for gs in world.foot_spheres.values() for g in gs] or \
         [g for g in range(model.ngeom) if model.geom_bodyid[g] != 0]
@@ -292,4 +314,9 @@ def _foot_floor_offset(world: World, qpos: np.ndarray) -> float:
         data.qpos[:] = q
         mujoco.mj_kinematics(model, data)
         lows[i] = np.min(data.geom_xpos[geoms, 2] - model.geom_rbound[geoms])
-    return float(np.percentile(lows, 5))
+    half = max(1, int(round(0.5 / frame_time)))
+    padded = np.concatenate([np.full(half, lows[0]), lows, np.full(half, lows[-1])])
+    running = np.array([padded[i:i + 2 * half + 1].min() for i in range(len(lows))])
+    kernel = np.ones(2 * half + 1) / (2 * half + 1)
+    padded = np.concatenate([np.full(half, running[0]), running, np.full(half, running[-1])])
+    return np.convolve(padded, kernel, mode="valid")

@@ -1,0 +1,108 @@
+"""Reference quantities from a kinematic replay of a pose sequence on the simulated character's own model.
+
+For every frame: qpos is set, ``mj_forward`` gives the COM and foot points, qvel comes from central differences
+(``mj_differentiatePos``) smoothed by a 5-frame moving average (mocap is noisy), and ``mj_subtreeVel`` gives the
+COM velocity and the angular momentum about the COM. All vectors are in world axes, SI units.
+A foot is in reference contact when its lowest contact point is within ``CONTACT_HEIGHT`` of the floor; the
+support point is the mean of the contacting feet's toe/heel midpoints, held through flight phases.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import mujoco
+import numpy as np
+
+from eigengait.sim.world import World
+
+CONTACT_HEIGHT = 0.05   # m
+SMOOTHING_FRAMES = 5
+
+
+@dataclass
+class Reference:
+    """Per-frame reference of a motion at a fixed frame time (s); arrays have one row per frame."""
+
+    frame_time: float
+    qpos: np.ndarray          # (F, nq)
+    qvel: np.ndarray          # (F, nv)
+    com: np.ndarray           # (F, 3) m
+    com_vel: np.ndarray       # (F, 3) m/s
+    angular_momentum: np.ndarray  # (F, 3) kg·m²/s about the COM
+    support: np.ndarray       # (F, 2) m, horizontal support point
+    foot_contact: np.ndarray  # (F, n_feet) bool, feet in the order of world.foot_spheres
+    mass: float
+
+    @property
+    def n_frames(self) -> int:
+        return len(self.qpos)
+
+    @property
+    def duration(self) -> float:
+        return (self.n_frames - 1) * self.frame_time
+
+    @property
+    def linear_momentum(self) -> np.ndarray:
+        return self.mass * self.com_vel
+
+    def frame_at(self, t: float) -> tuple[int, int, float]:
+        """Bracketing frames and blend weight of time t (s), clamped to the clip."""
+        x = np.clip(t / self.frame_time, 0.0, self.n_frames - 1.0)
+        i = min(int(x), self.n_frames - 2)
+        return i, i + 1, x - i
+
+
+def _smooth(values: np.ndarray, width: int) -> np.ndarray:
+    if len(values) < width:
+        return values
+    pad = width // 2
+    padded = np.concatenate([np.repeat(values[:1], pad, 0), values, np.repeat(values[-1:], pad, 0)])
+    kernel = np.ones(width) / width
+    return np.apply_along_axis(lambda c: np.convolve(c, kernel, mode="valid"), 0, padded)
+
+
+def foot_points(world: World, data: mujoco.MjData) -> dict[str, np.ndarray]:
+    """World positions (k, 3) of each foot's contact spheres."""
+    return {foot: data.geom_xpos[geoms] for foot, geoms in world.foot_spheres.items()}
+
+
+def kinematic_replay(world: World, qpos: np.ndarray, frame_time: float) -> Reference:
+    """Replay poses (F, nq) kinematically and record the reference quantities."""
+    model = world.model
+    data = mujoco.MjData(model)
+    n = len(qpos)
+    qvel = np.zeros((n, model.nv))
+    for i in range(n):
+        a, b = max(i - 1, 0), min(i + 1, n - 1)
+        mujoco.mj_differentiatePos(model, qvel[i], (b - a) * frame_time, qpos[a], qpos[b])
+    qvel = _smooth(qvel, SMOOTHING_FRAMES)
+    root = world.root_body
+    feet = list(world.foot_spheres)
+    com, com_vel, ang = np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3))
+    contact = np.zeros((n, len(feet)), bool)
+    support = np.full((n, 2), np.nan)
+    for i in range(n):
+        data.qpos[:], data.qvel[:] = qpos[i], qvel[i]
+        mujoco.mj_forward(model, data)
+        mujoco.mj_subtreeVel(model, data)
+        com[i], com_vel[i], ang[i] = data.subtree_com[root], data.subtree_linvel[root], data.subtree_angmom[root]
+        points = foot_points(world, data)
+        low = [points[f][:, 2].min() - model.geom_size[world.foot_spheres[f][0], 0] for f in feet]
+        contact[i] = np.array(low) < CONTACT_HEIGHT
+        if contact[i].any():
+            support[i] = np.mean([points[f][:, :2].mean(axis=0) for f, c in zip(feet, contact[i]) if c], axis=0)
+    support = _hold(support, com[:, :2])
+    return Reference(frame_time=frame_time, qpos=qpos, qvel=qvel, com=com, com_vel=com_vel, angular_momentum=ang,
+                     support=support, foot_contact=contact, mass=float(model.body_subtreemass[root]))
+
+
+def _hold(support: np.ndarray, fallback: np.ndarray) -> np.ndarray:
+    """Fill flight frames with the last support point (the COM projection before the first contact)."""
+    out = support.copy()
+    last = fallback[0]
+    for i in range(len(out)):
+        if np.isnan(out[i, 0]):
+            out[i] = last
+        last = out[i]
+    return out

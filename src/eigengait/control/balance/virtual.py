@@ -1,0 +1,48 @@
+"""E19–E29: the virtual wrench at the COM (force and torque, world axes, N and N·m).
+
+E19–E20: f_control = k_fs[(c_ref − s_ref) − (c − s)] + k_fd (v_ref − v), horizontal only, positions measured from
+each character's own support point s. E21: f_g = m g (up). E22: f_P = k_P (P_ref − P). E23: the sum.
+E24: τ_control = k_ts log(q_des ⊗ q⁻¹) + k_td (ω_des − ω) on one body's world orientation (the root body: the
+pelvis is the unactuated body whose orientation the reference fixes). E26–E27: M = k_ma (L_ref − L), the
+sign-safe form (E25 feeds momentum back with the wrong sign). E28: τ_virtual = τ_control + M.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from eigengait.control.balance.rotations import quat_conj, quat_log, quat_mul
+
+HORIZONTAL = np.array([1.0, 1.0, 0.0])
+
+
+@dataclass(frozen=True)
+class VirtualGains:
+    """Gains of the virtual wrench: k_fs N/m, k_fd N·s/m, k_P 1/s, k_ts N·m/rad, k_td N·m·s/rad, k_ma 1/s."""
+
+    k_fs: float = 500.0
+    k_fd: float = 150.0
+    k_P: float = 2.0
+    k_ts: float = 400.0
+    k_td: float = 40.0
+    k_ma: float = 2.0
+
+
+def virtual_force(com: np.ndarray, com_vel: np.ndarray, support: np.ndarray, com_ref: np.ndarray,
+                  com_vel_ref: np.ndarray, support_ref: np.ndarray, mass: float, gravity: float,
+                  gains: VirtualGains) -> np.ndarray:
+    """E19–E23: f_virtual (3,) N; support points are (2,) horizontal positions in m."""
+    offset = np.append(com_ref[:2] - support_ref - (com[:2] - support), 0.0)
+    control = (gains.k_fs * offset + gains.k_fd * (com_vel_ref - com_vel)) * HORIZONTAL
+    weight = np.array([0.0, 0.0, mass * gravity])
+    momentum = gains.k_P * mass * (com_vel_ref - com_vel)
+    return control + weight + momentum
+
+
+def virtual_torque(quat: np.ndarray, quat_ref: np.ndarray, omega: np.ndarray, omega_ref: np.ndarray,
+                   angmom: np.ndarray, angmom_ref: np.ndarray, gains: VirtualGains) -> np.ndarray:
+    """E24–E28: τ_virtual (3,) N·m from a body's world orientation/angular velocity and the momentum about the COM."""
+    control = gains.k_ts * quat_log(quat_mul(quat_ref, quat_conj(quat))) + gains.k_td * (omega_ref - omega)
+    return control + gains.k_ma * (angmom_ref - angmom)
