@@ -100,12 +100,11 @@ def fit_camera(points: np.ndarray, view: CameraView, aspect: float, fovy_deg: fl
 class FrameRenderer:
     """Offscreen renderer of a world's poses; use as a context manager (it owns a GL context).
 
-    The camera is fitted to `fit_points` (world points, m; default: the relax pose) and then follows the COM
-    horizontally at constant height.
+    The camera is fitted to the relax pose (refit with `fit`) and then follows the COM horizontally at
+    constant height.
     """
 
-    def __init__(self, world: World, width: int = 640, height: int = 480, view: CameraView = CameraView(),
-                 fit_points: np.ndarray | None = None):
+    def __init__(self, world: World, width: int = 640, height: int = 480, view: CameraView = CameraView()):
         self.world = world
         self.model = visual_model(world, width, height)
         self.data = mujoco.MjData(self.model)
@@ -120,7 +119,7 @@ class FrameRenderer:
         self.camera.elevation = view.elevation_deg
         mujoco.mj_forward(self.model, self.data)
         self.relax_com = self.data.subtree_com[world.root_body].copy()
-        self.fit(geom_corners(self.model, self.data, self.geoms) if fit_points is None else fit_points)
+        self.fit(geom_corners(self.model, self.data, self.geoms))
 
     def fit(self, points: np.ndarray, centre: np.ndarray | None = None) -> None:
         """Aim the camera so the world points (m) fill the view (see `fit_camera`)."""
@@ -190,15 +189,20 @@ def _progress(visible: bool) -> Progress:
                     TimeRemainingColumn(), disable=not visible, transient=True)
 
 
+def video_path(path: str | Path) -> Path:
+    """The path, if its suffix names a format we write (.mp4 or .gif)."""
+    path = Path(path)
+    if path.suffix.lower() not in VIDEO_SUFFIXES:
+        raise UserInputError(f"cannot write video format '{path.suffix}'", file=path, fix="name the file .mp4 or .gif")
+    return path
+
+
 def write_video(frames: Iterator[np.ndarray], path: str | Path, fps: float) -> int:
     """Write frames to an .mp4 (H.264, yuv420p) or .gif (looping) chosen by suffix; returns the frame count."""
     import imageio.v2 as imageio
 
-    path = Path(path)
-    suffix = path.suffix.lower()
-    if suffix not in VIDEO_SUFFIXES:
-        raise UserInputError(f"cannot write video format '{suffix}'", file=path, fix="name the file .mp4 or .gif")
-    if suffix == ".mp4":
+    path = video_path(path)
+    if path.suffix.lower() == ".mp4":
         writer = imageio.get_writer(path, format="FFMPEG", fps=fps, codec="libx264", pixelformat="yuv420p",
                                     quality=8, macro_block_size=2, ffmpeg_log_level="error")
     else:
@@ -214,7 +218,5 @@ def write_video(frames: Iterator[np.ndarray], path: str | Path, fps: float) -> i
 def render_video(world: World, qpos: np.ndarray, fps: float, path: str | Path, width: int = 640, height: int = 480,
                  view: CameraView = CameraView(), progress: bool = False) -> int:
     """Render a qpos sequence (T × nq) sampled at `fps` to a video file; returns the frame count."""
-    if Path(path).suffix.lower() not in VIDEO_SUFFIXES:
-        raise UserInputError(f"cannot write video format '{Path(path).suffix}'", file=path,
-                             fix="name the file .mp4 or .gif")
+    video_path(path)
     return write_video(iter_frames(world, qpos, width, height, view, progress), path, fps)
