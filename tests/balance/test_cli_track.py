@@ -1,0 +1,52 @@
+"""`eigengait track` through typer's runner and as a process with the CLI's error handling."""
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import typer
+from typer.testing import CliRunner
+
+from eigengait.cli_track import register
+
+WALK = "/work/shared/data/mocap/cmu_02_01_walk.bvh"
+MAIN = ("import sys, typer; from eigengait.cli_track import register; from eigengait.errors import UserInputError\n"
+        "app = typer.Typer(); register(app); app.command('noop')(lambda: None)\n"
+        "try:\n    app(standalone_mode=False)\n"
+        "except UserInputError as err:\n    print('error:', err, file=sys.stderr); sys.exit(2)\n")
+
+
+def _app():
+    app = typer.Typer()
+    register(app)
+    app.command("noop")(lambda: None)
+    return app
+
+
+def test_json_reports_the_required_fields(tmp_path):
+    lines = Path(WALK).read_text().splitlines()
+    header = lines.index("MOTION")
+    short = tmp_path / "short.bvh"
+    frames = lines[header + 3:header + 3 + 40]
+    short.write_text("\n".join(lines[:header + 1] + ["Frames: 40", "Frame Time: .0083333"] + frames) + "\n")
+    result = CliRunner().invoke(_app(), ["track", str(short), "--robustness", "1", "--json"])
+    assert result.exit_code == 0, result.output
+    out = json.loads(result.output)
+    assert {"duration_s", "fell", "joint_rms_deg", "com_error_m", "artificial_torque"} <= set(out)
+    assert out["duration_s"] > 0.25 and out["fell"] is False
+
+
+def _run(*args):
+    return subprocess.run([sys.executable, "-c", MAIN, "track", *args], capture_output=True, text=True, timeout=120)
+
+
+def test_bad_inputs_exit_with_status_2(tmp_path):
+    proc = _run(WALK, "--robustness", "1.5")
+    assert proc.returncode == 2 and "robustness" in proc.stderr
+    truncated = tmp_path / "cut.bvh"
+    truncated.write_text("\n".join(Path(WALK).read_text().splitlines()[:150]) + "\n")
+    proc = _run(str(truncated))
+    assert proc.returncode == 2 and "line" in proc.stderr and "cut.bvh" in proc.stderr
+    proc = _run(WALK, "--push", "lots")
+    assert proc.returncode == 2 and "FORCE@TIME" in proc.stderr

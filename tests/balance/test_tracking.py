@@ -1,0 +1,80 @@
+"""Retargeting the CMU clips onto the humanoid, the kinematic reference, and a short closed-loop tracking run."""
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from eigengait.character import load_character
+from eigengait.control.balance.reference import kinematic_replay
+from eigengait.control.balance.tracker import track
+from eigengait.errors import UserInputError
+from eigengait.motion.bvh import read_bvh
+from eigengait.motion.retarget import builtin_mapping, load_mapping, retarget
+from eigengait.sim.world import build_world
+
+MOCAP = Path("/work/shared/data/mocap")
+
+
+@pytest.fixture(scope="module")
+def world():
+    return build_world(load_character("humanoid"))
+
+
+@pytest.fixture(scope="module")
+def walk(world):
+    clip = read_bvh(MOCAP / "cmu_02_01_walk.bvh")
+    poses = retarget(clip, world, builtin_mapping("humanoid", clip))
+    return poses, kinematic_replay(world, poses.qpos, poses.frame_time)
+
+
+def test_walk_is_upright_forward_and_on_the_floor(walk):
+    poses, ref = walk
+    assert poses.scale == pytest.approx(0.0564, rel=0.1)   # the CMU unit is 0.0564 m
+    travel = ref.com[-1] - ref.com[0]
+    assert 3.0 < travel[0] < 4.0 and abs(travel[1]) < 0.3      # about 3.4 m along +x
+    assert np.all((ref.com[:, 2] > 0.8) & (ref.com[:, 2] < 1.1))
+    speed = np.linalg.norm(ref.com_vel[:, :2], axis=1).mean()
+    assert 1.0 < speed < 1.4                                   # 1.1–1.2 m/s per the data notes
+    assert 0.45 < ref.foot_contact.mean() < 0.85               # each foot stands most of the time, not always
+    assert ref.foot_contact.any(axis=1).mean() > 0.95           # walking: (almost) never both feet in the air
+
+
+def test_daz_run_maps_and_has_flight(world):
+    clip = read_bvh(MOCAP / "cmu_16_36_run_daz.bvh")
+    poses = retarget(clip, world, builtin_mapping("humanoid", clip))
+    ref = kinematic_replay(world, poses.qpos, poses.frame_time)
+    speed = (ref.com[-1, 0] - ref.com[0, 0]) / ref.duration
+    assert 2.0 < speed < 3.2
+    assert not np.all(ref.foot_contact.any(axis=1))
+
+
+def test_unmappable_skeleton_and_bad_mapping_files(world, tmp_path):
+    clip = read_bvh(MOCAP / "cmu_02_01_walk.bvh")
+    clip.joints[0].name = "Pelvis"
+    with pytest.raises(UserInputError, match="matches no built-in mapping"):
+        builtin_mapping("humanoid", clip)
+    bad = tmp_path / "map.yaml"
+    bad.write_text("joints: {Hips: root}\naxes: {x: +z, y: +x, z: -y}\n")
+    with pytest.raises(UserInputError, match="right-handed"):
+        load_mapping(bad)
+    bad.write_text("joints: {Hips: root, LeftUpLeg: tail}\n")
+    with pytest.raises(UserInputError, match="tail"):
+        retarget(read_bvh(MOCAP / "cmu_02_01_walk.bvh"), world, load_mapping(bad))
+
+
+def test_mapping_file_drives_the_same_pose_as_the_builtin(world, tmp_path, walk):
+    clip = read_bvh(MOCAP / "cmu_02_01_walk.bvh")
+    text = "joints:\n" + "".join(f"  {b}: {m}\n" for b, m in builtin_mapping("humanoid", clip).joints.items())
+    (tmp_path / "map.yaml").write_text(text)
+    poses = retarget(clip, world, load_mapping(tmp_path / "map.yaml"))
+    np.testing.assert_allclose(poses.qpos, walk[0].qpos)
+
+
+def test_short_tracking_run_follows_the_clip(world, walk):
+    _, ref = walk
+    full = track(world, ref, 1.0, duration_s=0.5)
+    free = track(world, ref, 0.0, duration_s=0.5)
+    assert not full.fell and full.duration_s == pytest.approx(0.5, abs=0.01)
+    assert full.joint_rms_deg < 20.0 and full.com_error_m < 0.2
+    assert free.artificial_torque == 0.0 and full.artificial_torque > 0.0
