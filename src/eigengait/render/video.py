@@ -1,8 +1,10 @@
 """Render a World's qpos sequence with MuJoCo's offscreen Renderer and write it as MP4 or GIF.
 
-The camera is a free camera that follows the creature's centre of mass horizontally (x, y) at the relax-pose COM
-height, looking down at `elevation_deg` so the floor fills the background. Distances are in metres, angles in
-degrees, sizes in pixels. MP4 is H.264 (libx264, yuv420p: plays in browsers and every player); GIF loops forever.
+The camera is a free camera framed on the relax pose, then following the creature's centre of mass horizontally
+(x, y) at constant height, looking down at `elevation_deg` so the floor fills the background. Lighting: MuJoCo's
+headlight softened, the world's overhead light casting shadows on the floor. Distances are in metres, angles in
+degrees, sizes in pixels. MP4 is H.264 (libx264, yuv420p: plays in browsers and every player); GIF loops forever
+(GIF stores frame times in 10 ms steps, so 25 or 20 fps play exactly).
 """
 
 from __future__ import annotations
