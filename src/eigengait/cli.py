@@ -16,6 +16,7 @@ from rich.console import Console
 from rich.table import Table
 
 from eigengait.errors import UserInputError
+from eigengait.outputs import refuse_existing
 
 app = typer.Typer(add_completion=False, no_args_is_help=True,
                   help="Physics-based character animation from natural vibration modes.")
@@ -59,9 +60,7 @@ def character_export(name: str = typer.Argument(..., help="Built-in name or MJCF
     from eigengait.character.relax import parse_relax_argument
     from eigengait.sim.world import build_world
 
-    if output.exists() and not force:
-        raise UserInputError("the output file exists and was left untouched", file=output,
-                             fix="choose another name or pass --force")
+    refuse_existing([output], force)
     world = build_world(load_character(name), parse_relax_argument(relax))
     output.write_text(world.mjcf())
     console.print(f"wrote {output}")
@@ -95,6 +94,17 @@ def modes_command(character: str = typer.Argument(..., help="Built-in name or MJ
         col = modes.torque_basis[:, i]
         table.add_row(str(i + 1), f"{f:.3f}", f"{1 / f:.3f}", modes.dof_labels[int(abs(col).argmax())])
     console.print(table)
+
+
+def _register_command_groups() -> None:
+    from eigengait.cli_animate import register as register_animate
+    from eigengait.cli_gait import register as register_gait
+
+    register_animate(app)
+    register_gait(app)
+
+
+_register_command_groups()
 
 
 def main() -> None:

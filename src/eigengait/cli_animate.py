@@ -16,6 +16,7 @@ from rich.console import Console
 from rich.table import Table
 
 from eigengait.errors import UserInputError
+from eigengait.outputs import refuse_existing
 from eigengait.motion.modal_mix import DEFAULT_MAX_ROTATION_DEG
 
 console = Console()
@@ -24,13 +25,6 @@ MIX_HELP = ("Modes to mix: MODE:AMPLITUDE or MODE:AMPLITUDE@PHASE_DEGREES, comma
             "MODE is the mode number (1 = lowest frequency); AMPLITUDE is relative to the equal-energy default "
             "(1 = every mode the same energy, the widest mode turning a joint --angle degrees); PHASE is the "
             "phase of the sine in degrees (default 0).")
-
-
-def _refuse_existing(paths: list[Path | None], force: bool) -> None:
-    for path in paths:
-        if path is not None and path.exists() and not force:
-            raise UserInputError("the output file exists and was left untouched", file=path,
-                                 fix="choose another name or pass --force")
 
 
 def _require_suffix(path: Path | None, suffixes: tuple[str, ...], option: str) -> None:
@@ -64,7 +58,7 @@ def palette_command(
     from eigengait.render.palette import write_palette
 
     _require_suffix(output, (".png",), "--output")
-    _refuse_existing([output], force)
+    refuse_existing([output], force)
     world, modes = _world_and_modes(character, phase, foot, relax)
     image = write_palette(world, modes, output, count, columns, tile, angle)
     console.print(f"wrote {output} ({image.shape[1]}×{image.shape[0]} px, {count or modes.count} modes)")
@@ -100,7 +94,7 @@ def animate_command(
         raise UserInputError("nothing to write", field="--video/--bvh", fix="give --video out.mp4 and/or --bvh out.bvh")
     _require_suffix(video, (".mp4", ".gif"), "--video")
     _require_suffix(bvh, (".bvh",), "--bvh")
-    _refuse_existing([video, bvh], force)
+    refuse_existing([video, bvh], force)
     terms = parse_mix(mix)
     world, modes = _world_and_modes(character, phase, foot, relax)
     modal_mix = build_mix(world, modes, terms, angle, base_hz)

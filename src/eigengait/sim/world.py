@@ -195,8 +195,8 @@ def build_world(character: Character, pose: str | dict = DEFAULT_POSE, options: 
     spec.option.timestep = options.timestep
     spec.option.gravity = [0, 0, -GRAVITY if options.gravity else 0.0]
     spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
+    _add_motors(spec, character)      # motors first: ctrl[:nmotor] are the joint torques
     _add_springs(spec, character)
-    _add_motors(spec, character)
     _set_contacts(spec, character, options.contact)
     _add_floor_and_sensors(spec, character, root.name, options.floor)
     model = spec.compile()

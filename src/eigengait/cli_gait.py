@@ -1,0 +1,192 @@
+"""Commands of the modal-locomotion pipeline: sketch, optimize, play, gaits, demo."""
+
+from __future__ import annotations
+
+import json
+import time
+from datetime import datetime
+from pathlib import Path
+from typing import Optional
+
+import typer
+from rich.console import Console
+from rich.table import Table
+
+from eigengait.errors import UserInputError
+from eigengait.outputs import refuse_existing
+
+console = Console()
+
+
+def _video_and_bvh(world, qpos, fps, video: Optional[Path], bvh: Optional[Path]) -> None:
+    if video:
+        from eigengait.render.video import render_video
+        render_video(world, qpos, fps, video, progress=True)
+        console.print(f"video: {video}")
+    if bvh:
+        from eigengait.motion.bvh_export import write_trajectory_bvh
+        write_trajectory_bvh(world, qpos, fps, bvh)
+        console.print(f"BVH: {bvh}")
+
+
+def sketch_command(
+        sketch: str = typer.Argument(..., help="Sketch file (.yaml/.json) or a shipped preset name."),
+        seconds: float = typer.Option(4.0, "--seconds", help="Simulated time (s)."),
+        video: Optional[Path] = typer.Option(None, "--video", help="Write a video (.mp4/.gif)."),
+        force: bool = typer.Option(False, "--force", help="Overwrite an existing video."),
+        as_json: bool = typer.Option(False, "--json", help="Print one JSON object.")):
+    """Simulate a sketch with gravity off, as the animator sees it while editing."""
+    from eigengait.control.library import resolve
+    from eigengait.control.sketch import load_sketch
+    from eigengait.control.sketch_sim import simulate_sketch
+
+    if seconds <= 0:
+        raise UserInputError(f"--seconds must be positive, got {seconds}", field="--seconds")
+    refuse_existing([video], force)
+    path = resolve("sketch", sketch)
+    result = simulate_sketch(load_sketch(path), seconds, source=path)
+    summary = {"sketch": str(path), "simulated_s": seconds, "wall_s": round(result.wall_seconds, 3),
+               "realtime_factor": round(seconds / max(result.wall_seconds, 1e-9), 1),
+               "max_joint_rotation_deg": round(result.max_joint_rotation_deg, 2)}
+    if as_json:
+        print(json.dumps(summary))
+    else:
+        console.print(f"simulated {seconds:.1f} s of '{path.name}' with gravity off in {result.wall_seconds:.2f} s "
+                      f"({summary['realtime_factor']}× real time); largest joint rotation "
+                      f"{summary['max_joint_rotation_deg']}°")
+    _video_and_bvh(result.world, result.qpos, result.fps, video, None)
+
+
+def optimize_command(
+        sketch: str = typer.Argument(..., help="Sketch file or shipped preset name."),
+        output: Path = typer.Option(..., "-o", "--output", help="Run folder."),
+        seed: int = typer.Option(1, "--seed"),
+        evaluations: Optional[int] = typer.Option(None, "--max-evaluations", help="Total simulation budget."),
+        minutes: Optional[float] = typer.Option(None, "--max-minutes", help="Wall-clock budget (min)."),
+        generations: int = typer.Option(1000, "--inner-generations", help="Cap per inner CMA-ES run."),
+        max_outer: int = typer.Option(20, "--max-outer", help="Cap on multiplier iterations."),
+        tolerance: float = typer.Option(0.05, "--cycle-tolerance", help="max|φᵢ| accepted as cyclic."),
+        popsize: Optional[int] = typer.Option(None, "--popsize"),
+        evaluator: str = typer.Option("threads", "--evaluator", help="threads | processes | ray"),
+        workers: Optional[int] = typer.Option(None, "--workers", help="Threads/processes/actors (default: cores)."),
+        resume: bool = typer.Option(False, "--resume", help="Continue the run in --output.")):
+    """Optimize a sketch into a cyclic, physically simulated gait (method of multipliers + CMA-ES)."""
+    from eigengait.control.library import resolve
+    from eigengait.control.sketch import load_sketch
+    from eigengait.optimize.mom import MomSettings
+    from eigengait.optimize.run import optimize
+
+    path = resolve("sketch", sketch)
+    settings = MomSettings(seed=seed, max_evaluations=evaluations, max_seconds=minutes * 60 if minutes else None,
+                           inner_generations=generations, max_outer=max_outer, cycle_tolerance=tolerance,
+                           popsize=popsize)
+    state = optimize(load_sketch(path), output, settings, evaluator, workers, resume, sketch_source=path)
+    best = state.best
+    console.print(f"{state.finished}: {state.evaluations} evaluations, {state.generation} generations, "
+                  f"{state.elapsed:.0f} s; best cost {best.cost:.4g}, cycle violation {best.violation:.3g}, "
+                  f"speed {best.mean_velocity[0]:.2f} m/s")
+    console.print(f"run folder: {output} (best_controller.json, log.csv, objective.png, violation.png)")
+
+
+def play_command(
+        controller: str = typer.Argument(..., help="Controller file or shipped gait name."),
+        cycles: int = typer.Option(6, "--cycles", help="Cycles to play."),
+        no_snap: bool = typer.Option(False, "--no-snap", help="Do not snap back to the initial state each cycle."),
+        as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
+        video: Optional[Path] = typer.Option(None, "--video", help="Write a video (.mp4/.gif)."),
+        bvh: Optional[Path] = typer.Option(None, "--bvh", help="Write the motion as BVH."),
+        force: bool = typer.Option(False, "--force", help="Overwrite existing outputs.")):
+    """Play a controller on the ground with gravity; report speed, energy and survival."""
+    from eigengait.control.controller import load_controller, system_for, to_parameters
+    from eigengait.control.library import resolve
+    from eigengait.control.playback import play
+
+    if cycles < 1:
+        raise UserInputError(f"--cycles must be at least 1, got {cycles}", field="--cycles")
+    refuse_existing([video, bvh], force)
+    path = resolve("gait", controller)
+    c = load_controller(path)
+    system = system_for(c)
+    result = play(system, to_parameters(c, system, path), cycles, snap=not no_snap)
+    summary = {"controller": str(path), "character": c.character, **result.summary()}
+    if as_json:
+        print(json.dumps(summary))
+    else:
+        table = Table(title=f"{path.name} on {c.character}")
+        table.add_column("metric")
+        table.add_column("value", justify="right")
+        for k, v in summary.items():
+            table.add_row(k, str(v))
+        console.print(table)
+    _video_and_bvh(system.world, result.qpos, result.fps, video, bvh)
+
+
+def gaits_command(as_json: bool = typer.Option(False, "--json", help="Print JSON.")):
+    """List the shipped optimized gaits."""
+    from eigengait.control.controller import load_controller
+    from eigengait.control.library import gait_names, resolve
+
+    rows = []
+    for name in gait_names():
+        c = load_controller(resolve("gait", name))
+        rows.append({"name": name, "character": c.character, "feet": c.feet, "period_s": round(c.period, 3),
+                     **{k: c.metrics[k] for k in ("mean_speed_mps", "cycle_violation") if k in c.metrics}})
+    if as_json:
+        print(json.dumps(rows))
+        return
+    table = Table(title="Shipped gaits")
+    for col in ("name", "character", "period (s)", "speed (m/s)", "cycle violation"):
+        table.add_column(col)
+    for r in rows:
+        table.add_row(r["name"], r["character"], str(r["period_s"]), f"{r.get('mean_speed_mps', float('nan')):.2f}",
+                      f"{r.get('cycle_violation', float('nan')):.3g}")
+    console.print(table)
+
+
+def demo_command(
+        output: Path = typer.Option(Path("out/demo"), "--output", help="Parent folder; each demo gets a new subfolder."),
+        evaluations: int = typer.Option(4000, "--max-evaluations", help="Optimization budget."),
+        seed: int = typer.Option(1, "--seed")):
+    """The main job on the humanoid: modes -> palette -> basic-run sketch -> optimization -> playback -> video, BVH."""
+    from eigengait.character import load_character
+    from eigengait.control.controller import load_controller, system_for, to_parameters
+    from eigengait.control.library import resolve
+    from eigengait.control.playback import play
+    from eigengait.control.sketch import load_sketch
+    from eigengait.modal import compute_modes
+    from eigengait.optimize.mom import MomSettings
+    from eigengait.optimize.run import optimize
+    from eigengait.render.palette import write_palette
+    from eigengait.sim import WorldOptions, build_world
+
+    folder = output / datetime.now().strftime("run-%Y%m%d-%H%M%S")
+    folder.mkdir(parents=True, exist_ok=False)
+    t0 = time.perf_counter()
+    character = load_character("humanoid")
+    world = build_world(character, options=WorldOptions(gravity=False))
+    for phase in ("air", "ground"):
+        modes = compute_modes(world, phase)
+        modes.save(folder / f"modes_{phase}.npz")
+        write_palette(world, modes, folder / f"palette_{phase}.png")
+    console.print(f"[1/4] modes and palettes: {folder}/palette_air.png, palette_ground.png")
+    sketch_path = resolve("sketch", "basic-run")
+    state = optimize(load_sketch(sketch_path), folder / "optimization",
+                     MomSettings(seed=seed, max_evaluations=evaluations, inner_generations=80),
+                     sketch_source=sketch_path)
+    console.print(f"[2/4] optimization ({state.finished}): cycle violation {state.best.violation:.3g}, "
+                  f"{state.evaluations} evaluations in {state.elapsed:.0f} s")
+    c = load_controller(folder / "optimization" / "best_controller.json")
+    system = system_for(c)
+    result = play(system, to_parameters(c, system), cycles=6)
+    (folder / "playback.json").write_text(json.dumps(result.summary(), indent=2))
+    console.print(f"[3/4] playback: {json.dumps(result.summary())}")
+    _video_and_bvh(system.world, result.qpos, result.fps, folder / "gait.mp4", folder / "gait.bvh")
+    console.print(f"[4/4] done in {time.perf_counter() - t0:.0f} s. Outputs in {folder}")
+
+
+def register(app: typer.Typer) -> None:
+    app.command("sketch")(sketch_command)
+    app.command("optimize")(optimize_command)
+    app.command("play")(play_command)
+    app.command("gaits")(gaits_command)
+    app.command("demo")(demo_command)

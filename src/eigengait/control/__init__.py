@@ -1,0 +1,1 @@
+"""Controllers: the modal pulse state machine and the balance tracker."""

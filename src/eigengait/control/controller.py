@@ -1,0 +1,107 @@
+"""The controller file: a versioned JSON document that names its character and relax pose.
+
+It holds the pulse state machine's values (period T s, air ratio α, pulse durations δ s, activations ψ in N·m
+per foot, phase and mode number), the initial state (q₀, q̇₀ in MuJoCo's coordinates) and a fingerprint of the
+lowest mode frequencies, so a controller applied to another character or relax pose is refused.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Literal
+
+import numpy as np
+from pydantic import BaseModel, ConfigDict, Field
+
+from eigengait.control.files import dump, read_mapping, validate
+from eigengait.control.gait import GaitParameters, GaitSystem
+from eigengait.errors import UserInputError
+
+FORMAT_VERSION = 1
+FINGERPRINT_MODES = 6
+
+
+class ControllerFile(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+    eigengait_controller: int = FORMAT_VERSION
+    name: str = ""
+    character: str
+    relax_pose: str | dict[str, list[float] | float] = "default"
+    feet: list[str]
+    symmetric: bool
+    basis: Literal["modal", "canonical"] = "modal"
+    torque_limit: float = Field(gt=0)
+    period: float = Field(gt=0)
+    air_ratio: float = Field(ge=0, le=1)
+    pulse_air: float = Field(gt=0)
+    pulse_ground: float = Field(gt=0)
+    activations: dict[str, dict[str, dict[int, float]]]     # foot -> phase -> mode number -> ψ (N·m)
+    initial_qpos: list[float]
+    initial_qvel: list[float]
+    air_frequencies_hz: list[float]                          # fingerprint of the character at its relax pose
+    metrics: dict[str, float | bool | int] = Field(default_factory=dict)
+
+
+def to_file(system: GaitSystem, p: GaitParameters, name: str = "", metrics: dict | None = None) -> ControllerFile:
+    acts: dict[str, dict[str, dict[int, float]]] = {}
+    for (foot, phase), psi in p.activations.items():
+        acts.setdefault(foot, {})[phase] = {int(i + 1): float(v) for i, v in enumerate(psi) if v != 0}
+    return ControllerFile(name=name, character=system.character.name if _is_builtin(system) else str(system.character.path),
+                          relax_pose=system.pose, feet=system.feet, symmetric=system.mirror is not None,
+                          basis=system.basis, torque_limit=system.torque_limit, period=p.period,
+                          air_ratio=p.air_ratio, pulse_air=p.pulse_air, pulse_ground=p.pulse_ground,
+                          activations=acts, initial_qpos=[float(v) for v in p.qpos0],
+                          initial_qvel=[float(v) for v in p.qvel0],
+                          air_frequencies_hz=[float(f) for f in system.air_modes.frequencies_hz[:FINGERPRINT_MODES]],
+                          metrics=metrics or {})
+
+
+def _is_builtin(system: GaitSystem) -> bool:
+    from eigengait.character.library import library_dir
+    return system.character.path.parent == library_dir()
+
+
+def save_controller(controller: ControllerFile, path: Path) -> None:
+    dump(controller, path)
+
+
+def load_controller(path: str | Path) -> ControllerFile:
+    path = Path(path)
+    data = read_mapping(path)
+    if data.get("eigengait_controller") not in (None, FORMAT_VERSION):
+        raise UserInputError(f"unsupported controller version {data.get('eigengait_controller')}", file=path,
+                             field="eigengait_controller")
+    return validate(ControllerFile, data, path, "regenerate it with `eigengait optimize`")
+
+
+def to_parameters(controller: ControllerFile, system: GaitSystem, source: str | Path = "controller") -> GaitParameters:
+    """Check the controller fits the system (character, relax pose, sizes) and return its parameters."""
+    model = system.world.model
+    freqs = system.air_modes.frequencies_hz[:FINGERPRINT_MODES]
+    same_pose = controller.relax_pose == system.pose
+    if (len(controller.initial_qpos) != model.nq or len(controller.initial_qvel) != model.nv or not same_pose
+            or not np.allclose(freqs, controller.air_frequencies_hz, rtol=1e-4)):
+        raise UserInputError(f"this controller was made for character '{controller.character}' at relax pose "
+                             f"'{controller.relax_pose}', not for '{system.character.name}' at '{system.pose}'",
+                             file=source, field="character / relax_pose",
+                             fix="load it with its own character and relax pose, or optimize a new one")
+    activations = {}
+    for foot in system.active_feet:
+        for phase in ("air", "ground"):
+            psi = np.zeros(system.mode_count(phase))
+            for m, v in controller.activations.get(foot, {}).get(phase, {}).items():
+                if not 1 <= m <= len(psi):
+                    raise UserInputError(f"mode {m} does not exist ({len(psi)} modes)", file=source,
+                                         field=f"activations.{foot}.{phase}")
+                psi[m - 1] = v
+            activations[(foot, phase)] = psi
+    return GaitParameters(period=controller.period, air_ratio=controller.air_ratio, pulse_air=controller.pulse_air,
+                          pulse_ground=controller.pulse_ground, activations=activations,
+                          qpos0=np.array(controller.initial_qpos), qvel0=np.array(controller.initial_qvel))
+
+
+def system_for(controller: ControllerFile) -> GaitSystem:
+    """Build the gait system a controller names."""
+    from eigengait.character import load_character
+    return GaitSystem(load_character(controller.character), controller.relax_pose, controller.feet,
+                      controller.symmetric, controller.basis, controller.torque_limit)

@@ -1,0 +1,52 @@
+"""Versioned, validated files: JSON or YAML by extension, one clear error naming the file and field."""
+
+from __future__ import annotations
+
+import json
+import os
+import tempfile
+from pathlib import Path
+
+import yaml
+from pydantic import BaseModel, ValidationError
+
+from eigengait.errors import UserInputError
+
+
+def read_mapping(path: Path) -> dict:
+    """Parse a JSON or YAML file into a dict, or raise UserInputError."""
+    if not path.is_file():
+        raise UserInputError("file not found", file=path)
+    text = path.read_text()
+    try:
+        data = json.loads(text) if path.suffix.lower() == ".json" else yaml.safe_load(text)
+    except (json.JSONDecodeError, yaml.YAMLError) as exc:
+        raise UserInputError(f"cannot parse the file ({exc.__class__.__name__}: {exc})".replace("\n", " "),
+                             file=path, fix="check the JSON/YAML syntax") from None
+    if not isinstance(data, dict):
+        raise UserInputError("expected a mapping at the top level", file=path)
+    return data
+
+
+def validate(model: type[BaseModel], data: dict, path: Path | str, fix: str) -> BaseModel:
+    try:
+        return model.model_validate(data)
+    except ValidationError as err:
+        e = err.errors()[0]
+        field = ".".join(str(p) for p in e["loc"]) or "(top level)"
+        raise UserInputError(e["msg"], file=path, field=field, fix=fix) from None
+
+
+def write_atomically(path: Path, text: str) -> None:
+    """Write through a temporary file and rename, so an interrupted write never leaves a half file."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    with os.fdopen(fd, "w") as f:
+        f.write(text)
+    os.replace(tmp, path)
+
+
+def dump(model: BaseModel, path: Path) -> None:
+    data = model.model_dump(mode="json")
+    text = json.dumps(data, indent=2) if path.suffix.lower() == ".json" else yaml.safe_dump(data, sort_keys=False)
+    write_atomically(path, text)

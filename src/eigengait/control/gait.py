@@ -1,0 +1,116 @@
+"""A gait system: a character's world with gravity, its mode bases per phase and foot, and the pulse controller.
+
+`GaitParameters` holds one controller's values; `GaitSystem` turns them into per-step motor controls and
+initial states for MuJoCo.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import mujoco
+import numpy as np
+
+from eigengait.character.loader import Character
+from eigengait.control.mirror import Mirror
+from eigengait.control.pulse import State, control_sequence, schedule, state_torques
+from eigengait.errors import UserInputError
+from eigengait.modal.analysis import compute_modes
+from eigengait.sim.world import World, WorldOptions, build_world
+
+
+VELOCITY_WEIGHT = 0.1   # s: a velocity mismatch of 1 rad/s counts as 0.1 rad in the cyclic constraint
+
+
+@dataclass
+class GaitParameters:
+    """One controller: timing (s), activations ψ (N·m) per (foot, phase) over ALL modes of that basis, q₀, q̇₀."""
+    period: float
+    air_ratio: float
+    pulse_air: float
+    pulse_ground: float
+    activations: dict[tuple[str, str], np.ndarray]
+    qpos0: np.ndarray
+    qvel0: np.ndarray
+
+
+@dataclass
+class GaitSystem:
+    character: Character
+    pose: str | dict
+    feet: list[str]
+    symmetric: bool
+    basis: str = "modal"
+    torque_limit: float = 400.0
+    options: WorldOptions = field(default_factory=WorldOptions)
+
+    def __post_init__(self):
+        for foot in self.feet:
+            if foot not in self.character.feet:
+                raise UserInputError(f"unknown foot '{foot}'", file=self.character.path, field="feet",
+                                     fix=f"use feet among: {', '.join(self.character.feet) or '(none)'}")
+        if not self.feet:
+            raise UserInputError("a gait needs at least one foot", file=self.character.path, field="feet")
+        self.world: World = build_world(self.character, self.pose, self.options)
+        modal_world = build_world(self.character, self.pose, WorldOptions(gravity=False, floor=False))
+        self.air_modes = compute_modes(modal_world, "air")
+        self.ground_modes = {f: compute_modes(modal_world, "ground", f) for f in dict.fromkeys(self.feet)}
+        self.mirror = Mirror(self.world) if self.symmetric and len(self.feet) > 1 else None
+        if self.mirror is not None and len(self.feet) != 2:
+            raise UserInputError("a symmetric gait alternates exactly two feet", field="feet",
+                                 fix="give two mirrored feet, or set symmetric: false")
+
+    @property
+    def active_feet(self) -> list[str]:
+        """Feet whose activations are free parameters (the first only when mirrored)."""
+        return self.feet[:1] if self.mirror is not None else list(dict.fromkeys(self.feet))
+
+    def basis_matrix(self, foot: str, phase: str) -> np.ndarray:
+        """Torque basis (n_internal × m) of a state: unit-norm mode columns, or the identity (canonical)."""
+        if self.basis == "canonical":
+            return np.eye(self.world.nmotor)
+        return self.air_modes.torque_basis if phase == "air" else self.ground_modes[foot].torque_basis
+
+    def mode_count(self, phase: str) -> int:
+        return self.basis_matrix(self.feet[0], phase).shape[1]
+
+    @property
+    def horizon_fraction(self) -> float:
+        """Fraction of the cycle simulated for the cyclic constraint: ½ with mirroring, else 1."""
+        return 0.5 if self.mirror is not None else 1.0
+
+    def states(self, p: GaitParameters) -> list[State]:
+        return schedule(self.feet, p.period, p.air_ratio, p.pulse_air, p.pulse_ground)
+
+    def controls(self, p: GaitParameters, cycles: int = 1, span: float | None = None) -> np.ndarray:
+        """Motor controls (nstep × model.nu) for whole cycles or the first `span` seconds."""
+        states = self.states(p)
+        bases = {(s.foot, s.phase): self.basis_matrix(s.foot, s.phase) for s in states}
+        torques = state_torques(bases, p.activations, states, self.mirror, self.torque_limit)
+        u = control_sequence(states, torques, self.world.model.opt.timestep, cycles, span)
+        full = np.zeros((len(u), self.world.model.nu))
+        full[:, :self.world.nmotor] = u
+        return full
+
+    def initial_state(self, p: GaitParameters) -> np.ndarray:
+        """MuJoCo full physics state vector of (q₀, q̇₀)."""
+        data = mujoco.MjData(self.world.model)
+        data.qpos[:], data.qvel[:] = p.qpos0, p.qvel0
+        mujoco.mj_forward(self.world.model, data)
+        state = np.empty(mujoco.mj_stateSize(self.world.model, mujoco.mjtState.mjSTATE_FULLPHYSICS))
+        mujoco.mj_getState(self.world.model, data, state, mujoco.mjtState.mjSTATE_FULLPHYSICS)
+        return state
+
+    def cycle_target(self, qpos: np.ndarray, qvel: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The state to compare with (q₀, q̇₀) at the end of the horizon: mirrored for symmetric gaits."""
+        return self.mirror.state(qpos, qvel) if self.mirror is not None else (qpos, qvel)
+
+    def cycle_error(self, p: GaitParameters, qpos: np.ndarray, qvel: np.ndarray) -> np.ndarray:
+        """Hard cyclic constraint φ = (Δq, τ_v·Δq̇) against (q₀, q̇₀), root x excluded (2·nv − 1 values).
+
+        Positions in m and rad; velocities weighted by τ_v = VELOCITY_WEIGHT s so both read as displacements.
+        """
+        qt, vt = self.cycle_target(qpos, qvel)
+        dq = np.zeros(self.world.model.nv)
+        mujoco.mj_differentiatePos(self.world.model, dq, 1.0, p.qpos0, qt)
+        return np.concatenate([dq[1:], VELOCITY_WEIGHT * (vt - p.qvel0)])

@@ -1,0 +1,65 @@
+"""Simulate a sketch as the animator sees it: gravity off, priority activations only, from the relax pose."""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import mujoco
+import numpy as np
+from mujoco import rollout
+
+from eigengait.control.gait import GaitParameters
+from eigengait.control.sketch import Sketch
+from eigengait.optimize.problem import Problem
+from eigengait.sim.world import World
+
+SKETCH_FPS = 30.0
+
+
+@dataclass
+class SketchRun:
+    world: World
+    qpos: np.ndarray          # (frames × nq) at `fps`
+    fps: float
+    wall_seconds: float
+    max_joint_rotation_deg: float
+
+
+def sketch_parameters(problem: Problem) -> GaitParameters:
+    """The sketch's own controller: its timing, priority ψ only, relax pose at rest."""
+    sk, system = problem.sketch, problem.system
+    activations = {}
+    for foot in system.active_feet:
+        for phase in ("air", "ground"):
+            psi = np.zeros(system.mode_count(phase))
+            for m, v in sk.phase(phase).priority.items():
+                psi[m - 1] = v
+            activations[(foot, phase)] = psi
+    model = system.world.model
+    return GaitParameters(period=sk.timing.period, air_ratio=sk.timing.air_ratio, pulse_air=sk.timing.pulse_air,
+                          pulse_ground=sk.timing.pulse_ground, activations=activations, qpos0=model.qpos0.copy(),
+                          qvel0=np.zeros(model.nv))
+
+
+def simulate_sketch(sketch: Sketch, seconds: float, source: str | Path | None = None,
+                    problem: Problem | None = None) -> SketchRun:
+    problem = problem or Problem.from_sketch(sketch, source, gravity=False)
+    system = problem.system
+    model = system.world.model
+    p = sketch_parameters(problem)
+    u = system.controls(p, span=seconds)
+    start = time.perf_counter()
+    states, _ = rollout.rollout(model, mujoco.MjData(model), system.initial_state(p)[None], u[None])
+    wall = time.perf_counter() - start
+    stride = max(1, int(round(1 / (SKETCH_FPS * model.opt.timestep))))
+    qpos = states[0, stride - 1::stride, 1:1 + model.nq]
+    biggest = 0.0
+    for q in qpos:
+        for j in system.world.internal_qpos_joints:
+            if model.jnt_type[j] == mujoco.mjtJoint.mjJNT_BALL:
+                a = model.jnt_qposadr[j]
+                biggest = max(biggest, 2 * np.arccos(np.clip(abs(q[a]), 0, 1)))
+    return SketchRun(world=system.world, qpos=qpos, fps=1 / (stride * model.opt.timestep), wall_seconds=wall,
+                     max_joint_rotation_deg=float(np.rad2deg(biggest)))

@@ -1,0 +1,161 @@
+"""Method of multipliers around CMA-ES (thesis §4.4), with checkpoints after every generation.
+
+Outer loop: W(x, λ, k) = f(x) + λᵀφ(x) + k φᵀφ; each inner CMA-ES run minimizes W; then λ ← λ + 2kφ(x*).
+The first inner run uses λ = 0, k = 0, later ones k = `penalty`. σ₀ = 0.3 then σ ← 0.7σ per inner run (floor
+0.001). An inner run stops at stopTolX 1e-4 or its generation cap; the outer loop stops when every |φ_i| is below
+the tolerance, after `max_outer` inner runs, or when the evaluation/time budget is spent.
+"""
+
+from __future__ import annotations
+
+import pickle
+import time
+from dataclasses import dataclass, field
+from typing import Callable
+
+import cma
+import numpy as np
+
+from eigengait.optimize.evaluate import Outcome
+
+
+@dataclass
+class MomSettings:
+    seed: int = 1
+    sigma0: float = 0.3
+    sigma_decay: float = 0.7
+    sigma_floor: float = 0.001
+    penalty: float = 0.1                 # k after the first inner run
+    tol_x: float = 1e-4
+    inner_generations: int = 1000
+    max_outer: int = 20
+    cycle_tolerance: float = 0.05        # |φ_i| below this on every component: cyclic
+    popsize: int | None = None           # CMA default 4 + 3 ln n
+    max_evaluations: int | None = None
+    max_seconds: float | None = None
+
+
+@dataclass
+class MomState:
+    """Everything needed to resume: the CMA object, multipliers, penalty, best so far, counters."""
+    x_start: np.ndarray
+    outer: int = 0
+    sigma: float = 0.3
+    k: float = 0.0
+    lam: np.ndarray | None = None
+    es: object | None = None
+    generation: int = 0
+    evaluations: int = 0
+    elapsed: float = 0.0
+    best_x: np.ndarray | None = None
+    best: Outcome | None = None
+    finished: str = ""
+    log: list[dict] = field(default_factory=list)
+
+
+def merit(o: Outcome) -> float:
+    """Ranks candidates for 'best so far': objective with soft constraints plus the cycle violation."""
+    return o.cost + 1e3 * float(o.cycle @ o.cycle)
+
+
+def augmented(o: Outcome, lam: np.ndarray, k: float) -> float:
+    return o.cost + float(lam @ o.cycle) + k * float(o.cycle @ o.cycle)
+
+
+class MethodOfMultipliers:
+    def __init__(self, evaluate: Callable[[np.ndarray], list[Outcome]], settings: MomSettings, state: MomState):
+        self.evaluate, self.s, self.state = evaluate, settings, state
+        if state.lam is None:
+            state.sigma = settings.sigma0
+
+    def _new_es(self) -> cma.CMAEvolutionStrategy:
+        st = self.state
+        x0 = st.best_x if st.best_x is not None else st.x_start
+        opts = {"bounds": [0, 1], "seed": self.s.seed + st.outer, "tolx": self.s.tol_x,
+                "maxiter": self.s.inner_generations, "verbose": -9, "tolfun": 0, "tolflatfitness": 1000}
+        if self.s.popsize:
+            opts["popsize"] = self.s.popsize
+        return cma.CMAEvolutionStrategy(np.clip(x0, 0, 1), st.sigma, opts)
+
+    def budget_left(self) -> bool:
+        st, s = self.state, self.s
+        if s.max_evaluations is not None and st.evaluations >= s.max_evaluations:
+            st.finished = "evaluation budget spent"
+            return False
+        if s.max_seconds is not None and st.elapsed >= s.max_seconds:
+            st.finished = "time budget spent"
+            return False
+        return True
+
+    def generation(self) -> dict:
+        """One CMA generation of the current inner run; returns its log row."""
+        st = self.state
+        t0 = time.perf_counter()
+        X = np.array(st.es.ask())
+        outcomes = self.evaluate(X)
+        lam = st.lam if st.lam is not None else np.zeros_like(outcomes[0].cycle)
+        W = [augmented(o, lam, st.k) for o in outcomes]
+        st.es.tell(list(X), W)
+        st.generation += 1
+        st.evaluations += len(X)
+        i = int(np.argmin([merit(o) for o in outcomes]))
+        if st.best is None or merit(outcomes[i]) < merit(st.best):
+            st.best, st.best_x = outcomes[i], X[i].copy()
+        st.elapsed += time.perf_counter() - t0
+        row = {"generation": st.generation, "outer": st.outer, "evaluations": st.evaluations,
+               "best_cost": st.best.cost, "best_violation": st.best.violation,
+               "generation_best_W": float(min(W)), "sigma": float(st.es.sigma), "k": st.k,
+               "lambda_norm": float(np.linalg.norm(lam)), "fallen": int(sum(o.fell for o in outcomes)),
+               "seconds": st.elapsed}
+        st.log.append(row)
+        return row
+
+    def end_inner_run(self) -> None:
+        """Multiplier update and the next inner run's σ and k."""
+        st, s = self.state, self.s
+        phi = st.best.cycle
+        st.lam = (st.lam if st.lam is not None else np.zeros_like(phi)) + 2 * st.k * phi
+        st.k = s.penalty
+        st.sigma = max(s.sigma_floor, st.sigma * s.sigma_decay)
+        st.outer += 1
+        st.es = None
+
+    def step(self) -> dict | None:
+        """Advance by one generation (starting or ending inner runs as needed); None when finished."""
+        st, s = self.state, self.s
+        if st.finished:
+            return None
+        if st.best is not None and not st.best.fell and st.best.violation < s.cycle_tolerance:
+            st.finished = "cyclic"
+            return None
+        if not self.budget_left():
+            return None
+        if st.es is None:
+            if st.outer >= s.max_outer:
+                st.finished = "outer iteration limit"
+                return None
+            st.es = self._new_es()
+        row = self.generation()
+        if st.es.stop():
+            self.end_inner_run()
+        return row
+
+
+def save_state(state: MomState, path) -> None:
+    from pathlib import Path
+    path = Path(path)
+    tmp = path.with_suffix(".tmp")
+    tmp.write_bytes(pickle.dumps(state))
+    tmp.replace(path)
+
+
+def load_state(path) -> MomState:
+    from eigengait.errors import UserInputError
+    try:
+        state = pickle.loads(open(path, "rb").read())
+    except Exception as exc:
+        raise UserInputError(f"the checkpoint is corrupt ({exc.__class__.__name__})", file=path,
+                             fix="delete the run folder's checkpoint.pkl to start over, or restore it") from None
+    if not isinstance(state, MomState):
+        raise UserInputError("not an eigengait checkpoint", file=path)
+    return state

@@ -1,0 +1,113 @@
+"""The optimized parameters Ω, normalized to [0, 1] (thesis §4.4).
+
+Ω = (T, α, δa, δc, ψ of the optimized modes per free (foot, phase), root height offset, root pitch, root forward
+and vertical speed, and q₀, q̇₀ of the internal joints in the span of the optimized air modes).
+Expressing q₀/q̇₀ in mode coordinates keeps the search small for many-DOF characters (the thesis's own
+suggestion): the sketch's optimized air modes plus the lowest `initial.modes` ones. Priority modes keep their sign and at least their sketch magnitude.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import mujoco
+import numpy as np
+
+from eigengait.control.gait import GaitParameters, GaitSystem
+from eigengait.control.sketch import Sketch
+
+MAX_JOINT_ANGLE = 0.3     # rad: largest joint rotation of one initial-pose mode coordinate
+
+
+@dataclass
+class Entry:
+    name: str
+    low: float
+    high: float
+    initial: float
+
+
+class ParameterSpace:
+    def __init__(self, system: GaitSystem, sketch: Sketch):
+        self.system, self.sketch = system, sketch
+        t = sketch.timing
+        period_hi = max(2.0, 2 * t.period)
+        self.entries: list[Entry] = [
+            Entry("period", 0.2, period_hi, t.period),
+            Entry("air_ratio", 0.0, 1.0, t.air_ratio),
+            Entry("pulse_air", 0.005, period_hi / 2, t.pulse_air),
+            Entry("pulse_ground", 0.005, period_hi / 2, t.pulse_ground),
+        ]
+        self.psi_slots: list[tuple[str, str, int]] = []
+        for foot in system.active_feet:
+            for phase in ("air", "ground"):
+                ps = sketch.phase(phase)
+                count = system.mode_count(phase)
+                scale = max([abs(v) for v in ps.priority.values()] + [20.0])
+                for m in ps.optimized_modes(count):
+                    if m in ps.priority:
+                        v = ps.priority[m]
+                        lo, hi = (abs(v), 3 * scale) if v > 0 else (-3 * scale, -abs(v))
+                        self.entries.append(Entry(f"psi/{foot}/{phase}/{m}", lo, hi, v))
+                    else:
+                        self.entries.append(Entry(f"psi/{foot}/{phase}/{m}", -scale, scale, 0.0))
+                    self.psi_slots.append((foot, phase, m))
+        init = sketch.initial
+        self.entries += [Entry("root_height", -0.15, 0.10, init.height),
+                         Entry("root_pitch", -0.4, 0.4, 0.0),
+                         Entry("root_speed_x", min(0.0, init.speed), max(4.0, 2 * init.speed), init.speed),
+                         Entry("root_speed_z", -1.5, 1.5, 0.0)]
+        air = system.air_modes
+        lowest = range(1, min(init.modes, air.count) + 1)
+        self.pose_modes = sorted(set(sketch.air.optimized_modes(air.count)) | set(lowest))
+        for m in self.pose_modes:
+            amp = MAX_JOINT_ANGLE / np.abs(air.shapes[system.world.internal_qvel, m - 1]).max()
+            omega = 2 * np.pi * air.frequencies_hz[m - 1]
+            self.entries.append(Entry(f"q0/{m}", -amp, amp, 0.0))
+            self.entries.append(Entry(f"qd0/{m}", -amp * omega, amp * omega, 0.0))
+        self.low = np.array([e.low for e in self.entries])
+        self.high = np.array([e.high for e in self.entries])
+        self.index = {e.name: i for i, e in enumerate(self.entries)}
+
+    @property
+    def size(self) -> int:
+        return len(self.entries)
+
+    def initial(self) -> np.ndarray:
+        """Normalized initial guess from the sketch."""
+        values = np.array([e.initial for e in self.entries])
+        return np.clip((values - self.low) / (self.high - self.low), 0, 1)
+
+    def values(self, x: np.ndarray) -> np.ndarray:
+        return self.low + np.clip(x, 0, 1) * (self.high - self.low)
+
+    def decode(self, x: np.ndarray) -> GaitParameters:
+        """Normalized vector -> controller parameters."""
+        v = self.values(x)
+        get = lambda name: float(v[self.index[name]])  # noqa: E731
+        system, model = self.system, self.system.world.model
+        activations = {}
+        for foot in system.active_feet:
+            for phase in ("air", "ground"):
+                activations[(foot, phase)] = np.zeros(system.mode_count(phase))
+        for (foot, phase, m), value in zip(self.psi_slots, v[[self.index[f"psi/{f}/{p}/{mm}"]
+                                                               for f, p, mm in self.psi_slots]]):
+            activations[(foot, phase)][m - 1] = value
+        qpos = model.qpos0.copy()
+        qvel = np.zeros(model.nv)
+        shapes = system.air_modes.shapes
+        disp = sum((get(f"q0/{m}") * shapes[:, m - 1] for m in self.pose_modes), np.zeros(model.nv))
+        vel = sum((get(f"qd0/{m}") * shapes[:, m - 1] for m in self.pose_modes), np.zeros(model.nv))
+        disp[:3] = 0.0          # root translation is set below, the modes keep their joint and root rotation part
+        mujoco.mj_integratePos(model, qpos, disp, 1.0)
+        qpos[2] += get("root_height")
+        pitch = np.zeros(4)
+        mujoco.mju_axisAngle2Quat(pitch, np.array([0.0, 1.0, 0.0]), get("root_pitch"))
+        quat = np.zeros(4)
+        mujoco.mju_mulQuat(quat, pitch, qpos[3:7])
+        qpos[3:7] = quat
+        qvel[:] = vel
+        qvel[0] += get("root_speed_x")
+        qvel[2] += get("root_speed_z")
+        return GaitParameters(period=get("period"), air_ratio=get("air_ratio"), pulse_air=get("pulse_air"),
+                              pulse_ground=get("pulse_ground"), activations=activations, qpos0=qpos, qvel0=qvel)

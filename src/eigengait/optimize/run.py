@@ -1,0 +1,134 @@
+"""An optimization run folder: sketch, seed and settings, CSV log, plots, checkpoint, best controller.
+
+```
+RUN/
+  sketch.yaml          the sketch as validated
+  settings.json        seed, optimizer settings, evaluator, versions
+  checkpoint.pkl       the whole optimizer state after the last generation (resume with --resume)
+  log.csv              one row per generation
+  objective.png        best objective per generation     violation.png   best cycle violation per generation
+  best_controller.json the best controller so far (written every generation)
+```
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+from dataclasses import asdict
+from pathlib import Path
+
+import mujoco
+import numpy as np
+import yaml
+from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+
+from eigengait import __version__
+from eigengait.control.controller import save_controller, to_file
+from eigengait.control.files import write_atomically
+from eigengait.control.sketch import Sketch
+from eigengait.errors import UserInputError
+from eigengait.optimize.evaluators import make_evaluator
+from eigengait.optimize.mom import MethodOfMultipliers, MomSettings, MomState, load_state, save_state
+from eigengait.optimize.problem import Problem
+
+BUDGET_FIELDS = ("max_evaluations", "max_seconds", "max_outer", "inner_generations")
+
+
+def prepare_folder(folder: Path, sketch: Sketch, settings: MomSettings, evaluator: str, resume: bool):
+    """Create or reopen a run folder; refuse to overwrite an earlier run unless resuming."""
+    checkpoint = folder / "checkpoint.pkl"
+    if resume:
+        if not checkpoint.exists():
+            raise UserInputError("nothing to resume: no checkpoint.pkl in the run folder", file=folder,
+                                 fix="start the run without --resume")
+        saved = json.loads((folder / "settings.json").read_text())
+        merged = {**saved["settings"], **{k: getattr(settings, k) for k in BUDGET_FIELDS}}
+        return MomSettings(**merged), saved["evaluator"], load_state(checkpoint)
+    if checkpoint.exists() or (folder / "best_controller.json").exists():
+        raise UserInputError("the run folder already holds a run and was left untouched", file=folder,
+                             fix="pass --resume to continue it, or choose another --output folder")
+    folder.mkdir(parents=True, exist_ok=True)
+    write_atomically(folder / "sketch.yaml", yaml.safe_dump(sketch.model_dump(mode="json"), sort_keys=False))
+    write_atomically(folder / "settings.json", json.dumps(
+        {"settings": asdict(settings), "evaluator": evaluator, "eigengait": __version__,
+         "mujoco": mujoco.__version__}, indent=2))
+    return settings, evaluator, None
+
+
+def write_log(folder: Path, rows: list[dict]) -> None:
+    if not rows:
+        return
+    tmp = folder / "log.csv.tmp"
+    with open(tmp, "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=list(rows[0]))
+        w.writeheader()
+        w.writerows(rows)
+    tmp.replace(folder / "log.csv")
+
+
+def write_plots(folder: Path, rows: list[dict]) -> None:
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    if not rows:
+        return
+    g = [r["generation"] for r in rows]
+    for key, name, label in (("best_cost", "objective.png", "best objective f (log)"),
+                             ("best_violation", "violation.png", "cycle violation max|φᵢ| (log)")):
+        fig, ax = plt.subplots(figsize=(6, 3.2), dpi=110)
+        ax.semilogy(g, [max(r[key], 1e-12) for r in rows], color="#2a6fb0", lw=1.6)
+        for r0, r1 in zip(rows, rows[1:]):
+            if r1["outer"] != r0["outer"]:
+                ax.axvline(r1["generation"], color="#bbb", lw=0.8, ls="--")
+        ax.set_xlabel("generation (dashed: new multiplier iteration)")
+        ax.set_ylabel(label)
+        ax.grid(alpha=0.3)
+        fig.tight_layout()
+        fig.savefig(folder / name)
+        plt.close(fig)
+
+
+def write_best(folder: Path, problem: Problem, state: MomState) -> None:
+    if state.best_x is None:
+        return
+    o = state.best
+    metrics = {"cost": o.cost, "cycle_violation": o.violation, "fell": o.fell,
+               "mean_speed_mps": float(o.mean_velocity[0]), "active_energy": o.energy,
+               "evaluations": state.evaluations}
+    controller = to_file(problem.system, problem.space.decode(state.best_x), name=folder.name, metrics=metrics)
+    save_controller(controller, folder / "best_controller.json")
+
+
+def optimize(sketch: Sketch, folder: Path, settings: MomSettings, evaluator: str = "threads",
+             workers: int | None = None, resume: bool = False, progress: bool = True,
+             sketch_source: str | Path | None = None) -> MomState:
+    """Run (or resume) the method of multipliers; checkpoints every generation."""
+    problem = Problem.from_sketch(sketch, sketch_source)
+    settings, evaluator, state = prepare_folder(folder, sketch, settings, evaluator, resume)
+    if resume:
+        problem = Problem.from_sketch(Sketch.model_validate(yaml.safe_load((folder / "sketch.yaml").read_text())))
+    state = state or MomState(x_start=problem.space.initial())
+    state.finished = "" if resume else state.finished
+    evaluate = make_evaluator(evaluator, problem, workers)
+    mom = MethodOfMultipliers(evaluate, settings, state)
+    columns = [TextColumn("[bold]optimizing[/]"), BarColumn(), TextColumn("gen {task.fields[gen]}"),
+               TextColumn("f {task.fields[cost]}"), TextColumn("violation {task.fields[viol]}"),
+               TimeElapsedColumn()]
+    total = settings.max_evaluations
+    try:
+        with Progress(*columns, disable=not progress, transient=False) as bar:
+            task = bar.add_task("opt", total=total, gen=state.generation, cost="-", viol="-",
+                                completed=state.evaluations)
+            while (row := mom.step()) is not None:
+                save_state(state, folder / "checkpoint.pkl")
+                write_log(folder, state.log)
+                write_best(folder, problem, state)
+                bar.update(task, completed=row["evaluations"], gen=row["generation"],
+                           cost=f"{row['best_cost']:.4g}", viol=f"{row['best_violation']:.3g}")
+    finally:
+        close = getattr(evaluate, "close", None)
+        close and close()
+    save_state(state, folder / "checkpoint.pkl")
+    write_plots(folder, state.log)
+    return state
