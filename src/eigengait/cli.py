@@ -99,9 +99,11 @@ def modes_command(character: str = typer.Argument(..., help="Built-in name or MJ
 def _register_command_groups() -> None:
     from eigengait.cli_animate import register as register_animate
     from eigengait.cli_gait import register as register_gait
+    from eigengait.cli_track import register as register_track
 
     register_animate(app)
     register_gait(app)
+    register_track(app)
 
 
 _register_command_groups()
