@@ -1,0 +1,60 @@
+"""Regenerate the shipped optimized gaits in src/eigengait/data/gaits/ with eigengait's own optimizer.
+
+Usage: python scripts/make_gaits.py [GAIT ...] [--evaluations N] [--runs DIR]
+Each gait is a sketch preset optimized from a fixed seed; the best controller of the run is copied into the
+package with its playback metrics. Runs are kept in DIR (default out/gait-runs) and resume if interrupted.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+
+from eigengait.control.controller import load_controller, save_controller, system_for, to_parameters
+from eigengait.control.library import resolve
+from eigengait.control.playback import play
+from eigengait.control.sketch import load_sketch
+from eigengait.optimize.mom import MomSettings
+from eigengait.optimize.run import optimize
+
+GAITS = {"humanoid-basic-run": "basic-run", "monster-run": "monster", "kangaroo-hop": "kangaroo",
+         "dog-trot": "dog-trot"}
+PACKAGE = Path(__file__).resolve().parents[1] / "src" / "eigengait" / "data" / "gaits"
+
+
+def make(gait: str, evaluations: int, runs: Path, seed: int) -> None:
+    sketch_path = resolve("sketch", GAITS[gait])
+    folder = runs / gait
+    resume = (folder / "checkpoint.pkl").exists()
+    state = optimize(load_sketch(sketch_path), folder,
+                     MomSettings(seed=seed, max_evaluations=evaluations, inner_generations=100),
+                     resume=resume, sketch_source=sketch_path)
+    controller = load_controller(folder / "best_controller.json")
+    system = system_for(controller)
+    params = to_parameters(controller, system)
+    snapped = play(system, params, cycles=6).summary()
+    free = play(system, params, cycles=20, snap=False).summary()
+    controller.name = gait
+    controller.metrics.update({"cycle_violation": snapped["cycle_violation"],
+                               "mean_speed_mps": snapped["mean_speed_mps"],
+                               "cost_of_transport": snapped["cost_of_transport"],
+                               "cycles_without_snap": free["cycles_completed"],
+                               "evaluations": state.evaluations, "optimizer_seconds": round(state.elapsed, 1)})
+    save_controller(controller, PACKAGE / f"{gait}.json")
+    print(json.dumps({"gait": gait, **controller.metrics}))
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__)
+    parser.add_argument("gaits", nargs="*", default=list(GAITS))
+    parser.add_argument("--evaluations", type=int, default=10000)
+    parser.add_argument("--runs", type=Path, default=Path("out/gait-runs"))
+    parser.add_argument("--seed", type=int, default=1)
+    args = parser.parse_args()
+    for gait in args.gaits:
+        make(gait, args.evaluations, args.runs, args.seed)
+
+
+if __name__ == "__main__":
+    main()

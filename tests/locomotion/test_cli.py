@@ -1,0 +1,85 @@
+"""The locomotion commands as a user runs them: sketch, optimize (resume, refusal), play, bad input."""
+
+import json
+
+import pytest
+import yaml
+
+from eigengait.control.library import resolve
+
+
+def write_sketch(tmp_path, **changes):
+    data = yaml.safe_load(resolve("sketch", "basic-run").read_text())
+    for path, value in changes.items():
+        node = data
+        keys = path.split(".")
+        for k in keys[:-1]:
+            node = node[k]
+        node[keys[-1]] = value
+    path = tmp_path / "s.yaml"
+    path.write_text(yaml.safe_dump(data))
+    return path
+
+
+@pytest.mark.parametrize("change, message", [
+    ({"air.priority": {99: 10.0}}, "mode 99 does not exist"),
+    ({"ground.excluded": [2]}, "both priority and excluded"),
+    ({"timing.period": 0.0}, "timing.period"),
+    ({"timing.air_ratio": 1.5}, "timing.air_ratio"),
+    ({"character": "dragon"}, "unknown character"),
+])
+def test_invalid_sketches_exit_2_with_one_message(tmp_path, eigengait_cli, change, message):
+    path = write_sketch(tmp_path, **change)
+    result = eigengait_cli("sketch", path, "--seconds", "0.2")
+    assert result.returncode == 2
+    assert message in result.stderr.replace("\n", "") and "Traceback" not in result.stderr
+
+
+def test_optimize_resume_and_play(tmp_path, eigengait_cli):
+    run = tmp_path / "run"
+    first = eigengait_cli("optimize", "basic-run", "-o", run, "--max-evaluations", "40", "--seed", "2")
+    assert first.returncode == 0, first.stderr
+    for name in ("sketch.yaml", "settings.json", "log.csv", "checkpoint.pkl", "best_controller.json",
+                 "objective.png", "violation.png"):
+        assert (run / name).exists(), name
+    rows = (run / "log.csv").read_text().splitlines()
+    before = (run / "best_controller.json").read_text()
+    again = eigengait_cli("optimize", "basic-run", "-o", run, "--max-evaluations", "40")
+    assert again.returncode == 2 and "--resume" in again.stderr
+    assert (run / "best_controller.json").read_text() == before            # nothing overwritten
+    resumed = eigengait_cli("optimize", "basic-run", "-o", run, "--max-evaluations", "80", "--resume")
+    assert resumed.returncode == 0, resumed.stderr
+    assert len((run / "log.csv").read_text().splitlines()) > len(rows)
+    assert json.loads((run / "settings.json").read_text())["settings"]["seed"] == 2
+
+    played = eigengait_cli("play", run / "best_controller.json", "--cycles", "2", "--json")
+    assert played.returncode == 0, played.stderr
+    out = json.loads(played.stdout)
+    for key in ("cycles_completed", "fell", "mean_speed_mps", "active_energy", "cost_of_transport",
+                "cycle_violation"):
+        assert key in out
+    assert isinstance(out["fell"], bool) and out["cycles_completed"] <= 2
+
+
+def test_controller_for_another_relax_pose_is_refused(tmp_path, eigengait_cli):
+    run = tmp_path / "run"
+    assert eigengait_cli("optimize", "basic-run", "-o", run, "--max-evaluations", "20").returncode == 0
+    controller = json.loads((run / "best_controller.json").read_text())
+    controller["relax_pose"] = "crouched"
+    bad = tmp_path / "crouched.json"
+    bad.write_text(json.dumps(controller))
+    result = eigengait_cli("play", bad, "--json")
+    assert result.returncode == 2 and "was made for character" in result.stderr.replace("\n", "")
+    (tmp_path / "broken.json").write_text("{ not json")
+    result = eigengait_cli("play", tmp_path / "broken.json")
+    assert result.returncode == 2 and "cannot parse" in result.stderr
+
+
+def test_corrupt_checkpoint_via_cli_leaves_files_alone(tmp_path, eigengait_cli):
+    run = tmp_path / "run"
+    assert eigengait_cli("optimize", "basic-run", "-o", run, "--max-evaluations", "20").returncode == 0
+    (run / "checkpoint.pkl").write_bytes(b"garbage")
+    log = (run / "log.csv").read_text()
+    result = eigengait_cli("optimize", "basic-run", "-o", run, "--max-evaluations", "60", "--resume")
+    assert result.returncode == 2 and "corrupt" in result.stderr
+    assert (run / "log.csv").read_text() == log
