@@ -1,0 +1,95 @@
+"""The eigengait studio: a viser server with the palette, the live sketch, optimization and playback.
+
+One `Studio` holds one shared state; every browser tab sees and edits the same sketch (viser GUI handles are
+server-wide). An animation thread pushes the palette's and the stage's frames at ANIMATION_FPS.
+"""
+
+from __future__ import annotations
+
+import os
+import threading
+import time
+from pathlib import Path
+
+import viser
+
+from eigengait.studio.character_panel import CharacterPanel
+from eigengait.studio.feedback import Feedback
+from eigengait.studio.optimize_panel import OptimizePanel
+from eigengait.studio.palette_view import PaletteView
+from eigengait.studio.play_panel import PlayPanel
+from eigengait.studio.sandbox import Sandbox
+from eigengait.studio.sketch_view import SketchView
+from eigengait.studio.stage import Stage
+from eigengait.studio.state import StudioState
+
+ANIMATION_FPS = 25.0
+CAMERA_POSITION = (3.6, -1.0, 1.9)     # m: front-right of the stage, the palette walls behind it
+CAMERA_LOOK_AT = (-2.5, 0.0, 1.4)
+
+
+class Studio:
+    def __init__(self, root: str | Path = ".", target: str | None = None, host: str = "127.0.0.1",
+                 port: int = 8080):
+        os.environ.setdefault("MUJOCO_GL", "egl")
+        self.sandbox = Sandbox(root)
+        self.state = StudioState(self.sandbox)
+        self.server = viser.ViserServer(host=host, port=port, label="eigengait studio", verbose=False)
+        self.server.scene.set_up_direction("+z")
+        self.server.gui.configure_theme(control_width="large", show_logo=False, show_share_button=False)
+        self.server.gui.add_markdown("**eigengait studio** — mode numbers start at 1 (lowest non-rigid mode); "
+                                     "ψ in N·m.", order=0.0)
+        self.feedback = Feedback(self.server)
+        self.stage = Stage(self.server)
+        self.character_panel = CharacterPanel(self.server, self.state, self.feedback, gui_order=1.0)
+        self.sketch_view = SketchView(self.server, self.state, self.stage, self.feedback, gui_order=2.0)
+        self.palette = PaletteView(self.server, self.state, self.feedback, gui_order=3.0)
+        self.play_panel = PlayPanel(self.server, self.sandbox, self.stage, self.feedback, gui_order=5.0)
+        self.optimize_panel = OptimizePanel(self.server, self.state, self.feedback, self.play_panel.play_file,
+                                            gui_order=4.0)
+        self.server.on_client_connect(self._frame_camera)
+        self.state.open(target)
+        self.frames_sent = 0
+        self.running = True
+        self.animation = threading.Thread(target=self._animate, name="studio-animation", daemon=True)
+        self.animation.start()
+
+    @property
+    def url(self) -> str:
+        return f"http://{self.server.get_host()}:{self.server.get_port()}"
+
+    def _frame_camera(self, client: viser.ClientHandle) -> None:
+        with client.atomic():
+            client.camera.up_direction = (0.0, 0.0, 1.0)
+            client.camera.position = CAMERA_POSITION
+            client.camera.look_at = CAMERA_LOOK_AT
+
+    def _animate(self) -> None:
+        period = 1.0 / ANIMATION_FPS
+        next_frame = time.perf_counter()
+        while self.running:
+            now = time.perf_counter()
+            with self.server.atomic():
+                self.palette.tick(now)
+                self.stage.tick(now)
+            self.frames_sent += 1
+            next_frame = max(next_frame + period, now)
+            time.sleep(max(0.0, next_frame - time.perf_counter()))
+
+    def stop(self) -> None:
+        self.running = False
+        self.optimize_panel.close()
+        self.server.stop()
+
+
+def main(target: str | None = None, host: str = "127.0.0.1", port: int = 8080, root: str | Path = ".") -> None:
+    """Run the studio until interrupted, serving files from `root` only."""
+    studio = Studio(root, target, host, port)
+    print(f"eigengait studio: {studio.url}  (folder {studio.sandbox.root}; Ctrl+C to stop)", flush=True)
+    try:
+        while True:
+            time.sleep(3600)
+    except KeyboardInterrupt:
+        pass
+    finally:
+        studio.stop()

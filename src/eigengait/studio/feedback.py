@@ -1,0 +1,44 @@
+"""Messages to the animator: a status line every tab sees, plus a notification in the tab that acted.
+
+`guarded` wraps GUI callbacks so bad input (UserInputError) becomes a red message instead of a server error.
+"""
+
+from __future__ import annotations
+
+import functools
+import traceback
+from collections.abc import Callable
+
+import viser
+
+from eigengait.errors import UserInputError
+
+
+class Feedback:
+    def __init__(self, server: viser.ViserServer):
+        self.server = server
+        self.status = server.gui.add_markdown("Ready.", order=0.5)
+
+    def info(self, text: str, client: viser.ClientHandle | None = None) -> None:
+        self.status.content = text
+        if client is not None:
+            client.add_notification("eigengait", text, auto_close_seconds=4.0, color="blue")
+
+    def error(self, text: str, client: viser.ClientHandle | None = None) -> None:
+        self.status.content = f"**Refused:** {text}"
+        targets = [client] if client is not None else list(self.server.get_clients().values())
+        for c in targets:
+            c.add_notification("Refused", text, auto_close_seconds=8.0, color="red")
+
+    def guarded(self, callback: Callable[[viser.GuiEvent], None]) -> Callable[[viser.GuiEvent], None]:
+        """A GUI callback that reports UserInputError (and unexpected errors) instead of raising."""
+        @functools.wraps(callback)
+        def run(event: viser.GuiEvent) -> None:
+            try:
+                callback(event)
+            except UserInputError as err:
+                self.error(str(err), event.client)
+            except Exception as exc:  # the server must survive any single action
+                traceback.print_exc()
+                self.error(f"unexpected error: {exc.__class__.__name__}: {exc}", event.client)
+        return run
