@@ -193,10 +193,31 @@ def snake() -> None:
           "a limbless creature, 8 boxes, 7 ball joints, 21 internal DOF")
 
 
+def walker_leg(side: str, y: float) -> Limb:
+    """Thigh, shin and a foot body on a ball-joint ankle (the humanoid's leg with the foot split off the shin)."""
+    s = 1 if side == "left" else -1
+    foot = Limb(f"{side}_foot", (0, 0, -0.40), [Box((0.11, 0.05, 0.03), (0.06, 0, -0.04), SKIN)], 200, 60,
+                sites={f"{side}_toe": (0.15, 0, -0.08), f"{side}_heel": (-0.03, 0, -0.08)})
+    shin = Limb(f"{side}_shin", (0, 0, -0.42), [Box((0.05, 0.05, 0.20), (0, 0, -0.20))], 300, 110, children=[foot])
+    return Limb(f"{side}_thigh", (0, s * y, -0.08), [Box((0.065, 0.065, 0.21), (0, 0, -0.21))], 400, 100,
+                children=[shin])
+
+
+def walker() -> None:
+    """A humanoid with ankles, for tracking motion capture (stance feet flat while the shin rolls over them)."""
+    root = Limb("pelvis", (0, 0, 1.0), [Box((0.10, 0.15, 0.08), (0, 0, 0))], children=[
+        humanoid_torso(False), walker_leg("left", 0.09), walker_leg("right", 0.09)])
+    write("walker", root, {
+        "feet": BIPED_FEET, "gait_order": ["left", "right"],
+        "mirror": {"axis": "y", "pairs": dict(LR_PAIRS, left_foot="right_foot")},
+    }, "a humanoid with ankles, 13 boxes, 12 ball joints, 36 internal DOF")
+
+
 if __name__ == "__main__":
     humanoid()
     monster()
     kangaroo()
     dog()
     snake()
+    walker()
     print(f"wrote {sorted(p.name for p in OUT.iterdir())}")
