@@ -49,7 +49,14 @@ DAZ_HUMANOID = {
     "lShldr": "left_upper_arm", "lForeArm": "left_forearm", "rShldr": "right_upper_arm", "rForeArm": "right_forearm",
     "lThigh": "left_thigh", "lFoot": "left_shin", "rThigh": "right_thigh", "rFoot": "right_shin",
 }
-BUILTIN_MAPPINGS = {"humanoid": {"motionbuilder": MOTIONBUILDER_HUMANOID, "daz": DAZ_HUMANOID}}
+# The walker has ankles: the shin follows the mocap lower leg and the foot body the mocap foot.
+MOTIONBUILDER_WALKER = {**{k: v for k, v in MOTIONBUILDER_HUMANOID.items() if not k.endswith("Foot")},
+                        "LeftLeg": "left_shin", "LeftFoot": "left_foot", "RightLeg": "right_shin",
+                        "RightFoot": "right_foot"}
+DAZ_WALKER = {**{k: v for k, v in DAZ_HUMANOID.items() if not k.endswith("Foot")},
+              "lShin": "left_shin", "lFoot": "left_foot", "rShin": "right_shin", "rFoot": "right_foot"}
+BUILTIN_MAPPINGS = {"humanoid": {"motionbuilder": MOTIONBUILDER_HUMANOID, "daz": DAZ_HUMANOID},
+                    "walker": {"motionbuilder": MOTIONBUILDER_WALKER, "daz": DAZ_WALKER}}
 
 
 class MappingFile(BaseModel):

@@ -2,7 +2,8 @@
 
 For every frame: qpos is set, ``mj_forward`` gives the COM and foot points, qvel comes from central differences
 (``mj_differentiatePos``) smoothed by a 5-frame moving average (mocap is noisy), and ``mj_subtreeVel`` gives the
-COM velocity and the angular momentum about the COM. All vectors are in world axes, SI units.
+COM velocity and the angular momentum about the COM; their rates (the COM acceleration and dL/dt, the momentum
+feed-forward) are central differences of those, smoothed the same way. All vectors are in world axes, SI units.
 A foot is in reference contact when its lowest contact point is within ``CONTACT_HEIGHT`` of the floor; the
 support point is the mean of the contacting feet's toe/heel midpoints, held through flight phases.
 """
@@ -33,6 +34,14 @@ class Reference:
     support: np.ndarray       # (F, 2) m, horizontal support point
     foot_contact: np.ndarray  # (F, n_feet) bool, feet in the order of world.foot_spheres
     mass: float
+    com_acc: np.ndarray | None = None               # (F, 3) m/s²
+    angular_momentum_rate: np.ndarray | None = None  # (F, 3) N·m
+
+    def __post_init__(self):
+        if self.com_acc is None:
+            self.com_acc = _rate(self.com_vel, self.frame_time)
+        if self.angular_momentum_rate is None:
+            self.angular_momentum_rate = _rate(self.angular_momentum, self.frame_time)
 
     @property
     def n_frames(self) -> int:
@@ -60,6 +69,13 @@ def _smooth(values: np.ndarray, width: int) -> np.ndarray:
     padded = np.concatenate([np.repeat(values[:1], pad, 0), values, np.repeat(values[-1:], pad, 0)])
     kernel = np.ones(width) / width
     return np.apply_along_axis(lambda c: np.convolve(c, kernel, mode="valid"), 0, padded)
+
+
+def _rate(values: np.ndarray, frame_time: float) -> np.ndarray:
+    """Smoothed central-difference time derivative of per-frame values."""
+    if len(values) < 2:
+        return np.zeros_like(values)
+    return _smooth(np.gradient(values, frame_time, axis=0), SMOOTHING_FRAMES)
 
 
 def foot_points(world: World, data: mujoco.MjData) -> dict[str, np.ndarray]:

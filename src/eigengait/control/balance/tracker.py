@@ -43,15 +43,25 @@ class Push:
     body: str = "torso"
 
 
+# Stiff tracking gains (N·m/rad) by joint-name suffix, for the built-in bipeds (legs 400–1000, as in the
+# momentum-Jacobian tracking literature's 300–1000 range); k_d = damping_time × k_s.
+BIPED_GAINS = {"torso": 800.0, "head": 100.0, "upper_arm": 150.0, "forearm": 60.0,
+               "thigh": 1000.0, "shin": 600.0, "foot": 400.0}
+
+
 @dataclass(frozen=True)
 class TrackerSettings:
-    """Joint gains: k_s = stiffness_scale × m g l and k_d = 2 ζ √(k_s m l²) per joint, with m the mass and l the
-    COM distance of the joint's subtree in the relax pose. Foot: radius and COM height (m), friction μ."""
+    """Joint gains: a joint whose name ends with a key of ``joint_gains`` gets that k_s (N·m/rad) and
+    k_d = damping_time × k_s; any other joint k_s = stiffness_scale × m g l and k_d = 2 ζ √(k_s m l²), with m the
+    mass and l the COM distance of the joint's subtree in the relax pose. The controller runs every
+    ``control_every`` physics steps. Foot: radius and COM height (m), friction μ."""
 
+    joint_gains: dict = field(default_factory=lambda: dict(BIPED_GAINS))
+    damping_time: float = 0.1
     stiffness_scale: float = 12.0
     damping_ratio: float = 1.0
     virtual: VirtualGains = field(default_factory=VirtualGains)
-    control_every: int = 4
+    control_every: int = 1
     tolerance: float = 0.0
     foot_radius_m: float = 0.1
     foot_com_height_m: float = 0.05
@@ -136,11 +146,16 @@ class Tracker:
         self.k_s = np.zeros(model.nv)
         k_d = np.zeros(model.nv)
         for j in self.ball + self.hinge:
-            body = int(model.jnt_bodyid[j])
-            mass, arm = _subtree_mass_and_arm(model, data, body)
-            kp = s.stiffness_scale * mass * GRAVITY * arm
             n = 3 if j in self.ball else 1
             dofs = model.jnt_dofadr[j] + np.arange(n)
+            name = model.joint(j).name
+            named = [v for k, v in s.joint_gains.items() if name.endswith(k)]
+            if named:
+                self.k_s[dofs] = named[0]
+                k_d[dofs] = s.damping_time * named[0]
+                continue
+            mass, arm = _subtree_mass_and_arm(model, data, int(model.jnt_bodyid[j]))
+            kp = s.stiffness_scale * mass * GRAVITY * arm
             self.k_s[dofs] = kp
             k_d[dofs] = 2.0 * s.damping_ratio * np.sqrt(kp * mass * arm * arm)
         model.dof_damping[self.joint_dofs] = k_d[self.joint_dofs]
@@ -155,7 +170,8 @@ class Tracker:
         for adr in list(self.ball_qpos[:, 0]) + [self.root_qpos + 3]:
             qpos[adr:adr + 4] /= np.linalg.norm(qpos[adr:adr + 4])
         blend = {name: (1 - a) * getattr(ref, name)[i] + a * getattr(ref, name)[j]
-                 for name in ("qvel", "com", "com_vel", "angular_momentum", "support")}
+                 for name in ("qvel", "com", "com_vel", "angular_momentum", "support", "com_acc",
+                              "angular_momentum_rate")}
         return {"qpos": qpos, **blend}
 
     # ------------------------------------------------------------------------------------------- stepping
@@ -211,12 +227,13 @@ class Tracker:
         com, com_vel, angmom = data.subtree_com[root], data.subtree_linvel[root], data.subtree_angmom[root]
         gains = self.settings.virtual
         force = virtual_force(com, com_vel, support, ref["com"], ref["com_vel"], ref["support"], self.mass,
-                              GRAVITY, gains)
+                              GRAVITY, gains, ref["com_acc"])
         quat = data.qpos[self.root_qpos + 3:self.root_qpos + 7]
         quat_ref = ref["qpos"][self.root_qpos + 3:self.root_qpos + 7]
         omega = quat_to_mat(quat) @ data.qvel[self.root_dofs[3:]]
         omega_ref = quat_to_mat(quat_ref) @ ref["qvel"][self.root_dofs[3:]]
-        torque = virtual_torque(quat, quat_ref, omega, omega_ref, angmom, ref["angular_momentum"], gains)
+        torque = virtual_torque(quat, quat_ref, omega, omega_ref, angmom, ref["angular_momentum"], gains,
+                                ref["angular_momentum_rate"])
         wrench = np.concatenate([torque, force])
         momentum = centroidal_momentum_matrix(model, data, root)
         inertia = centroidal_inertia(model, data, root)
