@@ -62,7 +62,9 @@ def register(app: typer.Typer) -> None:
     @app.command("track")
     def track_command(
         clip: Path = typer.Argument(..., help="BVH motion-capture clip."),
-        character: str = typer.Option("humanoid", "--character", help="Built-in character name or MJCF path."),
+        character: str = typer.Option("walker", "--character",
+                                      help="Built-in character name or MJCF path (default: the walker, the "
+                                           "humanoid with ankles; 'humanoid' has none and tracks worse)."),
         robustness: float = typer.Option(0.5, "--robustness",
                                          help="0 = physically correct (no artificial torque) … 1 = stance-foot "
                                               "torque fully cancelled (very stable)."),

@@ -44,10 +44,24 @@ def test_virtual_force_compensates_gravity_and_pulls_toward_reference():
     f = virtual_force(np.array([0.0, 0, 1]), np.zeros(3), np.zeros(2), np.array([0.1, 0, 1.2]), np.zeros(3),
                       np.zeros(2), 70.0, 9.81, gains)
     np.testing.assert_allclose(f, [10.0, 0.0, 70 * 9.81])   # horizontal only: the 0.2 m height error is ignored
-    # E20: offsets are measured from each character's own support point.
+    # E20 (absolute=False): offsets are measured from each character's own support point.
+    relative = VirtualGains(k_fs=100, k_fd=10, k_P=0, k_ts=0, k_td=0, k_ma=0, absolute=False)
+    f = virtual_force(np.array([1.0, 0, 1]), np.zeros(3), np.array([1.0, 0]), np.array([0.0, 0, 1]), np.zeros(3),
+                      np.zeros(2), 70.0, 9.81, relative)
+    np.testing.assert_allclose(f[:2], 0.0)
+    # Default (absolute): the same 1 m world-frame COM error is pulled back.
     f = virtual_force(np.array([1.0, 0, 1]), np.zeros(3), np.array([1.0, 0]), np.array([0.0, 0, 1]), np.zeros(3),
                       np.zeros(2), 70.0, 9.81, gains)
-    np.testing.assert_allclose(f[:2], 0.0)
+    np.testing.assert_allclose(f[:2], [-100.0, 0.0])
+    # Feed-forward: the reference's momentum rate m·a_ref is added (scaled by `feedforward`).
+    acc = np.array([2.0, 0.0, -1.0])
+    f0 = virtual_force(np.zeros(3), np.zeros(3), np.zeros(2), np.zeros(3), np.zeros(3), np.zeros(2), 70.0, 9.81, gains)
+    f1 = virtual_force(np.zeros(3), np.zeros(3), np.zeros(2), np.zeros(3), np.zeros(3), np.zeros(2), 70.0, 9.81, gains,
+                       acc)
+    np.testing.assert_allclose(f1 - f0, 70.0 * acc)
+    off = VirtualGains(k_fs=100, k_fd=10, k_P=0, k_ts=0, k_td=0, k_ma=0, feedforward=0.0)
+    np.testing.assert_allclose(virtual_force(np.zeros(3), np.zeros(3), np.zeros(2), np.zeros(3), np.zeros(3),
+                                             np.zeros(2), 70.0, 9.81, off, acc), f0)
 
 
 def test_virtual_torque_uses_momentum_with_the_safe_sign():
