@@ -34,6 +34,7 @@ class VirtualGains:
     k_ma: float = 2.0
     feedforward: float = 1.0   # weight of the reference momentum rates Ṗ_ref, L̇_ref (0: the chapter's E23/E28)
     absolute: bool = True      # COM error in world coordinates (False: E20, offsets from the support points)
+    gravity: float = 1.0       # weight of E21's gravity compensation (0 when other torques already carry the body)
 
 
 def virtual_force(com: np.ndarray, com_vel: np.ndarray, support: np.ndarray, com_ref: np.ndarray,
@@ -44,7 +45,7 @@ def virtual_force(com: np.ndarray, com_vel: np.ndarray, support: np.ndarray, com
         support, support_ref = np.zeros(2), np.zeros(2)
     offset = np.append(com_ref[:2] - support_ref - (com[:2] - support), 0.0)
     control = (gains.k_fs * offset + gains.k_fd * (com_vel_ref - com_vel)) * HORIZONTAL
-    weight = np.array([0.0, 0.0, mass * gravity])
+    weight = np.array([0.0, 0.0, gains.gravity * mass * gravity])
     momentum = gains.k_P * mass * (com_vel_ref - com_vel)
     feedforward = 0.0 if com_acc_ref is None else gains.feedforward * mass * com_acc_ref
     return control + weight + momentum + feedforward
