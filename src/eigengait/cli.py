@@ -101,6 +101,9 @@ def _register_command_groups() -> None:
     from eigengait.cli_gait import register as register_gait
     from eigengait.cli_track import register as register_track
 
+    from eigengait.cloth.cli import app as cloth_app
+
+    app.add_typer(cloth_app, name="cloth", help="The FLEX3D deformable-surface simulator.")
     register_animate(app)
     register_gait(app)
     register_track(app)
