@@ -16,6 +16,8 @@ from eigengait.errors import UserInputError
 from eigengait.outputs import refuse_existing
 
 console = Console()
+DEMO_KINEMATIC_MIX = "2:1,15:0.6@90"   # stride + both knees a quarter period later (Kry et al. 2009 style)
+DEMO_KINEMATIC_BASE_HZ = 0.9           # snap both frequencies to multiples of 0.9 Hz so the clip loops
 
 
 def _video_and_bvh(world, qpos, fps, video: Optional[Path], bvh: Optional[Path]) -> None:
@@ -164,11 +166,16 @@ def demo_command(
     t0 = time.perf_counter()
     character = load_character("humanoid")
     world = build_world(character, options=WorldOptions(gravity=False))
-    for phase in ("air", "ground"):
-        modes = compute_modes(world, phase)
-        modes.save(folder / f"modes_{phase}.npz")
-        write_palette(world, modes, folder / f"palette_{phase}.png")
-    console.print(f"[1/4] modes and palettes: {folder}/palette_air.png, palette_ground.png")
+    modes = {phase: compute_modes(world, phase) for phase in ("air", "ground")}
+    for phase, mode_set in modes.items():
+        mode_set.save(folder / f"modes_{phase}.npz")
+        write_palette(world, mode_set, folder / f"palette_{phase}.png")
+    from eigengait.motion.modal_mix import build_mix, mix_trajectory, parse_mix
+    kinematic = build_mix(world, modes["air"], parse_mix(DEMO_KINEMATIC_MIX), base_hz=DEMO_KINEMATIC_BASE_HZ)
+    _, qpos = mix_trajectory(world, kinematic, seconds=4.0, fps=30.0)
+    console.print(f"[1/4] modes and palettes: {folder}/palette_air.png, palette_ground.png; "
+                  f"kinematic two-mode gait (air modes {DEMO_KINEMATIC_MIX}):")
+    _video_and_bvh(world, qpos, 30.0, folder / "kinematic.mp4", folder / "kinematic.bvh")
     sketch_path = resolve("sketch", "basic-run")
     state = optimize(load_sketch(sketch_path), folder / "optimization",
                      MomSettings(seed=seed, max_evaluations=evaluations, inner_generations=80),

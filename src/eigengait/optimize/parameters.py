@@ -17,6 +17,7 @@ from eigengait.control.gait import GaitParameters, GaitSystem
 from eigengait.control.sketch import Sketch
 
 MAX_JOINT_ANGLE = 0.3     # rad: largest joint rotation of one initial-pose mode coordinate
+PERIOD_RANGE = (0.6, 1.6) # the period T stays within these multiples of the sketch's guess
 
 
 @dataclass
@@ -31,9 +32,9 @@ class ParameterSpace:
     def __init__(self, system: GaitSystem, sketch: Sketch):
         self.system, self.sketch = system, sketch
         t = sketch.timing
-        period_hi = max(2.0, 2 * t.period)
+        period_lo, period_hi = PERIOD_RANGE[0] * t.period, PERIOD_RANGE[1] * t.period
         self.entries: list[Entry] = [
-            Entry("period", 0.2, period_hi, t.period),
+            Entry("period", period_lo, period_hi, t.period),
             Entry("air_ratio", 0.0, 1.0, t.air_ratio),
             Entry("pulse_air", 0.005, period_hi / 2, t.pulse_air),
             Entry("pulse_ground", 0.005, period_hi / 2, t.pulse_ground),

@@ -94,7 +94,7 @@ def write_best(folder: Path, problem: Problem, state: MomState) -> None:
         return
     o = state.best
     metrics = {"cost": o.cost, "cycle_violation": o.violation, "fell": o.fell,
-               "mean_speed_mps": float(o.mean_velocity[0]), "active_energy": o.energy,
+               "mean_speed_mps": float(o.mean_velocity[0]), "mean_squared_torque": o.energy,
                "evaluations": state.evaluations}
     controller = to_file(problem.system, problem.space.decode(state.best_x), name=folder.name, metrics=metrics)
     save_controller(controller, folder / "best_controller.json")
