@@ -25,7 +25,7 @@ class Feedback:
             client.add_notification("eigengait", text, auto_close_seconds=4.0, color="blue")
 
     def error(self, text: str, client: viser.ClientHandle | None = None) -> None:
-        self.status.content = f"**Refused:** {text}"
+        self.status.content = f"Refused: {text}"
         targets = [client] if client is not None else list(self.server.get_clients().values())
         for c in targets:
             c.add_notification("Refused", text, auto_close_seconds=8.0, color="red")
