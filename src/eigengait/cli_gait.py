@@ -69,6 +69,8 @@ def optimize_command(
         max_outer: int = typer.Option(20, "--max-outer", help="Cap on multiplier iterations."),
         tolerance: float = typer.Option(0.05, "--cycle-tolerance", help="max|φᵢ| accepted as cyclic."),
         popsize: Optional[int] = typer.Option(None, "--popsize"),
+        method: str = typer.Option("mom", "--method", help="mom (thesis's method of multipliers) | al (pycma's "
+                                                            "adaptive augmented Lagrangian)"),
         evaluator: str = typer.Option("threads", "--evaluator", help="threads | processes | ray"),
         workers: Optional[int] = typer.Option(None, "--workers", help="Threads/processes/actors (default: cores)."),
         resume: bool = typer.Option(False, "--resume", help="Continue the run in --output.")):
@@ -81,7 +83,7 @@ def optimize_command(
     path = resolve("sketch", sketch)
     settings = MomSettings(seed=seed, max_evaluations=evaluations, max_seconds=minutes * 60 if minutes else None,
                            inner_generations=generations, max_outer=max_outer, cycle_tolerance=tolerance,
-                           popsize=popsize)
+                           popsize=popsize, method=method)
     state = optimize(load_sketch(path), output, settings, evaluator, workers, resume, sketch_source=path)
     best = state.best
     console.print(f"{state.finished}: {state.evaluations} evaluations, {state.generation} generations, "

@@ -117,3 +117,19 @@ def test_process_and_ray_evaluators_agree_with_threads(problem):
     for a, b, c in zip(reference, by_process, by_ray):
         assert a.cost == pytest.approx(b.cost, rel=1e-9) == pytest.approx(c.cost, rel=1e-9)
         np.testing.assert_allclose(a.cycle, c.cycle, atol=1e-9)
+
+
+def test_adaptive_augmented_lagrangian_meets_the_cyclic_constraint(tmp_path):
+    from eigengait.optimize.mom import make_optimizer
+    settings = MomSettings(seed=3, inner_generations=200, cycle_tolerance=1e-3, method="al")
+    state = MomState(x_start=np.full(5, 0.5))
+    optimizer = make_optimizer(toy_evaluate, settings, state)
+    generations = 0
+    while optimizer.step() is not None:
+        generations += 1
+        if generations == 5:                                  # checkpoints survive the AL's own state
+            save_state(state, tmp_path / "al.pkl")
+            state = load_state(tmp_path / "al.pkl")
+            optimizer = make_optimizer(toy_evaluate, settings, state)
+    assert state.finished == "cyclic"
+    np.testing.assert_allclose(state.best_x[:2], 0.7, atol=1e-3)

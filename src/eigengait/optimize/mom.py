@@ -33,6 +33,7 @@ class MomSettings:
     popsize: int | None = None           # CMA default 4 + 3 ln n
     max_evaluations: int | None = None
     max_seconds: float | None = None
+    method: str = "mom"                  # "mom" (the thesis's) or "al" (pycma's adaptive augmented Lagrangian)
 
 
 @dataclass
@@ -139,6 +140,18 @@ class MethodOfMultipliers:
         if st.es.stop():
             self.end_inner_run()
         return row
+
+
+def make_optimizer(evaluate: Callable[[np.ndarray], list[Outcome]], settings: MomSettings,
+                   state: MomState) -> "MethodOfMultipliers":
+    """The constrained optimizer named by `settings.method`."""
+    if settings.method == "al":
+        from eigengait.optimize.adaptive_al import AdaptiveAugmentedLagrangian
+        return AdaptiveAugmentedLagrangian(evaluate, settings, state)
+    if settings.method != "mom":
+        from eigengait.errors import UserInputError
+        raise UserInputError(f"unknown method '{settings.method}'", field="--method", fix="use mom or al")
+    return MethodOfMultipliers(evaluate, settings, state)
 
 
 def save_state(state: MomState, path) -> None:

@@ -29,7 +29,7 @@ from eigengait.control.files import write_atomically
 from eigengait.control.sketch import Sketch
 from eigengait.errors import UserInputError
 from eigengait.optimize.evaluators import make_evaluator
-from eigengait.optimize.mom import MethodOfMultipliers, MomSettings, MomState, load_state, save_state
+from eigengait.optimize.mom import MomSettings, MomState, load_state, make_optimizer, save_state
 from eigengait.optimize.problem import Problem
 
 BUDGET_FIELDS = ("max_evaluations", "max_seconds", "max_outer", "inner_generations")
@@ -111,7 +111,7 @@ def optimize(sketch: Sketch, folder: Path, settings: MomSettings, evaluator: str
     state = state or MomState(x_start=problem.space.initial())
     state.finished = "" if resume else state.finished
     evaluate = make_evaluator(evaluator, problem, workers)
-    mom = MethodOfMultipliers(evaluate, settings, state)
+    mom = make_optimizer(evaluate, settings, state)
     columns = [TextColumn("[bold]optimizing[/]"), BarColumn(), TextColumn("gen {task.fields[gen]}"),
                TextColumn("f {task.fields[cost]}"), TextColumn("violation {task.fields[viol]}"),
                TimeElapsedColumn()]
