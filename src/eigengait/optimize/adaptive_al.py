@@ -9,13 +9,12 @@ still evaluated as one batch: the fitness wrapper reads each candidate's outcome
 
 from __future__ import annotations
 
-import time
 import warnings
 
 import cma
 import numpy as np
 
-from eigengait.optimize.mom import MethodOfMultipliers, merit
+from eigengait.optimize.mom import MethodOfMultipliers
 
 
 class _OutcomeTable:
@@ -46,28 +45,21 @@ class AdaptiveAugmentedLagrangian(MethodOfMultipliers):
         self.state.al_table = table
         return es
 
-    def generation(self) -> dict:
+    def fitness(self, X: np.ndarray, outcomes: list) -> list[float]:
+        """pycma's adaptive AL fitness; its multipliers and penalties update after every generation."""
         st = self.state
-        t0 = time.perf_counter()
-        X = np.array(st.es.ask())
-        outcomes = self.evaluate(X)
         st.al_table.rows = {x.tobytes(): o for x, o in zip(X, outcomes)}
-        fitness = [st.al(x) for x in X]
-        st.es.tell(list(X), fitness)
-        st.al.update(st.es)
+        values = [st.al(x) for x in X]
         st.al_table.rows = {}
-        st.generation += 1
-        st.evaluations += len(X)
-        i = int(np.argmin([merit(o) for o in outcomes]))
-        if st.best is None or merit(outcomes[i]) < merit(st.best):
-            st.best, st.best_x = outcomes[i], X[i].copy()
-        st.elapsed += time.perf_counter() - t0
-        row = {"generation": st.generation, "outer": st.outer, "evaluations": st.evaluations,
-               "best_cost": st.best.cost, "best_violation": st.best.violation,
-               "generation_best_W": float(min(fitness)), "sigma": float(st.es.sigma), "k": 0.0,
-               "lambda_norm": float(np.linalg.norm(st.al.al.lam)) if st.al.al.lam is not None else 0.0,
-               "fallen": int(sum(o.fell for o in outcomes)), "seconds": st.elapsed}
-        st.log.append(row)
+        return values
+
+    def multipliers(self, like: np.ndarray) -> np.ndarray:
+        lam = self.state.al.al.lam if getattr(self.state, "al", None) is not None else None
+        return np.zeros(1) if lam is None else np.asarray(lam)
+
+    def generation(self) -> dict:
+        row = super().generation()
+        self.state.al.update(self.state.es)
         return row
 
     def end_inner_run(self) -> None:

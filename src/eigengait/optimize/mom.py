@@ -88,14 +88,22 @@ class MethodOfMultipliers:
             return False
         return True
 
+    def fitness(self, X: np.ndarray, outcomes: list[Outcome]) -> list[float]:
+        """What CMA-ES minimizes this generation: the augmented Lagrangian W."""
+        st = self.state
+        lam = self.multipliers(outcomes[0].cycle)
+        return [augmented(o, lam, st.k) for o in outcomes]
+
+    def multipliers(self, like: np.ndarray) -> np.ndarray:
+        return self.state.lam if self.state.lam is not None else np.zeros_like(like)
+
     def generation(self) -> dict:
         """One CMA generation of the current inner run; returns its log row."""
         st = self.state
         t0 = time.perf_counter()
         X = np.array(st.es.ask())
         outcomes = self.evaluate(X)
-        lam = st.lam if st.lam is not None else np.zeros_like(outcomes[0].cycle)
-        W = [augmented(o, lam, st.k) for o in outcomes]
+        W = self.fitness(X, outcomes)
         st.es.tell(list(X), W)
         st.generation += 1
         st.evaluations += len(X)
@@ -106,8 +114,8 @@ class MethodOfMultipliers:
         row = {"generation": st.generation, "outer": st.outer, "evaluations": st.evaluations,
                "best_cost": st.best.cost, "best_violation": st.best.violation,
                "generation_best_W": float(min(W)), "sigma": float(st.es.sigma), "k": st.k,
-               "lambda_norm": float(np.linalg.norm(lam)), "fallen": int(sum(o.fell for o in outcomes)),
-               "seconds": st.elapsed}
+               "lambda_norm": float(np.linalg.norm(self.multipliers(outcomes[0].cycle))),
+               "fallen": int(sum(o.fell for o in outcomes)), "seconds": st.elapsed}
         st.log.append(row)
         return row
 
