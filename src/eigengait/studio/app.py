@@ -24,8 +24,8 @@ from eigengait.studio.stage import Stage
 from eigengait.studio.state import StudioState
 
 ANIMATION_FPS = 25.0
-CAMERA_POSITION = (3.6, -1.0, 1.9)     # m: front-right of the stage, the palette walls behind it
-CAMERA_LOOK_AT = (-2.5, 0.0, 1.4)
+CAMERA_POSITION = (5.2, -0.3, 2.2)     # m: front-right of the stage, the palette walls behind it
+CAMERA_LOOK_AT = (-2.5, 0.9, 1.3)
 
 
 class Studio:
@@ -36,6 +36,9 @@ class Studio:
         self.state = StudioState(self.sandbox)
         self.server = viser.ViserServer(host=host, port=port, label="eigengait studio", verbose=False)
         self.server.scene.set_up_direction("+z")
+        self.server.scene.configure_environment_map(None)        # plain lights: far cheaper without a GPU
+        self.server.scene.configure_default_lights(True, cast_shadow=False)
+        self.server.scene.add_light_hemisphere("/lights/sky", ground_color=(150, 150, 150), intensity=1.4)
         self.server.gui.configure_theme(control_width="large", show_logo=False, show_share_button=False)
         self.server.gui.add_markdown("**eigengait studio** — mode numbers start at 1 (lowest non-rigid mode); "
                                      "ψ in N·m.", order=0.0)

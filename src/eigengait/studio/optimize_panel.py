@@ -2,8 +2,8 @@
 
 The optimization is the CLI's own (`python -m eigengait optimize SKETCH -o FOLDER …`) run in a child process,
 so the page never waits on it and Stop simply ends the process; every generation is checkpointed, so Resume
-continues it (`--resume`). Runs go to `studio-runs/run-YYYYmmdd-HHMMSS/` in the studio folder; the plot
-follows the run's `log.csv` (best objective and best cycle violation per generation, log scales).
+continues it (`--resume`). Runs go to `studio-runs/run-YYYYmmdd-HHMMSS/` in the studio folder; the plots
+follow the run's `log.csv` (log₁₀ of the best objective and best cycle violation per generation).
 """
 
 from __future__ import annotations
@@ -55,8 +55,8 @@ class OptimizePanel:
             self.stop = gui.add_button("Stop", icon=viser.Icon.PLAYER_STOP, disabled=True)
             self.resume = gui.add_button("Resume last run", icon=viser.Icon.PLAYER_TRACK_NEXT, disabled=True)
             self.progress = gui.add_markdown("No run yet.")
-            self.cost_plot = self._plot("best objective f", "#2a6fb0")
-            self.violation_plot = self._plot("cycle violation max|φᵢ|", "#c0392b")
+            self.cost_plot = self._plot("log₁₀ best objective f", "#2a6fb0")
+            self.violation_plot = self._plot("log₁₀ cycle violation max|φᵢ|", "#c0392b")
             self.play_best = gui.add_button("Play best gait so far", icon=viser.Icon.WALK, disabled=True)
         self.start.on_click(feedback.guarded(self._on_start))
         self.stop.on_click(feedback.guarded(self._on_stop))
@@ -65,11 +65,12 @@ class OptimizePanel:
         threading.Thread(target=self._poll, name="optimize-poll", daemon=True).start()
 
     def _plot(self, title: str, color: str) -> viser.GuiUplotHandle:
-        empty = np.zeros(0)
+        """A chart hidden until the first generation (viser's uPlot does not draw data given to an empty chart)."""
+        placeholder = np.array([0.0, 1.0])
         return self.server.gui.add_uplot(
-            (empty, empty), (uplot.Series(label="generation"), uplot.Series(label=title, stroke=color, width=2)),
-            title=title, scales={"x": uplot.Scale(time=False, auto=True), "y": uplot.Scale(distr=3, auto=True)},
-            legend=uplot.Legend(show=False), aspect=2.0)
+            (placeholder, np.zeros(2)), (uplot.Series(label="generation"), uplot.Series(label=title, stroke=color, width=2)),
+            title=title, scales={"x": uplot.Scale(time=False, auto=True), "y": uplot.Scale(auto=True)},
+            legend=uplot.Legend(show=False), aspect=2.0, visible=False)
 
     def _launch(self, folder: Path, resume: bool) -> None:
         if self.running:
@@ -138,8 +139,9 @@ class OptimizePanel:
         if log and len(log["generation"]) != self.generations:
             self.generations = len(log["generation"])
             g = log["generation"]
-            self.cost_plot.data = (g, np.maximum(log["best_cost"], 1e-12))
-            self.violation_plot.data = (g, np.maximum(log["best_violation"], 1e-12))
+            self.cost_plot.data = (g, np.log10(np.maximum(log["best_cost"], 1e-12)))
+            self.violation_plot.data = (g, np.log10(np.maximum(log["best_violation"], 1e-12)))
+            self.cost_plot.visible = self.violation_plot.visible = True
             self.progress.content = (
                 f"`{self.state.sandbox.relative(self.folder)}` · generation {int(g[-1])} · "
                 f"{int(log['evaluations'][-1])} evaluations · {log['seconds'][-1]:.0f} s · best f "

@@ -48,6 +48,9 @@ class PaletteView:
         self.copies: list[tuple[str, int]] = []          # (phase, mode) of each copy, in instance order
         self.positions = self.wxyzs = None               # LOOP_FRAMES × instances × 3 / 4
         self.syncing = False
+        self.shown_frame = -1
+        self.animate = server.gui.add_checkbox("animate palette", True, order=gui_order - 0.05,
+                                               hint="pause the mode animations (helps slow, GPU-less machines)")
         state.subscribe("model", self.rebuild)
         state.subscribe("sketch", self.sync)
 
@@ -86,14 +89,15 @@ class PaletteView:
             self.wxyzs = np.concatenate(wxyzs, axis=1)
             sizes = np.tile(figure.sizes * COPY_SCALE, (len(copies), 1))
             self.geom_shade = np.tile(figure.colors, (len(copies), 1))
+            self.shown_frame = 0
             self.mesh = self.server.scene.add_batched_meshes_simple(
                 "/palette/copies", UNIT_CUBE_VERTICES, UNIT_CUBE_FACES, batched_wxyzs=self.wxyzs[0],
                 batched_positions=self.positions[0], batched_scales=sizes, batched_colors=self._colors(),
-                flat_shading=True, lod="off")
+                flat_shading=True, lod="off", cast_shadow=False, receive_shadow=False)
             for name, text, position in labels:
                 self.scene_nodes.append(self.server.scene.add_label(
                     f"/palette/labels/{name}", text, position=position, anchor="top-center",
-                    font_size_mode="scene", font_scene_height=0.055 if "title" not in name else 0.16))
+                    font_screen_scale=0.55 if "title" not in name else 1.0))
         self._rebuild_gui()
 
     def _clear_scene(self) -> None:
@@ -108,11 +112,12 @@ class PaletteView:
         return (0.8 * status + 0.2 * self.geom_shade).astype(np.uint8)
 
     def tick(self, seconds: float) -> None:
-        """Show the loop frame for wall-clock time `seconds`."""
+        """Show the loop frame for wall-clock time `seconds` (sent only when it changes)."""
         with self.lock:
-            if self.mesh is None:
-                return
             k = int(seconds / LOOP_SECONDS * LOOP_FRAMES) % LOOP_FRAMES
+            if self.mesh is None or not self.animate.value or k == self.shown_frame:
+                return
+            self.shown_frame = k
             self.mesh.batched_positions = self.positions[k]
             self.mesh.batched_wxyzs = self.wxyzs[k]
 

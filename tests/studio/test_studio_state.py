@@ -1,0 +1,64 @@
+"""The studio's path sandbox and shared state, without a browser."""
+
+import os
+
+import pytest
+
+from eigengait.character.library import library_dir
+from eigengait.control.sketch import load_sketch
+from eigengait.errors import UserInputError
+from eigengait.studio.sandbox import Sandbox
+from eigengait.studio.state import AUTOSAVE_NAME, StudioState
+
+
+@pytest.mark.parametrize("outside", ["../x.xml", "/etc/passwd", "a/../../b.yaml", "~/.bashrc/../../../etc/x.xml"])
+def test_sandbox_refuses_paths_outside_the_root(tmp_path, outside):
+    with pytest.raises(UserInputError, match="outside the studio folder|not found"):
+        Sandbox(tmp_path).resolve(outside, must_exist=True)
+
+
+def test_sandbox_refuses_a_symlink_that_leaves_the_root(tmp_path):
+    (tmp_path / "escape.xml").symlink_to("/etc/hostname")
+    with pytest.raises(UserInputError, match="outside the studio folder"):
+        Sandbox(tmp_path).resolve("escape.xml")
+
+
+def test_sandbox_accepts_files_inside_and_checks_suffixes(tmp_path):
+    (tmp_path / "sub").mkdir()
+    assert Sandbox(tmp_path).resolve("sub/../run.yaml", (".yaml",)) == tmp_path.resolve() / "run.yaml"
+    with pytest.raises(UserInputError, match="must end with"):
+        Sandbox(tmp_path).resolve("notes.txt", (".yaml",))
+
+
+def test_edits_are_autosaved_as_a_sketch_the_cli_reads(tmp_path):
+    state = StudioState(Sandbox(tmp_path))
+    state.open("humanoid")
+    state.set_status("air", 2, "priority")
+    state.set_activation("air", 2, -35.0)
+    state.set_status("ground", 7, "excluded")
+    state.set_timing(period=0.9)
+    saved = load_sketch(tmp_path / AUTOSAVE_NAME)
+    assert saved.air.priority == {2: -35.0}
+    assert 7 in saved.ground.excluded and saved.timing.period == 0.9
+    with pytest.raises(UserInputError, match="non-zero"):
+        state.set_activation("air", 2, 0.0)
+    reopened = StudioState(Sandbox(tmp_path))
+    reopened.open(None)
+    assert reopened.sketch == state.sketch
+
+
+def test_a_character_file_in_the_folder_is_saved_relative_to_the_sketch(tmp_path):
+    for name in ("humanoid.xml", "humanoid.eigengait.yaml"):
+        (tmp_path / "chars").mkdir(exist_ok=True)
+        (tmp_path / "chars" / name).write_bytes((library_dir() / name).read_bytes())
+    state = StudioState(Sandbox(tmp_path))
+    state.open("chars/humanoid.xml")
+    path = state.save_sketch("sketches/mine.yaml")
+    assert "character: ../chars/humanoid.xml" in path.read_text()
+    assert load_sketch(path).character == str((tmp_path / "chars" / "humanoid.xml").resolve())
+    state.set_relax_pose("crouched")
+    assert state.sketch.relax_pose == "crouched" and state.modes("air").count == 30
+    with pytest.raises(UserInputError, match="unknown relax pose"):
+        state.set_relax_pose("sitting")
+    assert state.sketch.relax_pose == "crouched"
+    assert os.path.isfile(tmp_path / AUTOSAVE_NAME)
