@@ -99,6 +99,7 @@ def modes_command(character: str = typer.Argument(..., help="Built-in name or MJ
 def _register_command_groups() -> None:
     from eigengait.cli_animate import register as register_animate
     from eigengait.cli_gait import register as register_gait
+    from eigengait.cli_studio import register as register_studio
     from eigengait.cli_track import register as register_track
 
     from eigengait.cloth.cli import app as cloth_app
@@ -107,6 +108,7 @@ def _register_command_groups() -> None:
     register_animate(app)
     register_gait(app)
     register_track(app)
+    register_studio(app)
 
 
 _register_command_groups()

@@ -73,7 +73,8 @@ class MethodOfMultipliers:
         st = self.state
         x0 = st.best_x if st.best_x is not None else st.x_start
         opts = {"bounds": [0, 1], "seed": self.s.seed + st.outer, "tolx": self.s.tol_x,
-                "maxiter": self.s.inner_generations, "verbose": -9, "tolfun": 0, "tolflatfitness": 1000}
+                "maxiter": self.s.inner_generations, "verbose": -9, "verb_log": 0, "verb_disp": 0,
+                "tolfun": 0, "tolflatfitness": 1000}
         if self.s.popsize:
             opts["popsize"] = self.s.popsize
         return cma.CMAEvolutionStrategy(np.clip(x0, 0, 1), st.sigma, opts)
