@@ -1,6 +1,6 @@
 """Regenerate the shipped optimized gaits in src/eigengait/data/gaits/ with eigengait's own optimizer.
 
-Usage: python scripts/make_gaits.py [GAIT ...] [--evaluations N] [--runs DIR]
+Usage: python scripts/make_gaits.py [GAIT ...] [--evaluations N] [--max-outer N] [--runs DIR]
 Each gait is a sketch preset optimized from a fixed seed; the best controller of the run is copied into the
 package with its playback metrics. Runs are kept in DIR (default out/gait-runs) and resume if interrupted.
 """
@@ -23,12 +23,13 @@ GAITS = {"humanoid-basic-run": "basic-run", "monster-run": "monster", "kangaroo-
 PACKAGE = Path(__file__).resolve().parents[1] / "src" / "eigengait" / "data" / "gaits"
 
 
-def make(gait: str, evaluations: int, runs: Path, seed: int) -> None:
+def make(gait: str, evaluations: int, runs: Path, seed: int, max_outer: int) -> None:
     sketch_path = resolve("sketch", GAITS[gait])
     folder = runs / gait
     resume = (folder / "checkpoint.pkl").exists()
     state = optimize(load_sketch(sketch_path), folder,
-                     MomSettings(seed=seed, max_evaluations=evaluations, inner_generations=100),
+                     MomSettings(seed=seed, max_evaluations=evaluations, inner_generations=100,
+                                 max_outer=max_outer),
                      resume=resume, sketch_source=sketch_path)
     controller = load_controller(folder / "best_controller.json")
     system = system_for(controller)
@@ -51,9 +52,10 @@ def main() -> None:
     parser.add_argument("--evaluations", type=int, default=10000)
     parser.add_argument("--runs", type=Path, default=Path("out/gait-runs"))
     parser.add_argument("--seed", type=int, default=1)
+    parser.add_argument("--max-outer", type=int, default=20, help="multiplier iterations at most")
     args = parser.parse_args()
     for gait in args.gaits:
-        make(gait, args.evaluations, args.runs, args.seed)
+        make(gait, args.evaluations, args.runs, args.seed, args.max_outer)
 
 
 if __name__ == "__main__":
