@@ -149,7 +149,7 @@ def gaits_command(as_json: bool = typer.Option(False, "--json", help="Print JSON
 
 def demo_command(
         output: Path = typer.Option(Path("out/demo"), "--output", help="Parent folder; each demo gets a new subfolder."),
-        evaluations: int = typer.Option(4000, "--max-evaluations", help="Optimization budget."),
+        evaluations: int = typer.Option(12000, "--max-evaluations", help="Optimization budget."),
         seed: int = typer.Option(1, "--seed")):
     """The main job on the humanoid: modes -> palette -> basic-run sketch -> optimization -> playback -> video, BVH."""
     from eigengait.character import load_character
