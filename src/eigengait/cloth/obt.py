@@ -12,7 +12,7 @@ from pathlib import Path
 
 import numpy as np
 
-from eigengait.cloth.par import yup_to_zup, zup_to_yup
+from eigengait.cloth.par import read_legacy_text, yup_to_zup, zup_to_yup
 from eigengait.errors import UserInputError
 
 
@@ -54,15 +54,8 @@ def read_obt(path: str | Path) -> Mesh:
         UserInputError: a missing file or a malformed section, naming the line.
     """
     path = Path(path)
-    try:
-        raw = path.read_bytes()
-    except OSError as exc:
-        raise UserInputError(f"cannot read the obstacle file: {exc.strerror}.", file=str(path),
-                             fix="put the .OBT file next to the script or fix its name in OBJETOS_NA_CENA.") from None
-    try:
-        text = raw.decode("utf-8")
-    except UnicodeDecodeError:
-        text = raw.decode("latin-1")
+    text = read_legacy_text(path, "the obstacle file",
+                            "put the .OBT file next to the script or fix its name in OBJETOS_NA_CENA.")
     rows = [(n, line.split()) for n, line in enumerate(text.splitlines(), start=1) if line.split()]
     cursor = 0
 

@@ -329,16 +329,20 @@ def _parse_constraints(reader: _Reader, grid, fixed: list, translations: list) -
                                fix="only PONTOS_FIXOS, TRANSLACAO, INI_TRANSL and FIM_TRANSL belong here.")
 
 
-def read_par(path: str | Path) -> Script:
-    """Read a ``.PAR`` file (UTF-8 or Latin-1)."""
-    path = Path(path)
+def read_legacy_text(path: Path, what: str, fix: str) -> str:
+    """Text of a FLEX3D-era file, UTF-8 or Latin-1; UserInputError naming `what` if it cannot be read."""
     try:
         raw = path.read_bytes()
     except OSError as exc:
-        raise UserInputError(f"cannot read the script: {exc.strerror}.", file=str(path),
-                             fix="check the path, or run 'eigengait cloth examples' for the shipped ones.") from None
+        raise UserInputError(f"cannot read {what}: {exc.strerror}.", file=str(path), fix=fix) from None
     try:
-        text = raw.decode("utf-8")
+        return raw.decode("utf-8")
     except UnicodeDecodeError:
-        text = raw.decode("latin-1")
+        return raw.decode("latin-1")
+
+
+def read_par(path: str | Path) -> Script:
+    """Read a ``.PAR`` file (UTF-8 or Latin-1)."""
+    path = Path(path)
+    text = read_legacy_text(path, "the script", "check the path, or run 'eigengait cloth examples' for the shipped ones.")
     return parse_par(text, path)
