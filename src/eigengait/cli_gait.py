@@ -16,7 +16,7 @@ from eigengait.errors import UserInputError
 from eigengait.outputs import refuse_existing
 
 console = Console()
-DEMO_KINEMATIC_MIX = "2:1,15:0.6@90"   # stride + both knees a quarter period later (Kry et al. 2009 style)
+DEMO_KINEMATIC_MIX = "2:1.4,15:0.8@90"   # stride + both knees a quarter period later (Kry et al. 2009 style)
 DEMO_KINEMATIC_BASE_HZ = 0.9           # snap both frequencies to multiples of 0.9 Hz so the clip loops
 
 

@@ -1,6 +1,9 @@
 """Evaluate a CMA-ES population as one batch: stepping in C (`mujoco.rollout`, threads), objectives from the
 recorded states and sensors, and early termination of candidates that fall.
 
+Every candidate is simulated for one whole cycle T, so soft constraints and falls cover all that playback
+repeats; the cyclic constraint is read at T/2 (mirrored) for symmetric bipeds, as in the thesis, else at T.
+
 The horizon is split into chunks; after each chunk, fallen candidates (COM below half its initial height or the
 root upside down) are dropped and the survivors continue from their last state. A fallen candidate's soft
 penalty grows with the share of the horizon it did not survive, so falls still rank.
@@ -64,6 +67,11 @@ class BatchEvaluator:
         rollout.shutdown_persistent_pool()
 
     def horizon_steps(self, p: GaitParameters) -> int:
+        """A whole cycle is simulated: what playback repeats must hold up for all of it."""
+        return max(1, int(round(p.period / self.dt)))
+
+    def cycle_step(self, p: GaitParameters) -> int:
+        """The step whose state the cyclic constraint compares: T/2 (mirrored) for symmetric gaits, else T."""
         return max(1, int(round(self.system.horizon_fraction * p.period / self.dt)))
 
     def simulate(self, params: list[GaitParameters]):
@@ -133,7 +141,8 @@ class BatchEvaluator:
             soft["fall"] = FALL_PENALTY * (2.0 - survived)
             cycle = np.full(2 * nv - 1, 10.0)
         else:
-            cycle = self.system.cycle_error(p, states[-1, 1:1 + nq], states[-1, 1 + nq:1 + nq + nv])
+            k = min(self.cycle_step(p), len(states)) - 1
+            cycle = self.system.cycle_error(p, states[k, 1:1 + nq], states[k, 1 + nq:1 + nq + nv])
         cost = (terms.OBJECTIVE_WEIGHT * terms.speed_objective(mean_vel[0]) * energy
                 + terms.SOFT_WEIGHT * sum(soft.values()))
         return Outcome(cost=float(cost), cycle=cycle, fell=bool(fell), mean_velocity=mean_vel, energy=energy,
