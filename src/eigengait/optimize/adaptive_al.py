@@ -40,7 +40,7 @@ class AdaptiveAugmentedLagrangian(MethodOfMultipliers):
         table = _OutcomeTable(self.s.cycle_tolerance)
         with warnings.catch_warnings():      # cma warns that its optional archive package is missing
             warnings.simplefilter("ignore")
-            self.state.al = cma.ConstrainedFitnessAL(table.objective, table.constraints, dimension=len(es.mean),
+            self.state.al = cma.ConstrainedFitnessAL(table.objective, table.constraints, dimension=len(es.mean), logging=False,
                                                      archives=False)
         self.state.al_table = table
         return es
