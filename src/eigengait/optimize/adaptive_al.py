@@ -10,6 +10,7 @@ still evaluated as one batch: the fitness wrapper reads each candidate's outcome
 from __future__ import annotations
 
 import warnings
+from pathlib import Path
 
 import cma
 import numpy as np
@@ -32,16 +33,29 @@ class _OutcomeTable:
         return list(np.concatenate([phi - self.tolerance, -phi - self.tolerance]))
 
 
+def _quiet_constrained_fitness(table: _OutcomeTable, dimension: int) -> cma.ConstrainedFitnessAL:
+    """`ConstrainedFitnessAL` without pycma's log files: its AugmentedLagrangian makes loggers (and an
+    `outcmaes/` folder in the working directory) when built; drop them and remove the folder if it is new."""
+    folder = Path("outcmaes")
+    existed = folder.exists()
+    with warnings.catch_warnings():      # cma warns that its optional archive package is missing
+        warnings.simplefilter("ignore")
+        fitness = cma.ConstrainedFitnessAL(table.objective, table.constraints, dimension=dimension,
+                                           logging=False, archives=False)
+        fitness.al.logging = 0
+        fitness.al._init_()
+    if not existed and folder.is_dir() and not any(folder.iterdir()):
+        folder.rmdir()
+    return fitness
+
+
 class AdaptiveAugmentedLagrangian(MethodOfMultipliers):
     """Same state, checkpoints and stopping rules as the method of multipliers; different constraint handling."""
 
     def _new_es(self) -> cma.CMAEvolutionStrategy:
         es = super()._new_es()
         table = _OutcomeTable(self.s.cycle_tolerance)
-        with warnings.catch_warnings():      # cma warns that its optional archive package is missing
-            warnings.simplefilter("ignore")
-            self.state.al = cma.ConstrainedFitnessAL(table.objective, table.constraints, dimension=len(es.mean), logging=False,
-                                                     archives=False)
+        self.state.al = _quiet_constrained_fitness(table, len(es.mean))
         self.state.al_table = table
         return es
 
