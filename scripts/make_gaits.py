@@ -27,17 +27,19 @@ def make(gait: str, evaluations: int, runs: Path, seed: int, max_outer: int) -> 
     sketch_path = resolve("sketch", GAITS[gait])
     folder = runs / gait
     resume = (folder / "checkpoint.pkl").exists()
-    state = optimize(load_sketch(sketch_path), folder,
+    sketch = load_sketch(sketch_path)
+    state = optimize(sketch, folder,
                      MomSettings(seed=seed, max_evaluations=evaluations, inner_generations=100,
-                                 max_outer=max_outer),
+                                 max_outer=max_outer, cycle_tolerance=sketch.targets.cycle_tolerance),
                      resume=resume, sketch_source=sketch_path)
     controller = load_controller(folder / "best_controller.json")
     system = system_for(controller)
     params = to_parameters(controller, system)
-    snapped = play(system, params, cycles=6).summary()
+    snapped = play(system, params, cycles=20).summary()
     free = play(system, params, cycles=20, snap=False).summary()
     controller.name = gait
     controller.metrics.update({"cycle_violation": snapped["cycle_violation"],
+                               "cycle_tolerance": sketch.targets.cycle_tolerance,
                                "mean_speed_mps": snapped["mean_speed_mps"],
                                "cost_of_transport": snapped["cost_of_transport"],
                                "cycles_without_snap": free["cycles_completed"],

@@ -67,7 +67,8 @@ def optimize_command(
         minutes: Optional[float] = typer.Option(None, "--max-minutes", help="Wall-clock budget (min)."),
         generations: int = typer.Option(1000, "--inner-generations", help="Cap per inner CMA-ES run."),
         max_outer: int = typer.Option(20, "--max-outer", help="Cap on multiplier iterations."),
-        tolerance: float = typer.Option(0.05, "--cycle-tolerance", help="max|φᵢ| accepted as cyclic."),
+        tolerance: Optional[float] = typer.Option(None, "--cycle-tolerance",
+                                                  help="max|φᵢ| accepted as cyclic (default: the sketch's)."),
         popsize: Optional[int] = typer.Option(None, "--popsize"),
         method: str = typer.Option("mom", "--method", help="mom (thesis's method of multipliers) | al (pycma's "
                                                             "adaptive augmented Lagrangian)"),
@@ -81,10 +82,12 @@ def optimize_command(
     from eigengait.optimize.run import optimize
 
     path = resolve("sketch", sketch)
+    loaded = load_sketch(path)
+    tolerance = tolerance if tolerance is not None else loaded.targets.cycle_tolerance
     settings = MomSettings(seed=seed, max_evaluations=evaluations, max_seconds=minutes * 60 if minutes else None,
                            inner_generations=generations, max_outer=max_outer, cycle_tolerance=tolerance,
                            popsize=popsize, method=method)
-    state = optimize(load_sketch(path), output, settings, evaluator, workers, resume, sketch_source=path)
+    state = optimize(loaded, output, settings, evaluator, workers, resume, sketch_source=path)
     best = state.best
     console.print(f"{state.finished}: {state.evaluations} evaluations, {state.generation} generations, "
                   f"{state.elapsed:.0f} s; best cost {best.cost:.4g}, cycle violation {best.violation:.3g}, "
@@ -179,8 +182,10 @@ def demo_command(
                   f"kinematic two-mode gait (air modes {DEMO_KINEMATIC_MIX}):")
     _video_and_bvh(world, qpos, 30.0, folder / "kinematic.mp4", folder / "kinematic.bvh")
     sketch_path = resolve("sketch", "basic-run")
-    state = optimize(load_sketch(sketch_path), folder / "optimization",
-                     MomSettings(seed=seed, max_evaluations=evaluations, inner_generations=80),
+    sketch = load_sketch(sketch_path)
+    state = optimize(sketch, folder / "optimization",
+                     MomSettings(seed=seed, max_evaluations=evaluations, inner_generations=80,
+                                 cycle_tolerance=sketch.targets.cycle_tolerance),
                      sketch_source=sketch_path)
     console.print(f"[2/4] optimization ({state.finished}): cycle violation {state.best.violation:.3g}, "
                   f"{state.evaluations} evaluations in {state.elapsed:.0f} s")

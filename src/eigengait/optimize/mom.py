@@ -29,7 +29,7 @@ class MomSettings:
     tol_x: float = 1e-4
     inner_generations: int = 1000
     max_outer: int = 20
-    cycle_tolerance: float = 0.05        # |φ_i| below this on every component: cyclic
+    cycle_tolerance: float = 0.2         # |φ_i| below this on every component: cyclic
     popsize: int | None = None           # CMA default 4 + 3 ln n
     max_evaluations: int | None = None
     max_seconds: float | None = None
