@@ -8,6 +8,7 @@ import pytest
 from studio_helpers import ARTIFACTS, gui_label
 
 CHROMIUM = "/usr/bin/chromium"
+MOCAP_WALK = Path(__file__).resolve().parents[3] / "shared" / "data" / "mocap" / "cmu_02_01_walk.bvh"
 CHROMIUM_ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
                  "--disable-background-networking", "--disable-component-update", "--disable-sync"]
 

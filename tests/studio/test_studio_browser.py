@@ -162,3 +162,19 @@ def test_optimization_runs_in_the_background_and_its_plot_advances(studio, page,
     page.get_by_role("button", name="Export BVH").click()
     wait_until(lambda: (studio.sandbox.root / "gait.bvh").is_file(), what="the BVH file")
     screenshot(page, artifacts, "playback.png")
+
+
+def test_a_mocap_clip_is_tracked_from_the_page(studio, page, artifacts):
+    import shutil
+    from conftest import MOCAP_WALK
+    shutil.copy(MOCAP_WALK, studio.sandbox.root / "walk.bvh")
+    expand(page, "Track mocap (gravity on)")
+    clip = row(page, "BVH clip").locator("input")
+    clip.fill("walk.bvh")
+    clip.press("Tab")
+    wait_until(lambda: studio.track_panel.clip.value == "walk.bvh", what="the clip name")
+    page.get_by_role("button", name="Track in physics").click()
+    page.get_by_text(re.compile(r"joint RMS")).wait_for(timeout=60_000)
+    assert studio.stage.showing == "tracking" and studio.stage.follow
+    assert not studio.track_panel.result.fell                   # the walk at robustness 0.5
+    screenshot(page, artifacts, "tracking.png")

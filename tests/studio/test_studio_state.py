@@ -62,3 +62,20 @@ def test_a_character_file_in_the_folder_is_saved_relative_to_the_sketch(tmp_path
         state.set_relax_pose("sitting")
     assert state.sketch.relax_pose == "crouched"
     assert os.path.isfile(tmp_path / AUTOSAVE_NAME)
+
+
+def test_tracking_panel_tracks_a_clip_inside_the_folder_only(tmp_path):
+    import shutil
+
+    from conftest import MOCAP_WALK, free_port
+    from eigengait.studio.app import Studio
+    shutil.copy(MOCAP_WALK, tmp_path / "walk.bvh")
+    studio = Studio(tmp_path, "humanoid", port=free_port())
+    try:
+        result = studio.track_panel.track_file("walk.bvh")
+        assert not result.fell and result.com_error_m < 0.15 and studio.stage.showing == "tracking"
+        assert "joint RMS" in studio.track_panel.report.content
+        with pytest.raises(UserInputError):
+            studio.track_panel.track_file(str(MOCAP_WALK))           # outside the studio folder
+    finally:
+        studio.stop()

@@ -18,6 +18,7 @@ from eigengait.studio.feedback import Feedback
 from eigengait.studio.optimize_panel import OptimizePanel
 from eigengait.studio.palette_view import PaletteView
 from eigengait.studio.play_panel import PlayPanel
+from eigengait.studio.track_panel import TrackPanel
 from eigengait.studio.sandbox import Sandbox
 from eigengait.studio.sketch_view import SketchView
 from eigengait.studio.stage import Stage
@@ -48,6 +49,7 @@ class Studio:
         self.sketch_view = SketchView(self.server, self.state, self.stage, self.feedback, gui_order=2.0)
         self.palette = PaletteView(self.server, self.state, self.feedback, gui_order=3.0)
         self.play_panel = PlayPanel(self.server, self.sandbox, self.stage, self.feedback, gui_order=5.0)
+        self.track_panel = TrackPanel(self.server, self.sandbox, self.stage, self.feedback, gui_order=6.0)
         self.optimize_panel = OptimizePanel(self.server, self.state, self.feedback, self.play_panel.play_file,
                                             gui_order=4.0)
         self.server.on_client_connect(self._frame_camera)
