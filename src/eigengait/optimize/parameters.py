@@ -18,6 +18,7 @@ from eigengait.control.sketch import Sketch
 
 MAX_JOINT_ANGLE = 0.3     # rad: largest joint rotation of one initial-pose mode coordinate
 PERIOD_RANGE = (0.6, 1.6) # the period T stays within these multiples of the sketch's guess
+PULSE_RANGE = (0.5, 2.0)  # pulse durations δ too: a pulse shrunk to nothing would silence the priority modes
 
 
 @dataclass
@@ -36,8 +37,8 @@ class ParameterSpace:
         self.entries: list[Entry] = [
             Entry("period", period_lo, period_hi, t.period),
             Entry("air_ratio", 0.0, 1.0, t.air_ratio),
-            Entry("pulse_air", 0.005, period_hi / 2, t.pulse_air),
-            Entry("pulse_ground", 0.005, period_hi / 2, t.pulse_ground),
+            Entry("pulse_air", PULSE_RANGE[0] * t.pulse_air, PULSE_RANGE[1] * t.pulse_air, t.pulse_air),
+            Entry("pulse_ground", PULSE_RANGE[0] * t.pulse_ground, PULSE_RANGE[1] * t.pulse_ground, t.pulse_ground),
         ]
         self.psi_slots: list[tuple[str, str, int]] = []
         for foot in system.active_feet:
