@@ -65,8 +65,8 @@ def test_palette_lists_every_mode_of_both_phases(studio, page, artifacts):
         assert hz == sorted(hz), "modes are listed in frequency order"
     assert len(studio.palette.copies) == 60
     positions = np.asarray(studio.palette.mesh.batched_positions).copy()
-    time.sleep(0.3)
-    assert not np.allclose(positions, studio.palette.mesh.batched_positions), "the palette copies vibrate"
+    wait_until(lambda: not np.allclose(positions, studio.palette.mesh.batched_positions), timeout=10,
+               what="the palette copies to vibrate")
     expand(page, "Ground modes (30)")
     page.get_by_label("animate palette").uncheck()      # software WebGL: keep the page responsive for the rest
     wait_until(lambda: not studio.palette.animate.value, what="the palette to pause")
