@@ -152,7 +152,7 @@ def gaits_command(as_json: bool = typer.Option(False, "--json", help="Print JSON
 
 def demo_command(
         output: Path = typer.Option(Path("out/demo"), "--output", help="Parent folder; each demo gets a new subfolder."),
-        evaluations: int = typer.Option(12000, "--max-evaluations", help="Optimization budget."),
+        evaluations: int = typer.Option(20000, "--max-evaluations", help="Optimization budget."),
         seed: int = typer.Option(1, "--seed")):
     """The main job on the humanoid: modes -> palette -> basic-run sketch -> optimization -> playback -> video, BVH."""
     from eigengait.character import load_character
@@ -184,7 +184,7 @@ def demo_command(
     sketch_path = resolve("sketch", "basic-run")
     sketch = load_sketch(sketch_path)
     state = optimize(sketch, folder / "optimization",
-                     MomSettings(seed=seed, max_evaluations=evaluations, inner_generations=80,
+                     MomSettings(seed=seed, max_evaluations=evaluations, inner_generations=100,
                                  cycle_tolerance=sketch.targets.cycle_tolerance),
                      sketch_source=sketch_path)
     console.print(f"[2/4] optimization ({state.finished}): cycle violation {state.best.violation:.3g}, "
