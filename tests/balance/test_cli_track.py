@@ -10,7 +10,7 @@ from typer.testing import CliRunner
 
 from eigengait.cli_track import register
 
-WALK = "/work/shared/data/mocap/cmu_02_01_walk.bvh"
+WALK = str(Path(__file__).resolve().parents[3] / "shared" / "data" / "mocap" / "cmu_02_01_walk.bvh")
 MAIN = ("import sys, typer; from eigengait.cli_track import register; from eigengait.errors import UserInputError\n"
         "app = typer.Typer(); register(app); app.command('noop')(lambda: None)\n"
         "try:\n    app(standalone_mode=False)\n"

@@ -13,7 +13,7 @@ from eigengait.motion.bvh import read_bvh
 from eigengait.motion.retarget import builtin_mapping, load_mapping, retarget
 from eigengait.sim.world import build_world
 
-MOCAP = Path("/work/shared/data/mocap")
+MOCAP = Path(__file__).resolve().parents[3] / "shared" / "data" / "mocap"   # shared/ beside the repo
 
 
 @pytest.fixture(scope="module")

@@ -8,7 +8,7 @@ import pytest
 from eigengait.errors import UserInputError
 from eigengait.motion.bvh import BvhClip, BvhJoint, axis_rotation, global_transforms, read_bvh, write_bvh
 
-MOCAP = Path("/work/shared/data/mocap")
+MOCAP = Path(__file__).resolve().parents[3] / "shared" / "data" / "mocap"   # shared/ beside the repo
 CLIPS = {"cmu_02_01_walk.bvh": (31, 96, 344), "cmu_16_36_run_daz.bvh": (43, 132, 190),
          "cmu_13_14_stand_laugh_daz.bvh": (43, 132, 2425)}
 
