@@ -45,8 +45,8 @@ def load(character: str):
 
 
 def gaits() -> None:
-    print(f"\n| gait | open loop, no snap (cycles) | feedback R=0 (cycles) | feedback R=0.5 (cycles) | "
-          f"COM error R=0 (m) | balance torque RMS R=0 (N·m) |\n|---|---:|---:|---:|---:|---:|")
+    print("\n| gait | open loop, no snap (cycles) | feedback R=0 (cycles) | feedback R=0.5 (cycles) | "
+          "COM error R=0 (m) | balance torque RMS R=0 (N·m) |\n|---|---:|---:|---:|---:|---:|")
     for path in GAITS:
         controller = load_controller(path)
         system = system_for(controller)

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import numpy as np
 
 from eigengait.character.loader import Character
 from eigengait.character.relax import DEFAULT_POSE

@@ -19,7 +19,6 @@ from dataclasses import asdict
 from pathlib import Path
 
 import mujoco
-import numpy as np
 import yaml
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
