@@ -93,11 +93,10 @@ def _coefficients(linear: float) -> np.ndarray:
 
 def _add_springs(spec: mujoco.MjSpec, character: Character) -> None:
     ratio = character.meta.damping_ratio
-    raw = {j.name: j for j in character.raw_spec().joints}
     for name in character.joints:
         joint = spec.joint(name)
         k = character.stiffness[name]
-        user_damping = float(np.atleast_1d(raw[name].damping)[0])
+        user_damping = float(np.atleast_1d(joint.damping)[0])   # as written in the MJCF (the spec is unedited so far)
         if np.ptp(k) == 0:
             joint.stiffness = _coefficients(k[0])
             joint.damping = _coefficients(user_damping if user_damping > 0 else ratio * k[0])
