@@ -43,6 +43,15 @@ class Mirror:
         # internal dof k (in world.internal_qvel order) receives sign * value of the partner dof
         pos = {int(d): i for i, d in enumerate(world.internal_qvel)}
         self.partner = np.array([pos[int(d)] for d in index])
+        # per joint: (qpos address, partner's qpos address, ball?, hinge sign)
+        self.joint_maps = []
+        for name in world.character.joints:
+            j, jo = model.joint(name).id, model.joint(pairs.get(name, name)).id
+            ball = model.jnt_type[j] == mujoco.mjtJoint.mjJNT_BALL
+            s = 1.0 if ball else float(-self.S @ model.jnt_axis[j] @ model.jnt_axis[jo])
+            self.joint_maps.append((int(model.jnt_qposadr[j]), int(model.jnt_qposadr[jo]), ball, s))
+        free = next(j for j in range(model.njnt) if model.jnt_type[j] == mujoco.mjtJoint.mjJNT_FREE)
+        self.root_qpos, self.root_qvel = int(model.jnt_qposadr[free]), int(model.jnt_dofadr[free])
         self.sign = np.array(sign)
         self.S_quat_axis = -np.diag(self.S)
 
@@ -57,28 +66,16 @@ class Mirror:
 
     def state(self, qpos: np.ndarray, qvel: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Mirror a full state (free root + ball/hinge joints)."""
-        model = self.world.model
         qp, qv = qpos.copy(), qvel.copy()
-        free = [j for j in range(model.njnt) if model.jnt_type[j] == mujoco.mjtJoint.mjJNT_FREE][0]
-        a, d = model.jnt_qposadr[free], model.jnt_dofadr[free]
+        a, d = self.root_qpos, self.root_qvel
         qp[a:a + 3] = self.S @ qpos[a:a + 3]
         qp[a + 3:a + 7] = self._quat(qpos[a + 3:a + 7])
         qv[d:d + 3] = self.S @ qvel[d:d + 3]
         qv[d + 3:d + 6] = -self.S @ qvel[d + 3:d + 6]
         qv[self.world.internal_qvel] = self.dofs(qvel[self.world.internal_qvel])
-        for name in self.world.character.joints:
-            j = model.joint(name).id
-            partner = self._partner_joint(name)
-            jo = model.joint(partner).id
-            if model.jnt_type[j] == mujoco.mjtJoint.mjJNT_BALL:
-                qp[model.jnt_qposadr[jo]:model.jnt_qposadr[jo] + 4] = self._quat(
-                    qpos[model.jnt_qposadr[j]:model.jnt_qposadr[j] + 4])
+        for adr, partner, ball, sign in self.joint_maps:
+            if ball:
+                qp[partner:partner + 4] = self._quat(qpos[adr:adr + 4])
             else:
-                s = float(-self.S @ model.jnt_axis[j] @ model.jnt_axis[jo])
-                qp[model.jnt_qposadr[jo]] = s * qpos[model.jnt_qposadr[j]]
+                qp[partner] = sign * qpos[adr]
         return qp, qv
-
-    def _partner_joint(self, name: str) -> str:
-        pairs = self.world.character.meta.mirror.pairs
-        back = {b: a for a, b in pairs.items()}
-        return pairs.get(name, back.get(name, name))
