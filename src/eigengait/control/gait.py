@@ -101,6 +101,14 @@ class GaitSystem:
         mujoco.mj_getState(self.world.model, data, state, mujoco.mjtState.mjSTATE_FULLPHYSICS)
         return state
 
+    def initial_com(self, p: GaitParameters) -> np.ndarray:
+        """World position (m) of the whole creature's centre of mass at q₀."""
+        data = mujoco.MjData(self.world.model)
+        data.qpos[:] = p.qpos0
+        mujoco.mj_kinematics(self.world.model, data)
+        mujoco.mj_comPos(self.world.model, data)
+        return data.subtree_com[self.world.root_body].copy()
+
     def cycle_target(self, qpos: np.ndarray, qvel: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The state to compare with (q₀, q̇₀) at the end of the horizon: mirrored for symmetric gaits."""
         return self.mirror.state(qpos, qvel) if self.mirror is not None else (qpos, qvel)

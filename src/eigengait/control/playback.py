@@ -53,13 +53,11 @@ def play(system: GaitSystem, p: GaitParameters, cycles: int = 4, snap: bool = Tr
     fell, completed = False, 0
     half = int(round(system.horizon_fraction * n))
     violation = np.nan
-    com_start = None
+    com_start = system.initial_com(p)
     motor = slice(0, world.nmotor)
     for cycle in range(cycles):
         states, sensors = rollout.rollout(model, [data], state[None], u[None])
         states, sensors = states[0], sensors[0]
-        if com_start is None:
-            com_start = sensors[0, 0:3] - sensors[0, 3:6] * dt
         qvel = states[:, 1 + nq:1 + nq + nv]
         quat = states[:, 4:8]
         up_z = 1 - 2 * (quat[:, 1] ** 2 + quat[:, 2] ** 2)

@@ -124,7 +124,7 @@ class BatchEvaluator:
         samples = slice(self.sample_every - 1, None, self.sample_every)
         com, comvel = sensors[:, 0:3], sensors[:, 3:6]
         duration = len(states) * self.dt
-        mean_vel = (com[-1] - self._initial_com(p)) / duration
+        mean_vel = (com[-1] - self.system.initial_com(p)) / duration
         energy = terms.energy_objective(controls[:, :n_motor]) if len(controls) else 0.0
         qvel = states[samples, 1 + nq:1 + nq + nv]
         quat = states[samples, 1 + 3:1 + 7]
@@ -147,13 +147,6 @@ class BatchEvaluator:
                 + terms.SOFT_WEIGHT * sum(soft.values()))
         return Outcome(cost=float(cost), cycle=cycle, fell=bool(fell), mean_velocity=mean_vel, energy=energy,
                        soft=soft)
-
-    def _initial_com(self, p: GaitParameters) -> np.ndarray:
-        data = self.datas[0]
-        data.qpos[:], data.qvel[:] = p.qpos0, p.qvel0
-        mujoco.mj_kinematics(self.model, data)
-        mujoco.mj_comPos(self.model, data)
-        return data.subtree_com[self.system.world.root_body].copy()
 
     def _priority_split(self, p: GaitParameters) -> list[tuple[np.ndarray, np.ndarray]]:
         out = []
