@@ -90,14 +90,22 @@ class FeedbackPlan:
                 G[k] = system.mirror.dofs(G[k].T).T * MIRROR_SIGNS
         self.G = G
         self.enabled = gains.enabled
-        self.ref_phase: list[float] = []
+        self.ref_phase: list[float] = []             # first-cycle readings: phase (s) and features
         self.ref_value: list[np.ndarray] = []
+
+    def record(self, t: float, features: np.ndarray) -> bool:
+        """Store a first-cycle reading; True while the reference is still being recorded."""
+        if t < self.period - 1e-9:
+            self.ref_phase.append(t)
+            self.ref_value.append(features)
+            return True
+        return False
 
     def state_index(self, t: float) -> int:
         return int(np.searchsorted(self.starts, t % self.period, side="right") - 1)
 
     def reference(self, phase: float) -> np.ndarray:
-        """Reference features at a cycle phase (s), interpolated between first-cycle readings."""
+        """Reference features at a cycle phase (s), interpolated between the reference cycle's readings."""
         ph = np.asarray(self.ref_phase)
         k = int(np.searchsorted(ph, phase))
         if k == 0:
@@ -197,11 +205,7 @@ class ClosedLoopRunner:
     def _feedback(self, plan: FeedbackPlan, t: float, state: np.ndarray, sensors: np.ndarray) -> np.ndarray:
         k = plan.state_index(t)
         features = self.reader.read(state, sensors, plan.roles[k].support)
-        if t < plan.period - 1e-9:
-            plan.ref_phase.append(t)
-            plan.ref_value.append(features)
-            return 0.0
-        if not plan.enabled:
+        if plan.record(t, features) or not plan.enabled:
             return 0.0
         return plan.G[k] @ (features - plan.reference(t % plan.period))
 

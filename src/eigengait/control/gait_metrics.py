@@ -1,12 +1,14 @@
 """Gait-quality figures of a played motion: cadence, stride, flight, duty factors, slip, tilt, footfall, jumps.
 
-Everything is measured on frames sampled at `fps` in MuJoCo's z-up world (x forward, metres, seconds). A foot is
-on the ground when one of its contact spheres' bottom (centre z − radius) is within `tolerance` of the floor;
-contacts and gaps shorter than `DEBOUNCE_S` are ignored, so a grazing frame is neither a step nor a flight.
+Everything is measured on frames sampled at `fps` in MuJoCo's z-up world (x forward, metres, seconds); frame i is
+at t = i / fps. A foot is on the ground when one of its contact spheres' bottom (centre z − radius) is within
+`tolerance` of the floor (z = 0); gaps, then contacts, shorter than `DEBOUNCE_S` inside the recording are ignored,
+so a grazing frame is neither a step nor a flight.
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import mujoco
@@ -15,129 +17,161 @@ import numpy as np
 CONTACT_TOLERANCE = 0.005   # m
 DEBOUNCE_S = 0.02           # s
 SAME_STEP_S = 0.05          # s: touchdowns of different feet this close count as one step
+_ROTATION_DOFS = {int(mujoco.mjtJoint.mjJNT_FREE): (3, 6), int(mujoco.mjtJoint.mjJNT_BALL): (0, 3),
+                  int(mujoco.mjtJoint.mjJNT_HINGE): (0, 1)}   # joint type -> its rotation's range in its dofs
 
 
 @dataclass
 class GaitRecording:
     """A played motion sampled at `fps` frames/s (MuJoCo z-up world, x forward, metres, seconds)."""
     fps: float
-    period: float                        # s, one controller cycle (phase = (t mod period) / period)
-    qpos: np.ndarray                     # F × nq MuJoCo positions; joint 0 is the root free joint
+    period: float                        # s, one controller cycle (phase = (t mod period) / period, t = frame / fps)
+    qpos: np.ndarray                     # F × nq MuJoCo positions; joint 0 is the root free joint (pos xyz, quat wxyz)
     com: np.ndarray                      # F × 3 whole-body COM (m)
-    foot_points: dict[str, np.ndarray]   # foot -> F × k × 3 world positions of its contact-sphere centres
-    foot_radius: dict[str, float]        # foot -> contact-sphere radius (m)
+    foot_points: dict[str, np.ndarray]   # foot name -> F × k × 3 world positions of the foot's contact-sphere centres
+    foot_radius: dict[str, float]        # foot name -> contact-sphere radius (m)
 
 
-def _debounce(on: np.ndarray, frames: int) -> np.ndarray:
-    """Fill gaps shorter than `frames`, then drop contacts shorter than `frames`."""
-    out = on.copy()
+def _runs(on: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Start and end (exclusive) frame indices of the True runs of a (F,) bool array."""
+    edges = np.diff(np.r_[0, on.astype(np.int8), 0])
+    return np.flatnonzero(edges == 1), np.flatnonzero(edges == -1)
+
+
+def _debounce(on: np.ndarray, min_frames: float) -> np.ndarray:
+    """Fill gaps shorter than `min_frames`, then drop contacts shorter than it; runs touching either end of the
+    recording are kept, their true length being unknown."""
     for value in (False, True):
-        runs = _runs(out == value)
-        for a, b in runs:
-            if b - a < frames and a > 0 and b < len(out):
-                out[a:b] = not value
-    return out
+        starts = np.flatnonzero(np.r_[True, on[1:] != on[:-1]])
+        lengths = np.diff(np.r_[starts, len(on)])
+        values = on[starts]
+        flip = (values == value) & (lengths < min_frames)
+        flip[[0, -1]] = False
+        on = np.repeat(values ^ flip, lengths)
+    return on
 
 
-def _runs(on: np.ndarray) -> list[tuple[int, int]]:
-    """[start, end) index pairs of the True runs."""
-    edges = np.diff(np.r_[0, on.astype(int), 0])
-    return list(zip(np.flatnonzero(edges == 1), np.flatnonzero(edges == -1)))
-
-
-def sphere_contacts(rec: GaitRecording, foot: str, tolerance: float = CONTACT_TOLERANCE) -> np.ndarray:
-    """(F × k) bool: each contact sphere of the foot within `tolerance` of the floor."""
+def _sphere_contacts(rec: GaitRecording, foot: str, tolerance: float) -> np.ndarray:
+    """(F × k) bool: each contact sphere of the foot has its bottom within `tolerance` (m) of the floor."""
     return rec.foot_points[foot][..., 2] - rec.foot_radius[foot] <= tolerance
 
 
 def foot_contacts(rec: GaitRecording, tolerance: float = CONTACT_TOLERANCE) -> dict[str, np.ndarray]:
-    """foot -> (F,) bool: the foot is on the ground (debounced)."""
-    frames = max(1, int(round(DEBOUNCE_S * rec.fps)))
-    return {f: _debounce(sphere_contacts(rec, f, tolerance).any(axis=1), frames) for f in rec.foot_points}
-
-
-def root_tilt_deg(quat: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Pitch (about world y, nose down positive) and roll (about world x, right side down positive), degrees,
-    from root quaternions (F × 4, wxyz): pitch = asin(−R₂₀), roll = asin(R₂₁), yaw-independent."""
-    w, x, y, z = quat.T
-    pitch = np.degrees(np.arcsin(np.clip(-2 * (x * z - w * y), -1, 1)))
-    roll = np.degrees(np.arcsin(np.clip(2 * (y * z + w * x), -1, 1)))
-    return pitch, roll
-
-
-def frame_jumps(model: mujoco.MjModel, qpos: np.ndarray) -> tuple[float, float]:
-    """Largest joint-angle change between consecutive frames (degrees; ball joints and the root's rotation by the
-    norm of their rotation vector) and largest root translation between frames (m)."""
-    if len(qpos) < 2:
-        return 0.0, 0.0
-    v = np.zeros(model.nv)
-    angle, root = 0.0, float(np.linalg.norm(np.diff(qpos[:, 0:3], axis=0), axis=1).max())
-    groups = []
-    for j in range(model.njnt):
-        d, kind = int(model.jnt_dofadr[j]), model.jnt_type[j]
-        if kind == mujoco.mjtJoint.mjJNT_FREE:
-            groups.append(slice(d + 3, d + 6))
-        elif kind == mujoco.mjtJoint.mjJNT_BALL:
-            groups.append(slice(d, d + 3))
-        elif kind == mujoco.mjtJoint.mjJNT_HINGE:
-            groups.append(slice(d, d + 1))
-    for a, b in zip(qpos[:-1], qpos[1:]):
-        mujoco.mj_differentiatePos(model, v, 1.0, a, b)
-        angle = max(angle, max(float(np.linalg.norm(v[g])) for g in groups))
-    return float(np.degrees(angle)), root
-
-
-def _stance_slip(rec: GaitRecording, foot: str, contact: np.ndarray) -> list[float]:
-    """Per stance: the largest horizontal travel of a sphere between its first and last in-contact frames."""
-    spheres = sphere_contacts(rec, foot)
-    points = rec.foot_points[foot]
-    out = []
-    for a, b in _runs(contact):
-        travel = 0.0
-        for k in range(spheres.shape[1]):
-            on = np.flatnonzero(spheres[a:b, k])
-            if on.size:
-                p0, p1 = points[a + on[0], k, :2], points[a + on[-1], k, :2]
-                travel = max(travel, float(np.linalg.norm(p1 - p0)))
-        out.append(travel)
+    """foot -> (F,) bool: some contact sphere's bottom (z − r) is within `tolerance` (m) of the floor, debounced
+    (gaps, then contacts, shorter than `DEBOUNCE_S` inside the recording ignored)."""
+    out = {}
+    for foot in rec.foot_points:
+        on = _sphere_contacts(rec, foot, tolerance).any(axis=1)
+        out[foot] = _debounce(on, DEBOUNCE_S * rec.fps) if len(on) > 2 else on
     return out
 
 
-def _circular_mean(phases: np.ndarray) -> float:
-    angle = np.angle(np.mean(np.exp(2j * np.pi * phases)))
-    return float(np.mod(angle / (2 * np.pi), 1.0))
+def _stance_slips(points: np.ndarray, spheres: np.ndarray, contact: np.ndarray) -> np.ndarray:
+    """Per stance (run of `contact`): the largest horizontal (xy) distance, in m, one sphere centre travels between
+    the first and last frames of a run in which it touches throughout. points F × k × 3, spheres F × k."""
+    stance_starts, _ = _runs(contact)
+    slip = np.zeros(len(stance_starts))
+    for k in range(spheres.shape[1]):
+        a, b = _runs(spheres[:, k] & contact)
+        travel = np.linalg.norm(points[b - 1, k, :2] - points[a, k, :2], axis=1)
+        np.maximum.at(slip, np.searchsorted(stance_starts, a, side="right") - 1, travel)
+    return slip
 
 
-def _round(x):
-    return None if x is None else round(float(x), 4)
+def _touchdowns(contact: np.ndarray) -> np.ndarray:
+    """Frame indices where a contact begins after a frame without it (rising edges)."""
+    starts, _ = _runs(contact)
+    return starts[starts > 0]
+
+
+def _step_count(touchdowns: dict[str, np.ndarray], window: float) -> int:
+    """Touchdowns (frame indices per foot) grouped into steps: a step gathers the touchdowns of different feet
+    within `window` frames of its first one."""
+    steps, first, landed = 0, -math.inf, set()
+    for frame, foot in sorted((int(i), f) for f, frames in touchdowns.items() for i in frames):
+        if frame - first > window + 1e-9 or foot in landed:
+            steps, first, landed = steps + 1, frame, set()
+        landed.add(foot)
+    return steps
+
+
+def _footfall(touchdowns: np.ndarray, fps: float, period: float) -> float | None:
+    """Circular mean of the touchdowns' cycle phases (t mod period) / period, in [0, 1); None without touchdown."""
+    if not touchdowns.size:
+        return None
+    phases = np.mod(touchdowns / fps, period) / period
+    return round(float(np.angle(np.mean(np.exp(2j * np.pi * phases)))) / (2 * np.pi), 4) % 1.0
+
+
+def _root_tilt_deg(quat: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Pitch and roll (degrees) from root quaternions (F × 4, wxyz): the intrinsic z-y-x (yaw, pitch, roll) Euler
+    angles of the body-to-world rotation R, pitch = asin(−R[2,0]) (about y, positive nose down: the body x axis
+    tilts toward −z), roll = atan2(R[2,1], R[2,2]) (about x, positive right side down: the body y axis tilts
+    toward +z). Both use only R's third row, so neither depends on the heading (yaw)."""
+    w, x, y, z = (quat / np.linalg.norm(quat, axis=1, keepdims=True)).T
+    pitch = np.arcsin(np.clip(2 * (w * y - x * z), -1.0, 1.0))
+    roll = np.arctan2(2 * (y * z + w * x), 1 - 2 * (x * x + y * y))
+    return np.degrees(pitch), np.degrees(roll)
+
+
+def _rotation_dofs(model: mujoco.MjModel) -> list[np.ndarray]:
+    """Velocity indices of each joint's rotation: a free joint's last 3, a ball joint's 3, a hinge's 1."""
+    out = []
+    for kind, adr in zip(model.jnt_type, model.jnt_dofadr):
+        if int(kind) in _ROTATION_DOFS:
+            a, b = _ROTATION_DOFS[int(kind)]
+            out.append(np.arange(adr + a, adr + b))
+    return out
+
+
+def _max_frame_jump_deg(model: mujoco.MjModel, qpos: np.ndarray) -> float:
+    """Largest rotation of one joint between consecutive frames (degrees): norm of a ball or free joint's rotation
+    vector, |angle| of a hinge, from mj_differentiatePos over one frame."""
+    qpos = np.asarray(qpos, dtype=np.float64)
+    v = np.zeros((len(qpos) - 1, model.nv))
+    for i in range(len(v)):
+        mujoco.mj_differentiatePos(model, v[i], 1.0, qpos[i], qpos[i + 1])
+    return float(np.degrees(max((np.linalg.norm(v[:, d], axis=1).max() for d in _rotation_dofs(model)),
+                                default=0.0)))
+
+
+def _round(x) -> float | None:
+    """A plain float rounded to 4 decimals, None when undefined or not finite."""
+    return round(float(x), 4) if x is not None and np.isfinite(x) else None
 
 
 def gait_metrics(model: mujoco.MjModel, rec: GaitRecording) -> dict:
-    """JSON-ready figures of the played motion (None where a figure is undefined)."""
-    F = len(rec.qpos)
-    duration = F / rec.fps
+    """JSON-ready gait-quality figures of a recording of F ≥ 1 frames (plain floats rounded to 4 decimals, None
+    where a figure is undefined or not finite).
+
+    Rates use the played time F / fps (each frame stands for 1 / fps s): `cadence_spm` (steps per minute; a step
+    is the touchdowns, i.e. contact rising edges, of different feet within `SAME_STEP_S` of its first one),
+    `flight_fraction` (share of frames with no foot in contact), `duty_factor` per foot. `stride_m` is the COM's
+    forward (x) speed between the first and last frames, (x_last − x_first) / ((F − 1) / fps), times the period.
+    `stance_slip_m` per foot is the mean over its stances of `_stance_slips`, `stance_slip_max_m` the largest foot
+    value; `footfall` per foot is `_footfall` of its touchdowns.
+    `torso_pitch_deg` and `torso_roll_deg` are [min, max] of `_root_tilt_deg`. `max_frame_jump_deg` is the largest
+    joint rotation between consecutive frames, `max_root_jump_m` the largest root translation (qpos[0:3]).
+    """
+    frames = len(rec.qpos)
     contacts = foot_contacts(rec)
-    touchdowns = {f: np.array([a for a, _ in _runs(c) if a > 0]) / rec.fps for f, c in contacts.items()}
-    times = np.sort(np.concatenate([t for t in touchdowns.values()])) if touchdowns else np.zeros(0)
-    steps = int(np.sum(np.diff(times) > SAME_STEP_S)) + 1 if times.size else 0
-    any_contact = np.any(np.stack(list(contacts.values())), axis=0) if contacts else np.zeros(F, bool)
-    slips = {f: _stance_slip(rec, f, c) for f, c in contacts.items()}
-    slip = {f: _round(np.mean(s)) if s else None for f, s in slips.items()}
-    footfall = {f: _round(_circular_mean(np.mod(t, rec.period) / rec.period)) if t.size else None
-                for f, t in touchdowns.items()}
-    pitch, roll = root_tilt_deg(rec.qpos[:, 3:7])
-    jump_deg, jump_m = frame_jumps(model, rec.qpos)
-    known = [v for v in slip.values() if v is not None]
+    touchdowns = {f: _touchdowns(c) for f, c in contacts.items()}
+    in_contact = np.any(list(contacts.values()), axis=0) if contacts else np.zeros(frames, bool)
+    slips = {f: _stance_slips(rec.foot_points[f], _sphere_contacts(rec, f, CONTACT_TOLERANCE), c)
+             for f, c in contacts.items()}
+    slip = {f: _round(s.mean()) if s.size else None for f, s in slips.items()}
+    pitch, roll = _root_tilt_deg(rec.qpos[:, 3:7])
+    moved = frames > 1
     return {
-        "cadence_spm": _round(60.0 * steps / duration) if duration > 0 else None,
-        "stride_m": _round((rec.com[-1, 0] - rec.com[0, 0]) / ((F - 1) / rec.fps) * rec.period) if F > 1 else None,
-        "flight_fraction": _round(1.0 - any_contact.mean()),
+        "cadence_spm": _round(60.0 * _step_count(touchdowns, SAME_STEP_S * rec.fps) * rec.fps / frames),
+        "stride_m": _round((rec.com[-1, 0] - rec.com[0, 0]) * rec.fps / (frames - 1) * rec.period) if moved else None,
+        "flight_fraction": _round(1.0 - in_contact.mean()),
         "duty_factor": {f: _round(c.mean()) for f, c in contacts.items()},
         "stance_slip_m": slip,
-        "stance_slip_max_m": _round(max(known)) if known else None,
+        "stance_slip_max_m": max((s for s in slip.values() if s is not None), default=None),
         "torso_pitch_deg": [_round(pitch.min()), _round(pitch.max())],
         "torso_roll_deg": [_round(roll.min()), _round(roll.max())],
-        "footfall": footfall,
-        "max_frame_jump_deg": _round(jump_deg),
-        "max_root_jump_m": _round(jump_m),
+        "footfall": {f: _footfall(t, rec.fps, rec.period) for f, t in touchdowns.items()},
+        "max_frame_jump_deg": _round(_max_frame_jump_deg(model, rec.qpos)) if moved else None,
+        "max_root_jump_m": _round(np.linalg.norm(np.diff(rec.qpos[:, 0:3], axis=0), axis=1).max()) if moved else None,
     }
