@@ -22,6 +22,7 @@ import viser
 import viser.uplot as uplot
 
 from eigengait.errors import UserInputError
+from eigengait.optimize.staged import STAGE_ONE
 from eigengait.studio.feedback import Feedback
 from eigengait.studio.state import StudioState
 
@@ -135,7 +136,8 @@ class OptimizePanel:
             was_running = self.running
 
     def _refresh(self, was_running: bool) -> None:
-        log = read_log(self.folder / "log.csv")
+        stage_one = self.folder / STAGE_ONE / "log.csv"      # the open-loop stage logs in its own folder
+        log = read_log(self.folder / "log.csv" if (self.folder / "log.csv").is_file() else stage_one)
         if log and len(log["generation"]) != self.generations:
             self.generations = len(log["generation"])
             g = log["generation"]
