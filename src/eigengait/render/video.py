@@ -116,7 +116,7 @@ class FrameRenderer:
         self.world = world
         self.model = visual_model(world, width, height)
         self.data = mujoco.MjData(self.model)
-        self.ghost_data = mujoco.MjData(self.model)
+        self.pose_data = mujoco.MjData(self.model)          # for poses measured but not drawn
         self.renderer = mujoco.Renderer(self.model, height=height, width=width)
         self.renderer.scene.flags[mujoco.mjtRndFlag.mjRND_SHADOW] = True
         self.geoms = creature_geoms(self.model, world.root_body)
@@ -145,9 +145,9 @@ class FrameRenderer:
         self.fit(np.vstack([self._corners(q) for q in picks]))
 
     def _corners(self, qpos: np.ndarray) -> np.ndarray:
-        self.ghost_data.qpos[:] = qpos
-        mujoco.mj_kinematics(self.model, self.ghost_data)
-        return geom_corners(self.model, self.ghost_data, self.geoms)
+        self.pose_data.qpos[:] = qpos
+        mujoco.mj_kinematics(self.model, self.pose_data)
+        return geom_corners(self.model, self.pose_data, self.geoms)
 
     def __enter__(self) -> "FrameRenderer":
         return self
@@ -158,13 +158,15 @@ class FrameRenderer:
     def close(self) -> None:
         self.renderer.close()
 
-    def render(self, qpos: np.ndarray, ghosts: tuple[tuple[np.ndarray, tuple], ...] = (),
-               solid_rgba: tuple | None = None, contact_marks: bool = False) -> np.ndarray:
-        """RGB image (height × width × 3, uint8) of the pose.
+    def render(self, qpos: np.ndarray, solid_rgba: tuple | None = None, contact_marks: bool = False) -> np.ndarray:
+        """RGB image (height × width × 3, uint8) of the pose (arguments: `update_scene`)."""
+        self.update_scene(qpos, solid_rgba, contact_marks)
+        return self.renderer.render()
 
-        `ghosts` are extra poses (qpos, rgba) drawn translucent in one flat colour each, shrunk by 3% so they
-        hide inside the solid pose wherever they coincide with it. `solid_rgba` recolours the solid pose.
-        `contact_marks` draws a disc on the floor under each foot touching it, in the foot's colour.
+    def update_scene(self, qpos: np.ndarray, solid_rgba: tuple | None = None, contact_marks: bool = False) -> None:
+        """Build the scene of the pose; `add_marker` may add to it before `self.renderer.render()` draws it.
+
+        `solid_rgba` recolours the creature in one flat colour. `contact_marks` draws a disc on the floor under each foot touching it, in the foot's colour.
         """
         self.data.qpos[:] = qpos
         mujoco.mj_kinematics(self.model, self.data)
@@ -175,12 +177,9 @@ class FrameRenderer:
             self.camera.lookat[:] = [*(com[:2] + self.lookat_offset), self.height_m]
         self.renderer.update_scene(self.data, self.camera)
         if solid_rgba is not None:
-            self._recolour(0, solid_rgba)
-        for ghost_qpos, rgba in ghosts:
-            self._add_ghost(ghost_qpos, rgba)
+            self._recolour(solid_rgba)
         if contact_marks:
             self._add_contact_marks()
-        return self.renderer.render()
 
     def add_marker(self, kind: int, size: tuple, pos: np.ndarray, rgba: tuple, mat: np.ndarray = np.eye(3)) -> None:
         """Add one decorative geom (an `mjtGeom` type; size and position in m) to the scene being drawn."""
@@ -199,21 +198,12 @@ class FrameRenderer:
                 self.add_marker(mujoco.mjtGeom.mjGEOM_CYLINDER, (0.07, 0.002, 0), [point[0], point[1], 0.002],
                                 (*foot_colour(index), 0.85))
 
-    def _recolour(self, first: int, rgba: tuple, scale: float = 1.0) -> None:
+    def _recolour(self, rgba: tuple) -> None:
         scene = self.renderer.scene
-        for i in range(first, scene.ngeom):
+        for i in range(scene.ngeom):
             geom = scene.geoms[i]
             if geom.objtype == mujoco.mjtObj.mjOBJ_GEOM and geom.objid in self.geoms:
                 geom.rgba[:] = rgba
-                geom.size[:] *= scale
-
-    def _add_ghost(self, qpos: np.ndarray, rgba: tuple) -> None:
-        first = self.renderer.scene.ngeom
-        self.ghost_data.qpos[:] = qpos
-        mujoco.mj_kinematics(self.model, self.ghost_data)
-        mujoco.mjv_addGeoms(self.model, self.ghost_data, mujoco.MjvOption(), mujoco.MjvPerturb(),
-                            mujoco.mjtCatBit.mjCAT_DYNAMIC, self.renderer.scene)
-        self._recolour(first, rgba, scale=0.97)
 
 
 def iter_frames(world: World, qpos: np.ndarray, width: int = 640, height: int = 480,
