@@ -112,3 +112,28 @@ def test_fixed_camera_shows_travel_and_frames_carry_time_and_contacts():
     stamped = next(iter_frames(world, qpos[:1], 160, 120, times=np.array([0.0])))
     changed = np.abs(stamped.astype(int) - plain.astype(int)).max(axis=2) > 40
     assert changed[:20, :60].mean() > 0.1 and changed[:20, 100:].mean() > 0.1   # time stamp and foot boxes
+
+
+def test_foot_contacts_and_the_footfall_diagram():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from eigengait.character import load_character
+    from eigengait.render.contacts import contact_diagram, foot_contacts
+    from eigengait.sim.world import build_world
+
+    world = build_world(load_character("humanoid"))
+    standing = world.model.qpos0.copy()
+    hopping = standing.copy()
+    hopping[2] += 0.05                                   # 5 cm up: both feet in the air
+    qpos = np.array([standing, standing, hopping, hopping, standing])
+    flags = foot_contacts(world, qpos)
+    assert flags.tolist() == [[True, True]] * 2 + [[False, False]] * 2 + [[True, True]]
+    fig, ax = plt.subplots()
+    contact_diagram(ax, np.arange(5) * 0.1, flags, list(world.foot_spheres), period_s=0.2)
+    bars = [patch for collection in ax.collections for patch in collection.get_paths()]
+    assert len(bars) == 4                                # two stance spans per foot
+    assert [t.get_text() for t in ax.get_yticklabels()] == ["left", "right"]
+    plt.close(fig)
