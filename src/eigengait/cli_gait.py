@@ -91,26 +91,33 @@ def optimize_command(
 def play_command(
         controller: str = typer.Argument(..., help="Controller file or shipped gait name."),
         cycles: int = typer.Option(6, "--cycles", help="Cycles to play."),
-        no_snap: bool = typer.Option(False, "--no-snap", help="Do not snap back to the initial state each cycle."),
+        snap: bool = typer.Option(False, "--snap", help="Reset to the initial state at each cycle end, open loop "
+                                                        "(the thesis's playback; physically incorrect)."),
+        push: Optional[str] = typer.Option(None, "--push", help="Sideways pushes on the root body: FORCE@TIME[,...] "
+                                                                "(N along +y for 0.1 s, at s), e.g. 350@1.3"),
         as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
         video: Optional[Path] = typer.Option(None, "--video", help="Write a video (.mp4/.gif)."),
         bvh: Optional[Path] = typer.Option(None, "--bvh", help="Write the motion as BVH."),
         fps: float = FPS_OPTION, speed: float = SPEED_OPTION, camera: str = CAMERA_OPTION,
         bvh_units: str = BVH_UNITS_OPTION,
         force: bool = typer.Option(False, "--force", help="Overwrite existing outputs.")):
-    """Play a controller on the ground with gravity; report speed, energy and survival."""
+    """Play a controller on the ground with gravity, physics only; report speed, energy, survival and gait quality."""
     from eigengait.control.controller import load_controller, system_for, to_parameters
     from eigengait.control.library import resolve
-    from eigengait.control.playback import play
+    from eigengait.control.playback import parse_pushes, play
 
     if cycles < 1:
         raise UserInputError(f"--cycles must be at least 1, got {cycles}", field="--cycles")
+    pushes = parse_pushes(push) if push else ()
+    if pushes and snap:
+        raise UserInputError("--push and --snap do not go together", field="--push",
+                             fix="pushes test the gait's own balance: play without --snap")
     media = MediaOptions(video=video, bvh=bvh, fps=fps, speed=speed, camera=camera, bvh_units=bvh_units).check()
     refuse_existing([video, bvh], force)
     path = resolve("gait", controller)
     c = load_controller(path)
     system = system_for(c)
-    result = play(system, to_parameters(c, system, path), cycles, snap=not no_snap)
+    result = play(system, to_parameters(c, system, path), cycles, snap=snap, pushes=pushes)
     summary = {"controller": str(path), "character": c.character, **result.summary()}
     if as_json:
         print(json.dumps(summary))

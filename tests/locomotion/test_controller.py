@@ -89,4 +89,6 @@ def test_soft_constraint_functions():
     assert terms.priority_term([(np.array([1.0]), np.array([2.0, -2.0]))]) == pytest.approx(9.0 + 1.0)
     assert terms.mean_speed_term(np.array([2.5, 0.0, 0.0]), 2.0, 0.25, 0.25) == 0.0
     assert terms.stance_contact_term(np.array([0.01, 0.004])) == pytest.approx(0.003 ** 2 + 1.0)
-    assert terms.stance_rise_term(np.array([0.0, 0.05])) == pytest.approx(0.03 ** 2 + 1.0)
+    assert terms.stance_rise_term(0.005) == pytest.approx(0.015 ** 2 + 1.0)      # push-off rise below 2 cm
+    assert terms.stance_rise_term(0.03) == 0.0
+    assert terms.anti_stumble_term([0.9, 0.7, 0.8], [0.8, 0.8, 0.8]) == pytest.approx(0.1 ** 2 + 1.0 + 1.0)

@@ -11,7 +11,9 @@ from pathlib import Path
 from typing import Literal
 
 import numpy as np
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import BaseModel, ConfigDict, Field, field_validator
+
+from eigengait.control.feedback import FEATURES, HIP_GAINS, FeedbackGains
 
 from eigengait.control.files import dump, read_mapping, validate
 from eigengait.control.gait import GaitParameters, GaitSystem
@@ -19,6 +21,41 @@ from eigengait.errors import UserInputError
 
 FORMAT_VERSION = 1
 FINGERPRINT_MODES = 6
+
+
+class FeedbackFile(BaseModel):
+    """Balance-feedback gains (N·m per normalized feature unit, see control/feedback.py); empty: open loop."""
+    model_config = ConfigDict(extra="forbid")
+    hip: dict[Literal[HIP_GAINS], float] | None = None
+    modal: dict[Literal["air", "ground"], dict[int, list[float]]] = Field(default_factory=dict)
+
+    @field_validator("hip")
+    @classmethod
+    def _all_hip_gains(cls, v):
+        if v is not None and set(v) != set(HIP_GAINS):
+            raise ValueError(f"hip needs all of {', '.join(HIP_GAINS)}")
+        return v
+
+    @field_validator("modal")
+    @classmethod
+    def _eight_features(cls, v):
+        for phase, rows in v.items():
+            for m, row in rows.items():
+                if len(row) != len(FEATURES):
+                    raise ValueError(f"{phase} mode {m} needs {len(FEATURES)} gains ({', '.join(FEATURES)})")
+        return v
+
+    def gains(self) -> FeedbackGains:
+        modal = {ph: (sorted(rows), np.array([rows[m] for m in sorted(rows)])) for ph, rows in self.modal.items()}
+        hip = np.array([self.hip[g] for g in HIP_GAINS]) if self.hip is not None else None
+        return FeedbackGains(hip=hip, modal=modal)
+
+    @classmethod
+    def of(cls, gains: FeedbackGains) -> "FeedbackFile":
+        hip = {g: float(x) for g, x in zip(HIP_GAINS, gains.hip)} if gains.hip is not None else None
+        modal = {ph: {int(m): [float(x) for x in row] for m, row in zip(modes, K)}
+                 for ph, (modes, K) in gains.modal.items()}
+        return cls(hip=hip, modal=modal)
 
 
 class ControllerFile(BaseModel):
@@ -39,6 +76,7 @@ class ControllerFile(BaseModel):
     initial_qpos: list[float]
     initial_qvel: list[float]
     air_frequencies_hz: list[float]                          # fingerprint of the character at its relax pose
+    feedback: FeedbackFile = Field(default_factory=lambda: FeedbackFile())
     metrics: dict[str, float | bool | int] = Field(default_factory=dict)
 
 
@@ -53,6 +91,7 @@ def to_file(system: GaitSystem, p: GaitParameters, name: str = "", metrics: dict
                           activations=acts, initial_qpos=[float(v) for v in p.qpos0],
                           initial_qvel=[float(v) for v in p.qvel0],
                           air_frequencies_hz=[float(f) for f in system.air_modes.frequencies_hz[:FINGERPRINT_MODES]],
+                          feedback=FeedbackFile.of(p.feedback),
                           metrics=metrics or {})
 
 
@@ -97,7 +136,8 @@ def to_parameters(controller: ControllerFile, system: GaitSystem, source: str | 
             activations[(foot, phase)] = psi
     return GaitParameters(period=controller.period, air_ratio=controller.air_ratio, pulse_air=controller.pulse_air,
                           pulse_ground=controller.pulse_ground, activations=activations,
-                          qpos0=np.array(controller.initial_qpos), qvel0=np.array(controller.initial_qvel))
+                          qpos0=np.array(controller.initial_qpos), qvel0=np.array(controller.initial_qvel),
+                          feedback=controller.feedback.gains())
 
 
 def system_for(controller: ControllerFile) -> GaitSystem:

@@ -12,6 +12,7 @@ import mujoco
 import numpy as np
 
 from eigengait.character.loader import Character
+from eigengait.control.feedback import FeedbackGains
 from eigengait.control.mirror import Mirror
 from eigengait.control.pulse import State, control_sequence, schedule, state_torques
 from eigengait.errors import UserInputError
@@ -24,7 +25,8 @@ VELOCITY_WEIGHT = 0.1   # s: a velocity mismatch of 1 rad/s counts as 0.1 rad in
 
 @dataclass
 class GaitParameters:
-    """One controller: timing (s), activations ψ (N·m) per (foot, phase) over ALL modes of that basis, q₀, q̇₀."""
+    """One controller: timing (s), activations ψ (N·m) per (foot, phase) over ALL modes of that basis, q₀, q̇₀,
+    and the balance-feedback gains (none: open loop)."""
     period: float
     air_ratio: float
     pulse_air: float
@@ -32,6 +34,7 @@ class GaitParameters:
     activations: dict[tuple[str, str], np.ndarray]
     qpos0: np.ndarray
     qvel0: np.ndarray
+    feedback: FeedbackGains = field(default_factory=FeedbackGains)
 
 
 @dataclass
@@ -74,11 +77,6 @@ class GaitSystem:
     def mode_count(self, phase: str) -> int:
         return self.basis_matrix(self.feet[0], phase).shape[1]
 
-    @property
-    def horizon_fraction(self) -> float:
-        """Fraction of the cycle simulated for the cyclic constraint: ½ with mirroring, else 1."""
-        return 0.5 if self.mirror is not None else 1.0
-
     def states(self, p: GaitParameters) -> list[State]:
         return schedule(self.feet, p.period, p.air_ratio, p.pulse_air, p.pulse_ground)
 
@@ -109,16 +107,17 @@ class GaitSystem:
         mujoco.mj_comPos(self.world.model, data)
         return data.subtree_com[self.world.root_body].copy()
 
-    def cycle_target(self, qpos: np.ndarray, qvel: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """The state to compare with (q₀, q̇₀) at the end of the horizon: mirrored for symmetric gaits."""
-        return self.mirror.state(qpos, qvel) if self.mirror is not None else (qpos, qvel)
-
-    def cycle_error(self, p: GaitParameters, qpos: np.ndarray, qvel: np.ndarray) -> np.ndarray:
-        """Hard cyclic constraint φ = (Δq, τ_v·Δq̇) against (q₀, q̇₀), root x excluded (2·nv − 1 values).
+    def state_error(self, qpos_ref: np.ndarray, qvel_ref: np.ndarray, qpos: np.ndarray,
+                    qvel: np.ndarray) -> np.ndarray:
+        """φ = (Δq, τ_v·Δq̇) of a state against a reference state, root x excluded (2·nv − 1 values).
 
         Positions in m and rad; velocities weighted by τ_v = VELOCITY_WEIGHT s so both read as displacements.
         """
-        qt, vt = self.cycle_target(qpos, qvel)
         dq = np.zeros(self.world.model.nv)
-        mujoco.mj_differentiatePos(self.world.model, dq, 1.0, p.qpos0, qt)
-        return np.concatenate([dq[1:], VELOCITY_WEIGHT * (vt - p.qvel0)])
+        mujoco.mj_differentiatePos(self.world.model, dq, 1.0, qpos_ref, qpos)
+        return np.concatenate([dq[1:], VELOCITY_WEIGHT * (qvel - qvel_ref)])
+
+    def half_cycle_error(self, p: GaitParameters, qpos: np.ndarray, qvel: np.ndarray) -> np.ndarray:
+        """The thesis's constraint for symmetric gaits: the mirrored state at T/2 against (q₀, q̇₀)."""
+        qt, vt = self.mirror.state(qpos, qvel)
+        return self.state_error(p.qpos0, p.qvel0, qt, vt)

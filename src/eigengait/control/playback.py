@@ -1,20 +1,24 @@
-"""Play a pulse controller on the ground with gravity, cycle by cycle.
+"""Play a pulse controller on the ground with gravity: physics only, its balance feedback included.
 
-By default the state is snapped back to (q₀, q̇₀) at each cycle end, all but the root's forward position (the
-thesis's "simple and effective, but physically incorrect" choice); `snap=False` lets the gait run on its own and
-reports how many cycles it survives. Each cycle is stepped in C with `mujoco.rollout`.
+The gait runs on its own for the asked number of cycles (`control/closed_loop.py`), optionally pushed sideways.
+`snap=True` reproduces the thesis's "simple and effective, but physically incorrect" reset instead: each cycle
+is played open loop from (q₀, q̇₀), keeping only the root's forward position. Frames are sampled at exactly
+`fps` (the nearest physics step to each frame time).
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-import mujoco
 import numpy as np
-from mujoco import rollout
 
+from eigengait.control.closed_loop import PUSH_SECONDS, BatchRun, ClosedLoopRunner, Push, cycle_errors
 from eigengait.control.gait import GaitParameters, GaitSystem
+from eigengait.control.gait_metrics import GaitRecording, gait_metrics
+from eigengait.errors import UserInputError
 from eigengait.sim.world import GRAVITY
+
+MAX_PUSH_N = 1e5   # N: beyond this a 0.1 s push launches any creature
 
 
 @dataclass
@@ -27,67 +31,133 @@ class PlaybackResult:
     active_energy: float             # J: positive mechanical work of the active torques, Σ max(τ·q̇, 0) dt
     mean_squared_torque: float       # (N·m)²: the thesis's E_energia, mean over steps of Σ_j τ_j²
     cost_of_transport: float         # active_energy / (m g distance), dimensionless
-    cycle_violation: float           # max |φ_i| of the cyclic constraint after the first (half) cycle
-    snapped: bool = True
-    events: list[str] = field(default_factory=list)
+    cycle_violation: float           # max |φ_i| over the played cycles (each cycle's end against its start)
+    snapped: bool = False
+    quality: dict = field(default_factory=dict)     # gait_metrics() of the played motion
+    pushes: tuple[Push, ...] = ()
+    pushes_survived: int | None = None
 
     def summary(self) -> dict:
-        return {"cycles_completed": self.cycles_completed, "fell": self.fell,
-                "mean_speed_mps": round(float(self.mean_speed_mps), 4), "active_energy": round(self.active_energy, 3),
-                "mean_squared_torque": round(float(self.mean_squared_torque), 3),
-                "cost_of_transport": round(self.cost_of_transport, 4),
-                "cycle_violation": round(self.cycle_violation, 5), "snap": self.snapped}
+        out = {"cycles_completed": self.cycles_completed, "fell": self.fell,
+               "mean_speed_mps": round(float(self.mean_speed_mps), 4), "active_energy": round(self.active_energy, 3),
+               "mean_squared_torque": round(float(self.mean_squared_torque), 3),
+               "cost_of_transport": round(self.cost_of_transport, 4) if np.isfinite(self.cost_of_transport) else None,
+               "cycle_violation": round(self.cycle_violation, 5) if np.isfinite(self.cycle_violation) else None,
+               "snap": self.snapped, **self.quality}
+        if self.pushes:
+            out["pushes_survived"] = self.pushes_survived
+        return out
 
 
-def play(system: GaitSystem, p: GaitParameters, cycles: int = 4, snap: bool = True, fps: float = 60.0) -> PlaybackResult:
-    model, world = system.world.model, system.world
-    data = mujoco.MjData(model)
-    dt = model.opt.timestep
-    u = system.controls(p, cycles=1)
-    n = len(u)
-    stride = max(1, int(round(1 / (fps * dt))))
-    nq, nv = model.nq, model.nv
-    standing = world.new_data().subtree_com[world.root_body][2]
-    state = system.initial_state(p)
-    frames, work, sq, steps = [], 0.0, 0.0, 0
-    fell, completed = False, 0
-    half = int(round(system.horizon_fraction * n))
-    violation = np.nan
-    com_start = system.initial_com(p)
-    motor = slice(0, world.nmotor)
-    for cycle in range(cycles):
-        states, sensors = rollout.rollout(model, [data], state[None], u[None])
-        states, sensors = states[0], sensors[0]
-        qvel = states[:, 1 + nq:1 + nq + nv]
-        quat = states[:, 4:8]
-        up_z = 1 - 2 * (quat[:, 1] ** 2 + quat[:, 2] ** 2)
-        bad = np.flatnonzero((sensors[:, 2] < 0.5 * standing) | (up_z < 0) | ~np.isfinite(states).all(axis=1))
-        end = bad[0] + 1 if bad.size else n
-        tau = u[:end, motor]
-        work += float(np.sum(np.clip(np.sum(tau * qvel[:end][:, world.internal_qvel], axis=1), 0, None)) * dt)
-        sq += float(np.sum(tau ** 2))
-        steps += end
-        frames.append(states[stride - 1:end:stride, 1:1 + nq])
-        com_end = sensors[end - 1, 0:3]
-        if cycle == 0:
-            violation = float(np.abs(system.cycle_error(p, states[half - 1, 1:1 + nq],
-                                                         states[half - 1, 1 + nq:1 + nq + nv])).max())
-        if bad.size:
-            fell = True
+def parse_pushes(text: str) -> tuple[Push, ...]:
+    """`FORCE@TIME[,FORCE@TIME…]` (N, s) -> pushes; one clear error for anything else."""
+    pushes = []
+    for item in text.split(","):
+        try:
+            force, time = (float(v) for v in item.split("@"))
+        except ValueError:
+            raise UserInputError(f"cannot read push '{item.strip()}'", field="--push",
+                                 fix="write FORCE@TIME in N and s, e.g. 350@1.3,-350@2.5") from None
+        if not (np.isfinite(force) and np.isfinite(time)) or time < 0 or abs(force) > MAX_PUSH_N:
+            raise UserInputError(f"push '{item.strip()}' is out of range", field="--push",
+                                 fix=f"use a finite time ≥ 0 s and a force within ±{MAX_PUSH_N:.0f} N")
+        pushes.append(Push(time=time, force=force))
+    return tuple(pushes)
+
+
+def play(system: GaitSystem, p: GaitParameters, cycles: int = 4, snap: bool = False, fps: float = 60.0,
+         pushes: tuple[Push, ...] = ()) -> PlaybackResult:
+    runner = ClosedLoopRunner(system)
+    if snap:
+        run, completed = _play_snapped(runner, p, cycles)
+    else:
+        run = runner.run([p], cycles, pushes, persistent=False)
+        completed = int(run.ended[0] // int(round(p.period / runner.model.opt.timestep)))
+        completed = cycles if not run.fell[0] else min(completed, cycles - 1)
+    return _result(system, p, run, completed, snap, fps, pushes)
+
+
+def _play_snapped(runner: ClosedLoopRunner, p: GaitParameters, cycles: int) -> tuple[BatchRun, int]:
+    """Cycle by cycle from (q₀, q̇₀), open loop, keeping the root's forward position: the thesis's reset."""
+    parts, completed = [], 0
+    x = p.qpos0[0]
+    for _ in range(cycles):
+        start = GaitParameters(**{**p.__dict__, "qpos0": np.r_[x, p.qpos0[1:]]})
+        run = runner.run([start], 1, persistent=False)
+        parts.append(run)
+        if run.fell[0]:
             break
         completed += 1
-        state = states[-1].copy()
-        if snap:
-            x = state[1]
-            snapped = system.initial_state(p)
-            snapped[0], snapped[1] = state[0], x
-            state = snapped
-    qpos = np.concatenate(frames) if frames else np.zeros((0, nq))
-    duration = steps * dt
-    distance = float(com_end[0] - com_start[0])
+        x = run.states[0, -1, 1]
+    cat = lambda name: np.concatenate([getattr(r, name)[0, :r.ended[0]] for r in parts])[None]  # noqa: E731
+    ended = sum(int(r.ended[0]) for r in parts)
+    return BatchRun(states=cat("states"), sensors=cat("sensors"), torques=cat("torques"), ended=np.array([ended]),
+                    fell=np.array([parts[-1].fell[0]]), steps=np.array([ended]),
+                    fell_time=np.array([np.nan])), completed
+
+
+def _result(system: GaitSystem, p: GaitParameters, run: BatchRun, completed: int, snap: bool, fps: float,
+            pushes: tuple[Push, ...]) -> PlaybackResult:
+    world, model = system.world, system.world.model
+    dt, nq, nv = model.opt.timestep, model.nq, model.nv
+    end = int(run.ended[0])
+    states, sensors, torques = run.states[0, :end], run.sensors[0, :end], run.torques[0, :end]
+    qvel = states[:, 1 + nq:1 + nq + nv]
+    work = float(np.sum(np.clip(np.sum(torques * qvel[:, world.internal_qvel], axis=1), 0, None)) * dt)
+    duration = end * dt
+    distance = float(sensors[-1, 0] - system.initial_com(p)[0])
+    frames = np.round(np.arange(1, int(duration * fps) + 1) / fps / dt).astype(int) - 1
+    frames = frames[(frames >= 0) & (frames < end)]
+    recording = GaitRecording(
+        fps=fps, period=p.period, qpos=states[frames, 1:1 + nq], com=sensors[frames, 0:3],
+        foot_points={f: np.stack([sensors[frames, world.foot_sensor[s]:world.foot_sensor[s] + 3]
+                                  for s in filter(None, (pt.toe, pt.heel))], axis=1)
+                     for f, pt in world.character.feet.items()},
+        foot_radius={f: float(model.geom_size[world.foot_spheres[f][0], 0]) for f in world.character.feet})
+    quality = gait_metrics(model, recording) if len(frames) > 1 else {}
+    violation = _violation(system, p, run, completed) if not snap else _snapped_violation(system, p, run)
     mass = world.mass()
-    return PlaybackResult(qpos=qpos, fps=1 / (stride * dt), cycles_completed=completed, fell=fell,
+    return PlaybackResult(qpos=recording.qpos, fps=fps, cycles_completed=completed, fell=bool(run.fell[0]),
                           mean_speed_mps=distance / duration if duration else 0.0, active_energy=work,
-                          mean_squared_torque=sq / max(steps, 1),
+                          mean_squared_torque=float(np.mean(np.sum(torques ** 2, axis=1))) if end else 0.0,
                           cost_of_transport=work / (mass * GRAVITY * distance) if distance > 1e-6 else float("inf"),
-                          cycle_violation=violation, snapped=snap)
+                          cycle_violation=violation, snapped=snap, quality=quality, pushes=tuple(pushes),
+                          pushes_survived=_pushes_survived(pushes, run) if pushes else None)
+
+
+def _violation(system: GaitSystem, p: GaitParameters, run: BatchRun, completed: int) -> float:
+    if completed < 1:
+        return float("nan")
+    return float(np.abs(cycle_errors(system, p, run.states[0], completed)).max())
+
+
+def _snapped_violation(system: GaitSystem, p: GaitParameters, run: BatchRun) -> float:
+    """With the reset every cycle starts at (q₀, q̇₀): the first cycle's error is every cycle's."""
+    if run.ended[0] < int(round(p.period / system.world.model.opt.timestep)):
+        return float("nan")
+    return float(np.abs(cycle_errors(system, p, run.states[0], 1)).max())
+
+
+def _pushes_survived(pushes: tuple[Push, ...], run: BatchRun) -> int:
+    """A push is survived when the gait does not fall before the next push (or the end of the playback)."""
+    if not run.fell[0]:
+        return len(pushes)
+    fall = float(run.fell_time[0])
+    times = sorted(p.time for p in pushes)
+    return sum(1 for k, t in enumerate(times) if (times[k + 1] if k + 1 < len(times) else np.inf) <= fall
+               and t + PUSH_SECONDS <= fall)
+
+
+def push_robustness(system: GaitSystem, p: GaitParameters, impulse_per_kg: float = 0.5, cycle: int = 3,
+                    phases: int = 5, cycles_after: int = 10) -> list[bool]:
+    """Survival of one sideways push of `impulse_per_kg` N·s/kg (over 0.1 s) given at each of `phases` evenly
+    spaced phases of cycle `cycle` (1-based), the gait then playing `cycles_after` more cycles."""
+    force = impulse_per_kg * system.world.mass() / PUSH_SECONDS
+    start = (cycle - 1) * p.period
+    runner = ClosedLoopRunner(system)
+    survived = []
+    for k in range(phases):
+        push = Push(time=start + k * p.period / phases, force=force)
+        run = runner.run([p], cycle + cycles_after, (push,), persistent=False)
+        survived.append(not bool(run.fell[0]))
+    return survived

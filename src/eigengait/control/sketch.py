@@ -83,6 +83,14 @@ class Targets(BaseModel):
     cycle_tolerance: float = Field(0.2, gt=0)   # max |φᵢ| accepted as cyclic (rad, m; velocities × 0.1 s)
 
 
+class Feedback(BaseModel):
+    """Balance feedback optimized with the pulses (see control/feedback.py) and the optimization horizon."""
+    model_config = ConfigDict(extra="forbid")
+    mechanisms: list[Literal["hip", "modal"]] = Field(default_factory=lambda: ["hip"],
+                                                      description="feedback mechanisms; [] for open loop")
+    horizon_cycles: int = Field(5, ge=1, le=20, description="cycles simulated per candidate, no reset")
+
+
 class Sketch(BaseModel):
     model_config = ConfigDict(extra="forbid")
     eigengait_sketch: int = FORMAT_VERSION
@@ -97,6 +105,7 @@ class Sketch(BaseModel):
     timing: Timing = Field(default_factory=Timing)
     initial: Initial = Field(default_factory=Initial)
     targets: Targets = Field(default_factory=Targets)
+    feedback: Feedback = Field(default_factory=Feedback)
     torque_limit: float = Field(400.0, gt=0, description="N·m per dof")
 
     @model_validator(mode="after")

@@ -1,12 +1,10 @@
-"""Evaluate a CMA-ES population as one batch: stepping in C (`mujoco.rollout`, threads), objectives from the
-recorded states and sensors, and early termination of candidates that fall.
+"""Evaluate a CMA-ES population as one batch of closed-loop rollouts over several cycles, with no reset.
 
-Every candidate is simulated for one whole cycle T, so soft constraints and falls cover all that playback
-repeats; the cyclic constraint is read at T/2 (mirrored) for symmetric bipeds, as in the thesis, else at T.
-
-The horizon is split into chunks; after each chunk, fallen candidates (COM below half its initial height or the
-root upside down) are dropped and the survivors continue from their last state. A fallen candidate's soft
-penalty grows with the share of the horizon it did not survive, so falls still rank.
+Every candidate is simulated for `cycles` consecutive cycles (`control/closed_loop.py`: stepping in C, feedback
+for the whole batch in NumPy between chunks; fallen candidates are dropped early). The hard cyclic constraint φ
+holds at every cycle end: the state at the end of cycle k against the state at its start (root x excluded), and
+for symmetric gaits also the mirrored state at T/2 of the first cycle against (q₀, q̇₀), the thesis's choice. A
+fallen candidate's soft penalty grows with the share of the horizon it did not survive, so falls still rank.
 """
 
 from __future__ import annotations
@@ -16,14 +14,16 @@ from dataclasses import dataclass, field
 
 import mujoco
 import numpy as np
-from mujoco import rollout
 
+from eigengait.control.closed_loop import BatchRun, ClosedLoopRunner, cycle_errors
+from eigengait.control.feedback import leg_root_joint
 from eigengait.control.gait import GaitParameters, GaitSystem
 from eigengait.control.sketch import Targets
 from eigengait.optimize import terms
 from eigengait.optimize.parameters import ParameterSpace
 
 FALL_PENALTY = 100.0   # soft-constraint units for a fall at t = 0, scaled by the unsurvived share of the horizon
+FALLEN_CYCLE_ERROR = 10.0
 
 
 @dataclass
@@ -46,86 +46,52 @@ def default_threads() -> int:
 
 
 class BatchEvaluator:
-    """Simulates candidates of a parameter space over the cyclic-constraint horizon."""
+    """Simulates candidates of a parameter space for `cycles` cycles and scores them."""
 
     def __init__(self, system: GaitSystem, space: ParameterSpace, targets: Targets, threads: int | None = None,
-                 chunks: int = 4, sample_dt: float = 0.01):
-        self.system, self.space, self.targets = system, space, targets
+                 cycles: int = 5, sample_dt: float = 0.01):
+        self.system, self.space, self.targets, self.cycles = system, space, targets, cycles
         self.model = system.world.model
         self.threads = threads or default_threads()
-        self.datas = [mujoco.MjData(self.model) for _ in range(self.threads)]
-        self.chunks, self.dt = chunks, self.model.opt.timestep
+        self.runner = ClosedLoopRunner(system, self.threads)
+        self.dt = self.model.opt.timestep
         self.sample_every = max(1, int(round(sample_dt / self.dt)))
         self.nq, self.nv = self.model.nq, self.model.nv
         world = system.world
-        self.standing_com = world.new_data().subtree_com[world.root_body][2]
         self.toe_radius = {f: float(self.model.geom_size[world.foot_spheres[f][0], 0]) for f in system.feet}
-        self.toe_sensor = {f: world.foot_sensor[world.character.feet[f].toe] for f in system.feet}
-        self.steps_simulated = 0
+        feet = world.character.feet
+        self.toe_sensor = {f: world.foot_sensor[feet[f].toe] for f in system.feet}
+        self.heel_sensor = {f: world.foot_sensor[feet[f].heel] if feet[f].heel else None for f in system.feet}
+        self.hip_offset = self._hip_offsets()
+
+    @property
+    def steps_simulated(self) -> int:
+        return self.runner.steps_simulated
+
+    @steps_simulated.setter
+    def steps_simulated(self, value: int) -> None:
+        self.runner.steps_simulated = value
 
     def close(self) -> None:
-        rollout.shutdown_persistent_pool()
+        self.runner.close()
 
-    def horizon_steps(self, p: GaitParameters) -> int:
-        """A whole cycle is simulated: what playback repeats must hold up for all of it."""
-        return max(1, int(round(p.period / self.dt)))
-
-    def cycle_step(self, p: GaitParameters) -> int:
-        """The step whose state the cyclic constraint compares: T/2 (mirrored) for symmetric gaits, else T."""
-        return max(1, int(round(self.system.horizon_fraction * p.period / self.dt)))
-
-    def simulate(self, params: list[GaitParameters]):
-        """Batched rollout with early termination: (states P×N×nstate, sensors P×N×ns, steps P, fell P)."""
-        P = len(params)
-        steps = np.array([self.horizon_steps(p) for p in params])
-        N = int(steps.max())
-        controls = np.zeros((P, N, self.model.nu))
-        for i, p in enumerate(params):
-            u = self.system.controls(p, span=steps[i] * self.dt)
-            controls[i, :len(u)] = u[:N]
-        state = np.stack([self.system.initial_state(p) for p in params])
-        states = np.zeros((P, N, state.shape[1]))
-        sensors = np.zeros((P, N, self.model.nsensordata))
-        ended = steps.copy()
-        fell = np.zeros(P, bool)
-        alive = np.ones(P, bool)
-        bounds = np.linspace(0, N, self.chunks + 1).astype(int)
-        for a, b in zip(bounds[:-1], bounds[1:]):
-            idx = np.flatnonzero(alive)
-            if idx.size == 0 or b <= a:
-                continue
-            s, d = rollout.rollout(self.model, self.datas, state[idx], controls[idx, a:b], persistent_pool=True)
-            states[idx, a:b], sensors[idx, a:b] = s, d
-            self.steps_simulated += idx.size * (b - a)
-            state[idx] = s[:, -1]
-            for k, i in enumerate(idx):
-                upto = min(b, steps[i]) - a
-                com_z = d[k, :upto, 2]
-                quat = s[k, :upto, 1 + 3:1 + 7]
-                up_z = 1 - 2 * (quat[:, 1] ** 2 + quat[:, 2] ** 2)
-                bad = np.flatnonzero((com_z < 0.5 * self.standing_com) | (up_z < 0) |
-                                     ~np.isfinite(s[k, :upto, 1:1 + self.nq + self.nv]).all(axis=1))
-                if bad.size:
-                    fell[i], ended[i], alive[i] = True, a + bad[0] + 1, False
-                elif steps[i] <= b:
-                    alive[i] = False
-        return states, sensors, ended, fell, controls, steps
+    def simulate(self, params: list[GaitParameters]) -> BatchRun:
+        return self.runner.run(params, self.cycles)
 
     def evaluate(self, X: np.ndarray) -> list[Outcome]:
         params = [self.space.decode(x) for x in np.atleast_2d(X)]
-        states, sensors, ended, fell, controls, steps = self.simulate(params)
-        return [self._outcome(p, states[i, :ended[i]], sensors[i, :ended[i]], controls[i, :ended[i]],
-                              fell[i], ended[i] / steps[i]) for i, p in enumerate(params)]
+        run = self.simulate(params)
+        return [self._outcome(p, run, i) for i, p in enumerate(params)]
 
     # ------------------------------------------------------------------ objective of one candidate
-    def _outcome(self, p: GaitParameters, states, sensors, controls, fell: bool, survived: float) -> Outcome:
+    def _outcome(self, p: GaitParameters, run: BatchRun, i: int) -> Outcome:
         tg, nq, nv = self.targets, self.nq, self.nv
-        n_motor = self.system.world.nmotor
+        end = int(run.ended[i])
+        states, sensors, torques = run.states[i, :end], run.sensors[i, :end], run.torques[i, :end]
         samples = slice(self.sample_every - 1, None, self.sample_every)
-        com, comvel = sensors[:, 0:3], sensors[:, 3:6]
-        duration = len(states) * self.dt
-        mean_vel = (com[-1] - self.system.initial_com(p)) / duration
-        energy = terms.energy_objective(controls[:, :n_motor]) if len(controls) else 0.0
+        comvel = sensors[:, 3:6]
+        mean_vel = (sensors[-1, 0:3] - self.system.initial_com(p)) / (end * self.dt)
+        energy = terms.energy_objective(torques) if end else 0.0
         qvel = states[samples, 1 + nq:1 + nq + nv]
         quat = states[samples, 1 + 3:1 + 7]
         soft = {
@@ -135,18 +101,22 @@ class BatchEvaluator:
             "energy_max": terms.energy_limit_term(energy, tg.energy),
             "priority": terms.priority_term(self._priority_split(p)),
             "upright": terms.upright_term(1 - 2 * (quat[:, 1] ** 2 + quat[:, 2] ** 2)),
+            **self._stance_terms(p, states, sensors),
         }
-        soft["stance_contact"], soft["stance_rise"] = self._stance_terms(p, sensors)
-        if fell:
-            soft["fall"] = FALL_PENALTY * (2.0 - survived)
-            cycle = np.full(2 * nv - 1, 10.0)
+        if run.fell[i]:
+            soft["fall"] = FALL_PENALTY * (2.0 - end / run.steps[i])
+            cycle = np.full(self.constraint_size, FALLEN_CYCLE_ERROR)
         else:
-            k = min(self.cycle_step(p), len(states)) - 1
-            cycle = self.system.cycle_error(p, states[k, 1:1 + nq], states[k, 1 + nq:1 + nq + nv])
+            cycle = cycle_errors(self.system, p, run.states[i], self.cycles)
         cost = (terms.OBJECTIVE_WEIGHT * terms.speed_objective(mean_vel[0]) * energy
                 + terms.SOFT_WEIGHT * sum(soft.values()))
-        return Outcome(cost=float(cost), cycle=cycle, fell=bool(fell), mean_velocity=mean_vel, energy=energy,
-                       soft=soft)
+        return Outcome(cost=float(cost), cycle=cycle, fell=bool(run.fell[i]), mean_velocity=mean_vel,
+                       energy=energy, soft=soft)
+
+    @property
+    def constraint_size(self) -> int:
+        blocks = self.cycles + (1 if self.system.mirror is not None else 0)
+        return blocks * (2 * self.nv - 1)
 
     def _priority_split(self, p: GaitParameters) -> list[tuple[np.ndarray, np.ndarray]]:
         out = []
@@ -156,18 +126,61 @@ class BatchEvaluator:
             out.append((psi[prio], psi[~prio]))
         return out
 
-    def _stance_terms(self, p: GaitParameters, sensors) -> tuple[float, float]:
-        contact = rise = 0.0
-        n = len(sensors)
-        for s in self.system.states(p):
-            if s.phase != "ground":
-                continue
-            a = int(s.start / self.dt)
-            if a >= n:
-                continue
-            z = sensors[a:min(n, int((s.start + s.duration) / self.dt)), self.toe_sensor[s.foot] + 2]
-            clearance = z - self.toe_radius[s.foot]
-            window = max(1, int(s.pulse / 2 / self.dt))
-            contact += terms.stance_contact_term(clearance[:window])
-            rise += terms.stance_rise_term(z)
-        return contact, rise
+    # ------------------------------------------------------------------ stance terms (Eqs. 4.17–4.20)
+    def _hip_offsets(self) -> dict[str, np.ndarray]:
+        """Each leg's hip anchor in the root body's frame (m), for the anti-stumble term."""
+        world, data = self.system.world, self.system.world.new_data()
+        root = world.root_body
+        R = data.xmat[root].reshape(3, 3)
+        out = {}
+        for f in dict.fromkeys(self.system.feet):
+            j = self.model.joint(leg_root_joint(world, f)).id
+            out[f] = R.T @ (data.xanchor[j] - data.xpos[root])
+        return out
+
+    def _hips(self, states: np.ndarray, foot: str) -> np.ndarray:
+        """World hip-anchor positions (n × 3) from root positions and quaternions."""
+        pos, quat = states[:, 1:4], states[:, 4:8]
+        R = np.empty((len(states), 9))
+        for k in range(len(states)):
+            mujoco.mju_quat2Mat(R[k], quat[k])
+        return pos + R.reshape(-1, 3, 3) @ self.hip_offset[foot]
+
+    def _stance_terms(self, p: GaitParameters, states: np.ndarray, sensors: np.ndarray) -> dict[str, float]:
+        out = {"stance_contact": 0.0, "stance_rise": 0.0, "anti_stumble": 0.0}
+        n, dt = len(sensors), self.dt
+        schedule = self.system.states(p)
+        distinct = list(dict.fromkeys(self.system.feet))
+        for c in range(self.cycles):
+            offset = c * p.period
+            for k, s in enumerate(schedule):
+                if s.phase != "ground":
+                    continue
+                a, b = int((offset + s.start) / dt), min(n, int((offset + s.start + s.duration) / dt))
+                if a >= n:
+                    continue
+                toe = self.toe_sensor[s.foot]
+                clearance = sensors[a:b, toe + 2] - self.toe_radius[s.foot]
+                out["stance_contact"] += terms.stance_contact_term(clearance[:max(1, int(s.pulse / 2 / dt))])
+                air = schedule[k - 1]
+                w0 = int((offset + air.start) / dt)
+                after = schedule[(k + 1) % len(schedule)]
+                w1 = min(n, int((offset + s.start + s.duration + after.duration) / dt))
+                if self.heel_sensor[s.foot] is not None and w1 > w0:
+                    heel = self.heel_sensor[s.foot]
+                    rise = terms.push_off_rise(sensors[w0:w1, 5], sensors[w0:w1, toe + 2],
+                                               sensors[w0:w1, heel + 2], dt)
+                    out["stance_rise"] += terms.stance_rise_term(rise)
+                if len(distinct) == 2:
+                    other = distinct[1] if s.foot == distinct[0] else distinct[0]
+                    rows = np.arange(a, b, self.sample_every)
+                    touching = rows[clearance[rows - a] < 0.01]
+                    if touching.size:
+                        out["anti_stumble"] += terms.anti_stumble_term(
+                            self._toe_to_hip(states, sensors, touching, s.foot),
+                            self._toe_to_hip(states, sensors, touching, other))
+        return out
+
+    def _toe_to_hip(self, states, sensors, rows, foot: str) -> np.ndarray:
+        toe = sensors[rows, self.toe_sensor[foot]:self.toe_sensor[foot] + 3]
+        return np.linalg.norm(toe - self._hips(states[rows], foot), axis=1)

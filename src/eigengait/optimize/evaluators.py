@@ -21,8 +21,13 @@ _worker: BatchEvaluator | None = None
 
 
 def _batch_evaluator(sketch_json: dict, threads: int) -> BatchEvaluator:
-    problem = Problem.from_sketch(Sketch.model_validate(sketch_json))
-    return BatchEvaluator(problem.system, problem.space, problem.sketch.targets, threads=threads)
+    return batch_evaluator(Problem.from_sketch(Sketch.model_validate(sketch_json)), threads)
+
+
+def batch_evaluator(problem: Problem, threads: int) -> BatchEvaluator:
+    """The sketch's batched closed-loop evaluator (its targets and optimization horizon)."""
+    return BatchEvaluator(problem.system, problem.space, problem.sketch.targets, threads=threads,
+                          cycles=problem.sketch.feedback.horizon_cycles)
 
 
 def _process_init(sketch_json: dict) -> None:
@@ -84,7 +89,7 @@ class _RayWorker:
 
 class ThreadEvaluator:
     def __init__(self, problem: Problem, threads: int):
-        self.batch = BatchEvaluator(problem.system, problem.space, problem.sketch.targets, threads=threads)
+        self.batch = batch_evaluator(problem, threads)
 
     def __call__(self, X: np.ndarray) -> list[Outcome]:
         return self.batch.evaluate(X)

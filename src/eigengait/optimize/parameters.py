@@ -13,12 +13,17 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
+from eigengait.control.feedback import FEATURES, HIP_GAINS, FeedbackGains
 from eigengait.control.gait import GaitParameters, GaitSystem
 from eigengait.control.sketch import Sketch
+from eigengait.sim.world import GRAVITY
 
 MAX_JOINT_ANGLE = 0.3     # rad: largest joint rotation of one initial-pose mode coordinate
 PERIOD_RANGE = (0.6, 1.6) # the period T stays within these multiples of the sketch's guess
 PULSE_RANGE = (0.5, 2.0)  # pulse durations δ too: a pulse shrunk to nothing would silence the priority modes
+AIR_RATIO_SPAN = 0.25     # α stays within ± this of the sketch's (α → 0 or 1 would erase a state)
+HIP_GAIN_RANGE = 0.3      # |hip gains| ≤ this × m g h (N·m per normalized feature unit)
+MODAL_GAIN_RANGE = 2.0    # |modal gains| ≤ this × the sketch's activation scale (N·m per normalized feature unit)
 
 
 @dataclass
@@ -36,7 +41,8 @@ class ParameterSpace:
         period_lo, period_hi = PERIOD_RANGE[0] * t.period, PERIOD_RANGE[1] * t.period
         self.entries: list[Entry] = [
             Entry("period", period_lo, period_hi, t.period),
-            Entry("air_ratio", 0.0, 1.0, t.air_ratio),
+            Entry("air_ratio", max(0.02, t.air_ratio - AIR_RATIO_SPAN), min(0.98, t.air_ratio + AIR_RATIO_SPAN),
+                  t.air_ratio),
             Entry("pulse_air", PULSE_RANGE[0] * t.pulse_air, PULSE_RANGE[1] * t.pulse_air, t.pulse_air),
             Entry("pulse_ground", PULSE_RANGE[0] * t.pulse_ground, PULSE_RANGE[1] * t.pulse_ground, t.pulse_ground),
         ]
@@ -67,9 +73,37 @@ class ParameterSpace:
             omega = 2 * np.pi * air.frequencies_hz[m - 1]
             self.entries.append(Entry(f"q0/{m}", -amp, amp, 0.0))
             self.entries.append(Entry(f"qd0/{m}", -amp * omega, amp * omega, 0.0))
+        self._add_feedback(sketch)
         self.low = np.array([e.low for e in self.entries])
         self.high = np.array([e.high for e in self.entries])
         self.index = {e.name: i for i, e in enumerate(self.entries)}
+
+    def _add_feedback(self, sketch: Sketch) -> None:
+        """Gains of the sketch's feedback mechanisms, centred on zero (the open-loop controller)."""
+        mechanisms = sketch.feedback.mechanisms
+        world = self.system.world
+        if "hip" in mechanisms:
+            h = float(world.new_data().subtree_com[world.root_body][2])
+            bound = HIP_GAIN_RANGE * world.mass() * GRAVITY * h
+            self.entries += [Entry(f"fb/hip/{g}", -bound, bound, 0.0) for g in HIP_GAINS]
+        self.modal_feedback_modes: dict[str, list[int]] = {}
+        if "modal" in mechanisms:
+            for phase in ("air", "ground"):
+                prio = sketch.phase(phase).priority
+                bound = MODAL_GAIN_RANGE * max([abs(v) for v in prio.values()] + [20.0])
+                self.modal_feedback_modes[phase] = sorted(prio)
+                self.entries += [Entry(f"fb/modal/{phase}/{m}/{f}", -bound, bound, 0.0)
+                                 for m in sorted(prio) for f in FEATURES]
+
+    def _decode_feedback(self, v: np.ndarray) -> FeedbackGains:
+        gains = FeedbackGains()
+        if "fb/hip/" + HIP_GAINS[0] in self.index:
+            gains.hip = np.array([v[self.index[f"fb/hip/{g}"]] for g in HIP_GAINS])
+        for phase, modes in self.modal_feedback_modes.items():
+            if modes:
+                K = np.array([[v[self.index[f"fb/modal/{phase}/{m}/{f}"]] for f in FEATURES] for m in modes])
+                gains.modal[phase] = (modes, K)
+        return gains
 
     @property
     def size(self) -> int:
@@ -112,4 +146,5 @@ class ParameterSpace:
         qvel[0] += get("root_speed_x")
         qvel[2] += get("root_speed_z")
         return GaitParameters(period=get("period"), air_ratio=get("air_ratio"), pulse_air=get("pulse_air"),
-                              pulse_ground=get("pulse_ground"), activations=activations, qpos0=qpos, qvel0=qvel)
+                              pulse_ground=get("pulse_ground"), activations=activations, qpos0=qpos, qvel0=qvel,
+                              feedback=self._decode_feedback(v))

@@ -74,9 +74,26 @@ def stance_contact_term(toe_clearance: np.ndarray, tolerance: float = 0.001) -> 
     return float(q_upper(-toe_clearance.min(), -tolerance))
 
 
-def stance_rise_term(toe_heights: np.ndarray, tolerance: float = 0.02) -> float:
-    """E_altura_pe_apoio = Q_u(−δ_pe, −2 cm) (Eqs. 4.18–4.19): the stance toe rises at most 2 cm in its
-    ground state before lift-off."""
-    if toe_heights.size == 0:
+def push_off_rise(com_vz: np.ndarray, toe_z: np.ndarray, heel_z: np.ndarray, dt: float) -> float:
+    """δ_pe (Eq. 4.18, z up): the stance toe's summed rise (m) over the steps where the COM has been falling
+    since the window started and now rises (Ċ_z > 0), the toe does not rise more than 0.1 m/s faster than the COM
+    (Ċ_z − ṗ_toe,z > −0.1), the heel is above the toe and the toe is rising. Arrays are per step of `dt` s over
+    the window from the foot's air state to its lift-off."""
+    if toe_z.size < 2:
         return 0.0
-    return float(q_upper(-(toe_heights.max() - toe_heights.min()), -tolerance))
+    rise = np.diff(toe_z)
+    vz = com_vz[1:]
+    fell_before = np.maximum.accumulate(com_vz < 0)[:-1]
+    ok = fell_before & (vz > 0) & (vz - rise / dt > -0.1) & (heel_z[1:] > toe_z[1:]) & (rise > 0)
+    return float(rise[ok].sum())
+
+
+def stance_rise_term(push_off: float, minimum: float = 0.02) -> float:
+    """E_altura_pe_apoio = Q_u(δ_pe, 2 cm) (Eq. 4.19): the push-off must lift the stance toe at least 2 cm."""
+    return float(q_upper(push_off, minimum))
+
+
+def anti_stumble_term(stance_toe_to_hip: np.ndarray, other_toe_to_hip: np.ndarray) -> float:
+    """E_evit_trop = Σ_t Q_u(d_apoio − d_outro, 0) (Eq. 4.20) from touchdown to lift-off: the stance toe stays
+    farther from its hip than the other toe from its own, so the swing foot is tucked and does not stumble."""
+    return float(q_upper(np.asarray(stance_toe_to_hip) - np.asarray(other_toe_to_hip), 0.0).sum())

@@ -35,7 +35,7 @@ class PlayPanel:
             self.path = gui.add_text("controller", (gait_names() or [""])[0],
                                      hint="a shipped gait name or a controller .json inside the studio folder")
             self.cycles = gui.add_number("cycles", 6, min=1, max=50, step=1)
-            self.snap = gui.add_checkbox("snap each cycle", True, hint="snap back to the initial state at each "
+            self.snap = gui.add_checkbox("snap each cycle", False, hint="snap back to the initial state at each "
                                                                        "cycle end (the thesis's playback)")
             self.play = gui.add_button("Play on the ground", icon=viser.Icon.WALK)
             self.report = gui.add_markdown("")

@@ -1,0 +1,223 @@
+"""Play many pulse controllers with balance feedback as one batch, stepping in C between feedback readings.
+
+The horizon is cut into chunks of `FEEDBACK_DT`; each chunk is one `mujoco.rollout` call over the candidates still
+standing. At each chunk boundary the features of every candidate are read from its last state (NumPy, whole
+batch), recorded as the reference during the first cycle, and turned into feedback torques afterwards (see
+`feedback.py`). Sideways pushes are generalized forces on the root's y translation. A candidate falls when its
+COM drops below half the standing height, its root turns upside down, or its state stops being finite; it is
+not simulated further.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import mujoco
+import numpy as np
+from mujoco import rollout
+
+from eigengait.control.feedback import (FEEDBACK_DT, MIRROR_SIGNS, FeatureReader, FeedbackGains, hip_motors,
+                                        hip_torque, state_roles)
+from eigengait.control.gait import GaitParameters, GaitSystem
+
+PUSH_SECONDS = 0.1   # s, duration of every push
+
+
+@dataclass(frozen=True)
+class Push:
+    time: float      # s from the start of the playback
+    force: float     # N along world +y on the root body
+
+
+@dataclass
+class BatchRun:
+    """Recorded batch: every array is candidates × steps × …; rows past `ended[i]` are unused."""
+    states: np.ndarray       # MuJoCo full physics states after each step
+    sensors: np.ndarray      # sensordata after each step
+    torques: np.ndarray      # applied motor torques (pulses + feedback, clipped), N·m
+    ended: np.ndarray        # steps simulated per candidate
+    fell: np.ndarray         # bool per candidate
+    steps: np.ndarray        # steps asked for per candidate
+    fell_time: np.ndarray    # s, when each fallen candidate fell (nan if it did not)
+
+
+def fallen(states: np.ndarray, sensors: np.ndarray, nq: int, standing_com: float) -> np.ndarray:
+    """Per row: COM below half its standing height, root upside down, or a non-finite state."""
+    quat = states[..., 4:8]
+    up_z = 1 - 2 * (quat[..., 1] ** 2 + quat[..., 2] ** 2)
+    finite = np.isfinite(states[..., 1:]).all(axis=-1) & (np.abs(states[..., 1:]) < 1e6).all(axis=-1)
+    return (sensors[..., 2] < 0.5 * standing_com) | (up_z < 0) | ~finite
+
+
+def cycle_errors(system: GaitSystem, p: GaitParameters, states: np.ndarray, cycles: int) -> np.ndarray:
+    """Hard cyclic constraint over `cycles` played cycles (states: steps × MuJoCo full physics state).
+
+    One block per cycle k: the state at its end against the state at its start ((q₀, q̇₀) for the first); for
+    symmetric gaits one more block: the mirrored state at T/2 of the first cycle against (q₀, q̇₀).
+    """
+    nq, nv, dt = system.world.model.nq, system.world.model.nv, system.world.model.opt.timestep
+    q = lambda k: states[k, 1:1 + nq]                 # noqa: E731
+    v = lambda k: states[k, 1 + nq:1 + nq + nv]       # noqa: E731
+    errors, start = [], None
+    for c in range(1, cycles + 1):
+        k = int(round(c * p.period / dt)) - 1
+        ref = (p.qpos0, p.qvel0) if start is None else (q(start), v(start))
+        errors.append(system.state_error(*ref, q(k), v(k)))
+        start = k
+    if system.mirror is not None:
+        k = int(round(0.5 * p.period / dt)) - 1
+        errors.append(system.half_cycle_error(p, q(k), v(k)))
+    return np.concatenate(errors)
+
+
+class FeedbackPlan:
+    """One candidate's per-state feedback matrices G (n_states × n_motor × 8) and its reference recorder."""
+
+    def __init__(self, system: GaitSystem, p: GaitParameters, motors: dict[str, tuple[int, int]]):
+        self.states = system.states(p)
+        self.roles = state_roles(self.states)
+        self.period = p.period
+        self.starts = np.array([s.start for s in self.states])
+        n_motor = system.world.nmotor
+        first = self.states[0].foot
+        gains = p.feedback
+        G = np.zeros((len(self.states), n_motor, 8))
+        self.mirrored = []
+        for k, s in enumerate(self.states):
+            mirrored = system.mirror is not None and s.foot != first
+            self.mirrored.append(mirrored)
+            canon = k - len(self.states) // 2 if mirrored else k
+            G[k] = _canonical_matrix(system, gains, self.states[canon], self.roles[canon], motors, n_motor)
+            if mirrored:
+                G[k] = system.mirror.dofs(G[k].T).T * MIRROR_SIGNS
+        self.G = G
+        self.enabled = gains.enabled
+        self.ref_phase: list[float] = []
+        self.ref_value: list[np.ndarray] = []
+
+    def state_index(self, t: float) -> int:
+        return int(np.searchsorted(self.starts, t % self.period, side="right") - 1)
+
+    def reference(self, phase: float) -> np.ndarray:
+        """Reference features at a cycle phase (s), interpolated between first-cycle readings."""
+        ph = np.asarray(self.ref_phase)
+        k = int(np.searchsorted(ph, phase))
+        if k == 0:
+            return self.ref_value[0]
+        if k >= len(ph):
+            return self.ref_value[-1]
+        w = (phase - ph[k - 1]) / (ph[k] - ph[k - 1])
+        return (1 - w) * self.ref_value[k - 1] + w * self.ref_value[k]
+
+
+def _canonical_matrix(system: GaitSystem, gains: FeedbackGains, state, role, motors, n_motor: int) -> np.ndarray:
+    G = np.zeros((n_motor, 8))
+    if gains.hip is not None:
+        for i in range(8):
+            G[:, i] = hip_torque(gains.hip, np.eye(8)[i], role, motors, n_motor)
+    if state.phase in gains.modal:
+        modes, K = gains.modal[state.phase]
+        basis = system.basis_matrix(state.foot, state.phase)[:, [m - 1 for m in modes]]
+        G += basis @ K
+    return G
+
+
+class ClosedLoopRunner:
+    """Simulates pulse controllers with feedback for several cycles, as one batch on a C thread pool."""
+
+    def __init__(self, system: GaitSystem, threads: int = 1):
+        self.system = system
+        world = system.world
+        self.model = world.model
+        self.datas = [mujoco.MjData(self.model) for _ in range(max(1, threads))]
+        self.reader = FeatureReader(world)
+        self.motors = {f: hip_motors(world, f) for f in dict.fromkeys(system.feet)}
+        self.standing_com = float(world.new_data().subtree_com[world.root_body][2])
+        self.chunk = max(1, int(round(FEEDBACK_DT / self.model.opt.timestep)))
+        self.steps_simulated = 0
+
+    def close(self) -> None:
+        rollout.shutdown_persistent_pool()
+
+    def run(self, params: list[GaitParameters], cycles: float, pushes: tuple[Push, ...] = (),
+            persistent: bool = True) -> BatchRun:
+        model, system, dt = self.model, self.system, self.model.opt.timestep
+        nq, nv, nu, n_motor = model.nq, model.nv, model.nu, system.world.nmotor
+        P = len(params)
+        ff = [system.controls(p, span=cycles * p.period) for p in params]
+        steps = np.array([len(u) for u in ff])
+        N = int(steps.max())
+        plans = [FeedbackPlan(system, p, self.motors) for p in params]
+        state = np.stack([system.initial_state(p) for p in params])
+        sensors_now = np.stack([self._initial_sensors(p) for p in params])
+        nstate = state.shape[1]
+        states = np.zeros((P, N, nstate))
+        sensors = np.zeros((P, N, model.nsensordata))
+        torques = np.zeros((P, N, n_motor))
+        ended, fell, alive = steps.copy(), np.zeros(P, bool), np.ones(P, bool)
+        fell_time = np.full(P, np.nan)
+        spec = mujoco.mjtState.mjSTATE_CTRL | (mujoco.mjtState.mjSTATE_QFRC_APPLIED if pushes else 0)
+        width = nu + (nv if pushes else 0)
+        limit = system.torque_limit
+        for a in range(0, N, self.chunk):
+            b = min(N, a + self.chunk)
+            idx = np.flatnonzero(alive)
+            if idx.size == 0:
+                break
+            control = np.zeros((idx.size, b - a, width))
+            t = a * dt
+            for k, i in enumerate(idx):
+                upto = min(b, steps[i])
+                if upto <= a:
+                    continue
+                tau_fb = self._feedback(plans[i], t, state[i], sensors_now[i])
+                u = ff[i][a:upto].copy()
+                u[:, :n_motor] = np.clip(u[:, :n_motor] + tau_fb, -limit, limit)
+                control[k, :upto - a, :nu] = u
+            for push in pushes:
+                on = (np.arange(a, b) * dt >= push.time) & (np.arange(a, b) * dt < push.time + PUSH_SECONDS)
+                control[:, on, nu + 1] = push.force
+            s, d = rollout.rollout(model, self.datas, state[idx], control, control_spec=spec,
+                                   persistent_pool=persistent)
+            self.steps_simulated += idx.size * (b - a)
+            states[idx, a:b], sensors[idx, a:b] = s, d
+            torques[idx, a:b] = control[:, :, :n_motor]
+            state[idx], sensors_now[idx] = s[:, -1], d[:, -1]
+            bad = fallen(s, d, nq, self.standing_com)
+            for k, i in enumerate(idx):
+                upto = min(b, steps[i]) - a
+                hit = np.flatnonzero(bad[k, :upto])
+                if hit.size:
+                    fell[i], alive[i] = True, False
+                    ended[i] = a + hit[0] + 1
+                    fell_time[i] = ended[i] * dt
+                elif steps[i] <= b:
+                    alive[i] = False
+        return BatchRun(states=states, sensors=sensors, torques=torques, ended=ended, fell=fell, steps=steps,
+                        fell_time=fell_time)
+
+    def _feedback(self, plan: FeedbackPlan, t: float, state: np.ndarray, sensors: np.ndarray) -> np.ndarray:
+        k = plan.state_index(t)
+        features = self.reader.read(state, sensors, plan.roles[k].support)
+        import os
+        if os.environ.get("EG_REF") == "initial":
+            if not plan.ref_value:
+                plan.ref_value.append(features)
+            if not plan.enabled:
+                return 0.0
+            ref = plan.ref_value[0] * (MIRROR_SIGNS if plan.mirrored[k] else 1.0)
+            return plan.G[k] @ (features - ref)
+        if t < plan.period - 1e-9:
+            plan.ref_phase.append(t)
+            plan.ref_value.append(features)
+            return 0.0
+        if not plan.enabled:
+            return 0.0
+        return plan.G[k] @ (features - plan.reference(t % plan.period))
+
+    def _initial_sensors(self, p: GaitParameters) -> np.ndarray:
+        data = self.datas[0]
+        data.qpos[:], data.qvel[:] = p.qpos0, p.qvel0
+        data.ctrl[:] = 0
+        mujoco.mj_forward(self.model, data)
+        return data.sensordata.copy()

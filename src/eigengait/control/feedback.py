@@ -1,0 +1,160 @@
+"""Balance feedback inside the pulse controller: linear feedback on the deviation from the gait's own first cycle.
+
+Every `FEEDBACK_DT` seconds the controller reads eight **features** of the creature (world frame, x forward):
+
+    s = (dx, dy, vx, vy, pitch, roll, ω_pitch, ω_roll)
+
+dx, dy: the COM's horizontal offset from the support toe (the stance foot in a ground state, the foot that last
+pushed off in an air state), divided by the standing COM height h; vx, vy: the COM velocity divided by √(g h);
+pitch, roll: the root body's tilt (rad; pitch > 0 nose down, roll > 0 right side down); ω: the root's angular
+velocity about world y and x, divided by √(g/h). The reference s* is what the same features read at the same
+phase of the **first cycle**, which is played open loop; from the second cycle on, the torque
+
+    τ_fb = B_state K (s − s*)
+
+is added to the pulses and held until the next reading. Two families of output directions B (mechanisms):
+
+* ``hip`` (SIMBICON-style, Yin et al. 2007): the swing hip places the foot from the COM offset and velocity
+  (sagittal: dx, vx → hip pitch; coronal: dy, vy → hip roll) and the stance hip holds the root's pitch and roll
+  (pitch, ω_pitch → hip pitch; roll, ω_roll → hip roll). Eight gains, in N·m per normalized feature unit.
+* ``modal``: the priority modes of the state's phase get Δψ = K (s − s*) (Ding, Liu & Yin 2015's event-based
+  linear feedback, in the mode basis); K is (priority modes × 8) per phase, in N·m per normalized unit.
+
+For symmetric gaits the second foot's states use the first foot's gains on mirrored features (dy, vy, roll, ω_roll
+change sign) and mirrored torques.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import mujoco
+import numpy as np
+
+from eigengait.control.pulse import State
+from eigengait.sim.world import GRAVITY, World
+
+FEEDBACK_DT = 0.01                 # s between feature readings (feedback torques are held in between)
+FEATURES = ("dx", "dy", "vx", "vy", "pitch", "roll", "pitch_rate", "roll_rate")
+MIRROR_SIGNS = np.array([1.0, -1.0, 1.0, -1.0, 1.0, -1.0, 1.0, -1.0])
+HIP_GAINS = ("swing_pitch_dx", "swing_pitch_vx", "swing_roll_dy", "swing_roll_vy",
+             "stance_pitch_pitch", "stance_pitch_rate", "stance_roll_roll", "stance_roll_rate")
+MECHANISMS = ("hip", "modal")
+
+
+@dataclass
+class FeedbackGains:
+    """Gains of the enabled mechanisms (empty: open loop). Units: N·m per normalized feature unit."""
+    hip: np.ndarray | None = None                                        # (8,) in HIP_GAINS order
+    modal: dict[str, tuple[list[int], np.ndarray]] = field(default_factory=dict)   # phase -> (modes, K m×8)
+
+    @property
+    def enabled(self) -> bool:
+        return self.hip is not None or bool(self.modal)
+
+
+def root_tilt(quat: np.ndarray, angvel_local: np.ndarray) -> np.ndarray:
+    """(pitch, roll, ω_pitch, ω_roll) of root quaternions (…×4, wxyz) and local angular velocities (…×3)."""
+    w, x, y, z = np.moveaxis(quat, -1, 0)
+    r20, r21 = 2 * (x * z - w * y), 2 * (y * z + w * x)
+    pitch = np.arcsin(np.clip(-r20, -1, 1))
+    roll = np.arcsin(np.clip(r21, -1, 1))
+    # world angular velocity = R ω_local; rows 0 and 1 of R
+    r00, r01, r02 = 1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)
+    r10, r11, r12 = 2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)
+    wx = r00 * angvel_local[..., 0] + r01 * angvel_local[..., 1] + r02 * angvel_local[..., 2]
+    wy = r10 * angvel_local[..., 0] + r11 * angvel_local[..., 1] + r12 * angvel_local[..., 2]
+    return np.stack([pitch, roll, wy, wx], axis=-1)
+
+
+class FeatureReader:
+    """Reads normalized features from rollout states and sensors (last axis: MuJoCo state / sensordata)."""
+
+    def __init__(self, world: World):
+        model = world.model
+        self.nq = model.nq
+        self.com, self.comvel = world.com_sensor, world.comvel_sensor
+        self.toe = {f: world.foot_sensor[p.toe] for f, p in world.character.feet.items()}
+        h = float(world.new_data().subtree_com[world.root_body][2])
+        self.scale = np.array([h, h, np.sqrt(GRAVITY * h), np.sqrt(GRAVITY * h), 1, 1,
+                               np.sqrt(GRAVITY / h), np.sqrt(GRAVITY / h)])
+
+    def read(self, state: np.ndarray, sensors: np.ndarray, support: str) -> np.ndarray:
+        """Features (…×8) with the COM offset taken from `support`'s toe."""
+        nq = self.nq
+        com = sensors[..., self.com:self.com + 3]
+        toe = sensors[..., self.toe[support]:self.toe[support] + 3]
+        vel = sensors[..., self.comvel:self.comvel + 3]
+        tilt = root_tilt(state[..., 4:8], state[..., 1 + nq + 3:1 + nq + 6])
+        raw = np.concatenate([com[..., :2] - toe[..., :2], vel[..., :2], tilt], axis=-1)
+        return raw / self.scale
+
+
+def leg_root_joint(world: World, foot: str) -> str:
+    """The internal joint nearest the root on the chain from the root to `foot`'s toe (the hip of a leg)."""
+    model = world.model
+    body = int(model.site(world.character.feet[foot].toe).bodyid[0])
+    chain = []
+    while body != world.root_body and body != 0:
+        chain.append(body)
+        body = int(model.body_parentid[body])
+    joints = set(world.character.joints)
+    for b in reversed(chain):
+        for j in range(int(model.body_jntadr[b]), int(model.body_jntadr[b] + model.body_jntnum[b])):
+            if model.joint(j).name in joints:
+                return model.joint(j).name
+    raise ValueError(f"foot '{foot}' has no joint between it and the root")
+
+
+def hip_motors(world: World, foot: str) -> tuple[int, int]:
+    """Motor indices of the hip dofs whose axes lie closest to world y (pitch) and world x (roll) at rest."""
+    model, data = world.model, world.new_data()
+    j = model.joint(leg_root_joint(world, foot)).id
+    body = model.jnt_bodyid[j]
+    dof = model.jnt_dofadr[j]
+    if model.jnt_type[j] == mujoco.mjtJoint.mjJNT_BALL:
+        axes = data.xmat[body].reshape(3, 3).T          # rows: the child body's local axes in world
+        dofs = dof + np.arange(3)
+    else:
+        axes = (data.xmat[body].reshape(3, 3) @ model.jnt_axis[j])[None]
+        dofs = np.array([dof])
+    motor = {int(d): i for i, d in enumerate(world.internal_qvel)}
+    pitch = dofs[int(np.argmax(np.abs(axes[:, 1])))]
+    roll = dofs[int(np.argmax(np.abs(axes[:, 0])))]
+    return motor[int(pitch)], motor[int(roll)]
+
+
+@dataclass
+class StateRole:
+    """Which feet a state reads and drives: support toe for features, swing and stance hips for `hip`."""
+    support: str
+    swing: str | None
+    stance: str | None
+
+
+def state_roles(states: list[State]) -> list[StateRole]:
+    """Roles of each state of one cycle (air: the previous state's foot supports, its own foot swings)."""
+    roles = []
+    for i, s in enumerate(states):
+        prev = states[i - 1].foot
+        nxt = states[(i + 1) % len(states)].foot
+        if s.phase == "air":
+            roles.append(StateRole(support=prev, swing=s.foot, stance=None))
+        else:
+            roles.append(StateRole(support=s.foot, swing=nxt if nxt != s.foot else None, stance=s.foot))
+    return roles
+
+
+def hip_torque(gains: np.ndarray, dev: np.ndarray, role: StateRole, motors: dict[str, tuple[int, int]],
+               n_motor: int) -> np.ndarray:
+    """SIMBICON-style torque (n_motor,) from a feature deviation `dev` (8,) and the state's roles."""
+    tau = np.zeros(n_motor)
+    if role.swing is not None:
+        pitch, roll = motors[role.swing]
+        tau[pitch] += gains[0] * dev[0] + gains[1] * dev[2]
+        tau[roll] += gains[2] * dev[1] + gains[3] * dev[3]
+    if role.stance is not None:
+        pitch, roll = motors[role.stance]
+        tau[pitch] += gains[4] * dev[4] + gains[5] * dev[6]
+        tau[roll] += gains[6] * dev[5] + gains[7] * dev[7]
+    return tau
