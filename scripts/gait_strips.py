@@ -43,8 +43,10 @@ def strip(name: str, folder: Path) -> Path:
     width, title, chart = FRAMES * TILE[0], 34, 250                          # pixels
     height = title + TILE[1] + chart
     fig = plt.figure(figsize=(width / 100, height / 100), dpi=100)
+    fell = f" — FELL at t = {times[-1]:.2f} s (tiles after it repeat the last pose)" if result.fell else ""
     fig.text(0.005, 1 - 17 / height, f"{name}: its second cycle ({period:.3f} s) from a fixed side camera, "
-             "and the feet on the ground over two cycles", fontsize=13, weight="bold", va="center")
+             f"and the feet on the ground over two cycles{fell}", fontsize=13, weight="bold", va="center",
+             color="#c0392b" if fell else "black")
     top = fig.add_axes((0, (chart) / height, 1, TILE[1] / height))
     top.imshow(np.concatenate(tiles, axis=1), interpolation="nearest")
     top.set_axis_off()
