@@ -20,7 +20,7 @@ from eigengait.control.library import resolve
 from eigengait.control.playback import play, push_robustness
 from eigengait.control.sketch import load_sketch
 from eigengait.optimize.mom import MomSettings
-from eigengait.optimize.run import optimize
+from eigengait.optimize.staged import optimize_gait
 
 SETTINGS = {"open loop": [], "hip": ["hip"], "modal": ["modal"], "hip + modal": ["hip", "modal"]}
 
@@ -41,7 +41,7 @@ def main() -> None:
         sketch.feedback.mechanisms = SETTINGS[name]
         with tempfile.TemporaryDirectory() as tmp:
             folder = Path(tmp) / "run"
-            state = optimize(sketch, folder, MomSettings(seed=args.seed, max_seconds=args.minutes * 60,
+            state = optimize_gait(sketch, folder, MomSettings(seed=args.seed, max_seconds=args.minutes * 60,
                                                          inner_generations=100,
                                                          cycle_tolerance=sketch.targets.cycle_tolerance),
                              progress=False)

@@ -16,22 +16,23 @@ from eigengait.control.library import resolve
 from eigengait.control.playback import play, push_robustness
 from eigengait.control.sketch import load_sketch
 from eigengait.optimize.mom import MomSettings
-from eigengait.optimize.run import optimize
+from eigengait.optimize.staged import optimize_gait
 
 GAITS = {"humanoid-basic-run": "basic-run", "monster-run": "monster", "kangaroo-hop": "kangaroo",
          "dog-trot": "dog-trot"}
 PACKAGE = Path(__file__).resolve().parents[1] / "src" / "eigengait" / "data" / "gaits"
 
 
-def make(gait: str, evaluations: int, runs: Path, seed: int, max_outer: int) -> None:
+def make(gait: str, evaluations: int, runs: Path, seed: int, max_outer: int, minutes: float | None) -> None:
     sketch_path = resolve("sketch", GAITS[gait])
     folder = runs / gait
-    resume = (folder / "settings.json").exists()
+    resume = folder.exists()
     sketch = load_sketch(sketch_path)
-    state = optimize(sketch, folder,
-                     MomSettings(seed=seed, max_evaluations=evaluations, inner_generations=100,
-                                 max_outer=max_outer, cycle_tolerance=sketch.targets.cycle_tolerance),
-                     resume=resume, sketch_source=sketch_path)
+    state = optimize_gait(sketch, folder,
+                          MomSettings(seed=seed, max_evaluations=evaluations, inner_generations=100,
+                                      max_seconds=minutes * 60 if minutes else None,
+                                      max_outer=max_outer, cycle_tolerance=sketch.targets.cycle_tolerance),
+                          resume=resume, sketch_source=sketch_path)
     controller = load_controller(folder / "best_controller.json")
     system = system_for(controller)
     params = to_parameters(controller, system)
@@ -53,9 +54,10 @@ def main() -> None:
     parser.add_argument("--runs", type=Path, default=Path("out/gait-runs"))
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument("--max-outer", type=int, default=20, help="multiplier iterations at most")
+    parser.add_argument("--minutes", type=float, default=None, help="wall-clock budget per gait")
     args = parser.parse_args()
     for gait in args.gaits:
-        make(gait, args.evaluations, args.runs, args.seed, args.max_outer)
+        make(gait, args.evaluations, args.runs, args.seed, args.max_outer, args.minutes)
 
 
 if __name__ == "__main__":

@@ -72,7 +72,7 @@ def optimize_command(
     from eigengait.control.library import resolve
     from eigengait.control.sketch import load_sketch
     from eigengait.optimize.mom import MomSettings
-    from eigengait.optimize.run import optimize
+    from eigengait.optimize.staged import optimize_gait
 
     path = resolve("sketch", sketch)
     loaded = load_sketch(path)
@@ -80,7 +80,7 @@ def optimize_command(
     settings = MomSettings(seed=seed, max_evaluations=evaluations, max_seconds=minutes * 60 if minutes else None,
                            inner_generations=generations, max_outer=max_outer, cycle_tolerance=tolerance,
                            popsize=popsize, method=method)
-    state = optimize(loaded, output, settings, evaluator, workers, resume, sketch_source=path)
+    state = optimize_gait(loaded, output, settings, evaluator, workers, resume, sketch_source=path)
     best = state.best
     console.print(f"{state.finished}: {state.evaluations} evaluations, {state.generation} generations, "
                   f"{state.elapsed:.0f} s; best cost {best.cost:.4g}, cycle violation {best.violation:.3g}, "
@@ -155,7 +155,8 @@ def gaits_command(as_json: bool = typer.Option(False, "--json", help="Print JSON
 
 def demo_command(
         output: Path = typer.Option(Path("out/demo"), "--output", help="Parent folder; each demo gets a new subfolder."),
-        evaluations: int = typer.Option(20000, "--max-evaluations", help="Optimization budget."),
+        evaluations: int = typer.Option(200000, "--max-evaluations", help="Optimization budget (evaluations)."),
+        minutes: float = typer.Option(10.0, "--max-minutes", help="Optimization budget (wall-clock minutes)."),
         seed: int = typer.Option(1, "--seed")):
     """The main job on the humanoid: modes -> palette -> basic-run sketch -> optimization -> playback -> video, BVH."""
     from eigengait.character import load_character
@@ -165,7 +166,7 @@ def demo_command(
     from eigengait.control.sketch import load_sketch
     from eigengait.modal import compute_modes
     from eigengait.optimize.mom import MomSettings
-    from eigengait.optimize.run import optimize
+    from eigengait.optimize.staged import optimize_gait
     from eigengait.render.palette import write_palette
     from eigengait.sim import WorldOptions, build_world
 
@@ -186,15 +187,15 @@ def demo_command(
     write_media(world, qpos, 30.0, MediaOptions(folder / "kinematic.mp4", folder / "kinematic.bvh"), console)
     sketch_path = resolve("sketch", "basic-run")
     sketch = load_sketch(sketch_path)
-    state = optimize(sketch, folder / "optimization",
-                     MomSettings(seed=seed, max_evaluations=evaluations, inner_generations=100,
-                                 cycle_tolerance=sketch.targets.cycle_tolerance),
-                     sketch_source=sketch_path)
+    state = optimize_gait(sketch, folder / "optimization",
+                          MomSettings(seed=seed, max_evaluations=evaluations, max_seconds=minutes * 60,
+                                      inner_generations=100, cycle_tolerance=sketch.targets.cycle_tolerance),
+                          sketch_source=sketch_path)
     console.print(f"[2/4] optimization ({state.finished}): cycle violation {state.best.violation:.3g}, "
                   f"{state.evaluations} evaluations in {state.elapsed:.0f} s")
     c = load_controller(folder / "optimization" / "best_controller.json")
     system = system_for(c)
-    result = play(system, to_parameters(c, system), cycles=6)
+    result = play(system, to_parameters(c, system), cycles=20)
     (folder / "playback.json").write_text(json.dumps(result.summary(), indent=2))
     console.print(f"[3/4] playback: {json.dumps(result.summary())}")
     write_media(system.world, result.qpos, result.fps, MediaOptions(folder / "gait.mp4", folder / "gait.bvh"),

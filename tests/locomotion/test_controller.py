@@ -91,4 +91,17 @@ def test_soft_constraint_functions():
     assert terms.stance_contact_term(np.array([0.01, 0.004])) == pytest.approx(0.003 ** 2 + 1.0)
     assert terms.stance_rise_term(0.005) == pytest.approx(0.015 ** 2 + 1.0)      # push-off rise below 2 cm
     assert terms.stance_rise_term(0.03) == 0.0
-    assert terms.anti_stumble_term([0.9, 0.7, 0.8], [0.8, 0.8, 0.8]) == pytest.approx(0.1 ** 2 + 1.0 + 1.0)
+    assert terms.anti_stumble_term([0.9, 0.7, 0.8], [0.8, 0.8, 0.8]) == pytest.approx(0.1 ** 2 + 1.0)   # one sample
+
+
+def test_push_off_rise_counts_only_the_thesis_conditions():
+    """Eq. 4.18 on a hand-built push-off: the COM falls, then rises; the toe rises 3 cm below a raised heel."""
+    dt = 0.01
+    com_vz = np.r_[np.full(5, -0.5), np.full(10, 0.5)]
+    toe = np.r_[np.zeros(5), np.linspace(0.0, 0.03, 10)]
+    heel = toe + 0.05
+    assert terms.push_off_rise(com_vz, toe, heel, dt) == pytest.approx(0.03)
+    assert terms.push_off_rise(com_vz, toe, toe - 0.01, dt) == 0.0                 # heel below the toe
+    assert terms.push_off_rise(np.full(15, 0.5), toe, heel, dt) == 0.0              # the COM never fell
+    fast = np.r_[np.zeros(5), np.linspace(0.0, 0.3, 10)]                           # toe 3.3 m/s faster than the COM
+    assert terms.push_off_rise(com_vz, fast, fast + 0.05, dt) == 0.0

@@ -82,10 +82,8 @@ class FeedbackPlan:
         first = self.states[0].foot
         gains = p.feedback
         G = np.zeros((len(self.states), n_motor, 8))
-        self.mirrored = []
         for k, s in enumerate(self.states):
             mirrored = system.mirror is not None and s.foot != first
-            self.mirrored.append(mirrored)
             canon = k - len(self.states) // 2 if mirrored else k
             G[k] = _canonical_matrix(system, gains, self.states[canon], self.roles[canon], motors, n_motor)
             if mirrored:
@@ -199,14 +197,6 @@ class ClosedLoopRunner:
     def _feedback(self, plan: FeedbackPlan, t: float, state: np.ndarray, sensors: np.ndarray) -> np.ndarray:
         k = plan.state_index(t)
         features = self.reader.read(state, sensors, plan.roles[k].support)
-        import os
-        if os.environ.get("EG_REF") == "initial":
-            if not plan.ref_value:
-                plan.ref_value.append(features)
-            if not plan.enabled:
-                return 0.0
-            ref = plan.ref_value[0] * (MIRROR_SIGNS if plan.mirrored[k] else 1.0)
-            return plan.G[k] @ (features - ref)
         if t < plan.period - 1e-9:
             plan.ref_phase.append(t)
             plan.ref_value.append(features)

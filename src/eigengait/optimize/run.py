@@ -107,13 +107,14 @@ def write_best(folder: Path, problem: Problem, state: MomState) -> None:
 
 def optimize(sketch: Sketch, folder: Path, settings: MomSettings, evaluator: str = "threads",
              workers: int | None = None, resume: bool = False, progress: bool = True,
-             sketch_source: str | Path | None = None) -> MomState:
-    """Run (or resume) the method of multipliers; checkpoints every generation."""
+             sketch_source: str | Path | None = None, x_start=None) -> MomState:
+    """Run (or resume) the method of multipliers from `x_start` (default: the sketch's guess); checkpoints every
+    generation."""
     problem = Problem.from_sketch(sketch, sketch_source)
     settings, evaluator, state = prepare_folder(folder, sketch, settings, evaluator, resume)
     if resume:
         problem = Problem.from_sketch(Sketch.model_validate(yaml.safe_load((folder / "sketch.yaml").read_text())))
-    state = state or MomState(x_start=problem.space.initial())
+    state = state or MomState(x_start=problem.space.initial() if x_start is None else x_start)
     state.finished = "" if resume else state.finished
     evaluate = make_evaluator(evaluator, problem, workers)
     mom = make_optimizer(evaluate, settings, state)
