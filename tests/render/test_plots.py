@@ -1,5 +1,4 @@
 import imageio.v3 as iio
-import numpy as np
 
 from eigengait.optimize.run import write_plots
 

@@ -4,10 +4,10 @@ Each tile shows the relax pose solid light grey, the pose at −A in orange and 
 mode's most-moving joint by `max_rotation_deg` (so every mode is equally visible; the animation default follows
 the equal-energy rule instead, see `eigengait.motion.modal_mix`). The extremes are rendered separately and blended
 onto the relax image (no depth fight between coincident surfaces); each body's ghost is the more opaque the
-more that body moves (travel or own joint rotation), so the moving parts stand out and still parts stay grey. A dark arrow on the floor
-points where the character faces (+x); in the ground phase a red ball marks the pinned toe. Tiles run left to
-right, top to bottom, in mode order (mode 1 = lowest frequency), each labelled with its number and frequency in
-Hz. Sizes are in pixels.
+more that body moves (travel or own joint rotation), so the moving parts stand out and still parts stay grey.
+A dark arrow on the floor points where the character faces (+x); in the ground phase a red ball marks the
+pinned toe. Tiles run left to right, top to bottom, in mode order (mode 1 = lowest frequency), each labelled with
+its number and frequency in Hz. Sizes are in pixels.
 """
 
 from __future__ import annotations
@@ -206,8 +206,8 @@ def _draw_labels(canvas: np.ndarray, layout: PaletteLayout, modes: ModeSet, max_
 
     text(width / 2, layout.title_height * 0.36, palette_title(modes), ha="center", fontsize=17, weight="bold")
     text(width / 2, layout.title_height * 0.74,
-         f"grey: relax pose   ·   orange: −A   ·   teal: +A   (opaque where the body moves)   ·   "
-         f"arrow: facing" + ("   ·   red ball: pinned toe" if modes.foot else "") +
+         "grey: relax pose   ·   orange: −A   ·   teal: +A   (opaque where the body moves)   ·   "
+         "arrow: facing" + ("   ·   red ball: pinned toe" if modes.foot else "") +
          f"   ·   A turns the most-moving joint {max_rotation_deg:g}°",
          ha="center", fontsize=10.5, color="#444444")
     for i in range(layout.count):

@@ -166,7 +166,8 @@ class FrameRenderer:
     def update_scene(self, qpos: np.ndarray, solid_rgba: tuple | None = None, contact_marks: bool = False) -> None:
         """Build the scene of the pose; `add_marker` may add to it before `self.renderer.render()` draws it.
 
-        `solid_rgba` recolours the creature in one flat colour. `contact_marks` draws a disc on the floor under each foot touching it, in the foot's colour.
+        `solid_rgba` recolours the creature in one flat colour. `contact_marks` draws a disc on the floor under
+        each foot touching it, in the foot's colour.
         """
         self.data.qpos[:] = qpos
         mujoco.mj_kinematics(self.model, self.data)
