@@ -3,8 +3,9 @@
 Each tile shows the relax pose solid light grey, the pose at −A in orange and at +A in teal, where A turns the
 mode's most-moving joint by `max_rotation_deg` (so every mode is equally visible; the animation default follows
 the equal-energy rule instead, see `eigengait.motion.modal_mix`). The extremes are rendered separately and blended
-onto the relax image (no depth fight between coincident surfaces); each body's ghost is the more opaque the
-more that body moves (travel or own joint rotation), so the moving parts stand out and still parts stay grey.
+onto the relax image, the nearer one on top where they overlap (no depth fight between coincident surfaces); each
+body's ghost is the more opaque the more that body moves (travel or own joint rotation), so the moving parts stand
+out and still parts stay grey.
 A dark arrow on the floor points where the character faces (+x); in the ground phase a red ball marks the
 pinned toe. Tiles run left to right, top to bottom, in mode order (mode 1 = lowest frequency), each labelled with
 its number and frequency in Hz. Sizes are in pixels.
@@ -88,13 +89,35 @@ def mode_tiles(world: World, modes: ModeSet, count: int, tile_px: int = 240,
         for i in range(count):
             renderer.fit(np.vstack([relax, _corners(world, minus[i]), _corners(world, plus[i])]), centre)
             base = _render(renderer, world.model.qpos0, SOLID_RGBA, lambda: _add_cues(renderer, relax, modes))
-            tile = base.astype(float)
-            for extreme, rgba in ((minus[i], MINUS_RGBA), (plus[i], PLUS_RGBA)):
-                image, segments = _render(renderer, extreme, rgba), _segments(renderer, extreme)
-                alpha = _ghost_opacity(renderer, relax, extreme, max_rotation_deg)[segments][..., None]
-                tile = tile * (1 - alpha) + image * alpha
-            tiles.append(tile.round().astype(np.uint8))
+            layers = [_ghost(renderer, relax, extreme, rgba, max_rotation_deg)
+                      for extreme, rgba in ((minus[i], MINUS_RGBA), (plus[i], PLUS_RGBA))]
+            tiles.append(_blend(base, layers))
     return tiles
+
+
+def _ghost(renderer: FrameRenderer, relax: np.ndarray, extreme: np.ndarray, rgba: tuple,
+           max_rotation_deg: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """One extreme as a layer: its image, per-pixel opacity (H × W × 1) and depth (m, inf off the creature)."""
+    segments = _segments(renderer, extreme)
+    alpha = _ghost_opacity(renderer, relax, extreme, max_rotation_deg)[segments][..., None]
+    renderer.renderer.enable_depth_rendering()
+    try:
+        depth = renderer.render(extreme)
+    finally:
+        renderer.renderer.disable_depth_rendering()
+    return _render(renderer, extreme, rgba).astype(float), alpha, np.where(segments >= 0, depth, np.inf)
+
+
+def _blend(base: np.ndarray, layers: list[tuple[np.ndarray, np.ndarray, np.ndarray]]) -> np.ndarray:
+    """Blend two ghost layers onto the base image, per pixel the farther first, so the nearer one shows on top
+    where the two extremes overlap (as they would in space)."""
+    (image_a, alpha_a, depth_a), (image_b, alpha_b, depth_b) = layers
+    a_behind = (depth_a >= depth_b)[..., None]
+    far_image, far_alpha = np.where(a_behind, image_a, image_b), np.where(a_behind, alpha_a, alpha_b)
+    near_image, near_alpha = np.where(a_behind, image_b, image_a), np.where(a_behind, alpha_b, alpha_a)
+    out = base * (1 - far_alpha) + far_image * far_alpha
+    out = out * (1 - near_alpha) + near_image * near_alpha
+    return out.round().astype(np.uint8)
 
 
 def _render(renderer: FrameRenderer, qpos: np.ndarray, rgba: tuple, cues=None) -> np.ndarray:
