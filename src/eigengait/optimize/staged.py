@@ -58,10 +58,18 @@ def optimize_gait(sketch: Sketch, folder: Path, settings: MomSettings, evaluator
                         workers, True, progress, sketch_source)
     first = optimize(open_loop_sketch(sketch), stage, _share(settings, OPEN_LOOP_SHARE), evaluator, workers,
                      resume and (stage / "checkpoint.pkl").exists(), progress, sketch_source)
+    return closed_loop_stage(sketch, folder, _spent(settings, first), first, evaluator, workers, progress,
+                             sketch_source)
+
+
+def closed_loop_stage(sketch: Sketch, folder: Path, settings: MomSettings, first: MomState, evaluator: str = "threads",
+                      workers: int | None = None, progress: bool = True,
+                      sketch_source: str | Path | None = None) -> MomState:
+    """Stage 2 from an open-loop run's best, every feedback gain at zero."""
     gains = _feedback_size(sketch, sketch_source)
     x_start = np.r_[first.best_x, np.full(gains, 0.5)]          # normalized 0.5 = zero gain
-    return optimize(sketch, folder, replace(_spent(settings, first), sigma0=CLOSED_LOOP_SIGMA), evaluator, workers,
-                    False, progress, sketch_source, x_start=x_start)
+    return optimize(sketch, folder, replace(settings, sigma0=CLOSED_LOOP_SIGMA), evaluator, workers, False,
+                    progress, sketch_source, x_start=x_start)
 
 
 def _feedback_size(sketch: Sketch, source) -> int:
