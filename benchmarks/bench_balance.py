@@ -7,10 +7,12 @@
 4. Modal gaits (src/eigengait/data/gaits/*.json) played without the snap: open loop (`play(..., snap=False)`)
    vs with balance feedback (`play_with_feedback`), cycles survived out of 20.
 Character: the walker (the humanoid with ankles). Prints Markdown tables. Run: .venv/bin/python benchmarks/bench_balance.py
+(`... bench_balance.py tradeoff` runs part 1 and redraws the plot only).
 """
 
 from __future__ import annotations
 
+import sys
 import time
 from pathlib import Path
 
@@ -58,9 +60,8 @@ def gaits() -> None:
               f"{fb0.com_error_m:.3f} | {fb0.balance_torque_rms:.0f} |", flush=True)
 
 
-def main() -> None:
-    world, reference = load("walker")
-    print(f"clip {CLIP.name}: {reference.duration:.2f} s\n")
+def tradeoff(world, reference) -> None:
+    """Part 1: tracking error and artificial torque per robustness, as a table and docs/images/balance_tradeoff.png."""
     print("| robustness | tracked (s) | fell | joint RMS (deg) | COM error (m) | artificial torque mean (N·m) | "
           "wall time (s) |\n|---:|---:|---|---:|---:|---:|---:|")
     rows = []
@@ -71,6 +72,44 @@ def main() -> None:
         rows.append(res)
         print(f"| {r} | {res.duration_s:.2f} | {res.fell} | {res.joint_rms_deg:.1f} | {res.com_error_m:.3f} | "
               f"{res.artificial_torque:.1f} | {wall:.2f} |", flush=True)
+    plot_tradeoff(rows, reference.duration)
+
+
+def plot_tradeoff(rows, clip_s: float) -> None:
+    """Three panels against robustness: joint RMS error, COM error, mean artificial torque; falls marked."""
+    fig, axes = plt.subplots(1, 3, figsize=(11, 3.6))
+    panels = (("joint RMS error (deg)", [res.joint_rms_deg for res in rows], "{:.1f}"),
+              ("COM error (m)", [res.com_error_m for res in rows], "{:.3f}"),
+              ("mean artificial torque (N·m)", [res.artificial_torque for res in rows], "{:.0f}"))
+    for ax, (label, values, fmt) in zip(axes, panels):
+        ax.plot(ROBUSTNESS, values, "o-", color="#2a6fb0")
+        for k, (r, v, res) in enumerate(zip(ROBUSTNESS, values, rows)):
+            crowded = k + 1 < len(ROBUSTNESS) and ROBUSTNESS[k + 1] - r < 0.2     # label the left of a close pair
+            ax.annotate(fmt.format(v), (r, v), textcoords="offset points", xytext=(-4, 6) if crowded else (4, 6),
+                        ha="right" if crowded else "left", fontsize=8)
+            if res.fell:
+                ax.plot(r, v, "x", color="#c0392b", ms=9)
+        ax.set_ylim(0, max(values) * 1.22)
+        ax.set_xlim(-0.08, 1.15)
+        ax.set_xlabel("robustness R (0 = no artificial torque)")
+        ax.set_ylabel(label)
+        ax.set_xticks(ROBUSTNESS, [f"{r:g}" for r in ROBUSTNESS], fontsize=8)
+        ax.grid(alpha=0.3)
+    fell = [f"{r:g}" for r, res in zip(ROBUSTNESS, rows) if res.fell]
+    note = f"fell at R = {', '.join(fell)} (×)" if fell else f"every setting tracks the whole {clip_s:.2f} s clip"
+    fig.suptitle(f"CMU 02_01 walk on the built-in walker: {note}", fontsize=11)
+    fig.tight_layout()
+    PLOT.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(PLOT, dpi=120)
+    print(f"\nplot: {PLOT}")
+
+
+def main() -> None:
+    world, reference = load("walker")
+    print(f"clip {CLIP.name}: {reference.duration:.2f} s\n")
+    tradeoff(world, reference)
+    if sys.argv[1:] == ["tradeoff"]:
+        return
 
     print("\n| robustness | largest push survived (N, 0.1 s at t = 0.5 s) |\n|---:|---:|")
     for r in ROBUSTNESS:
@@ -91,22 +130,6 @@ def main() -> None:
         print(f"| {r} | {res.duration_s:.2f} | {res.fell} | {res.joint_rms_deg:.1f} | {res.com_error_m:.3f} | "
               f"{res.artificial_torque:.1f} |", flush=True)
 
-    fig, ax = plt.subplots(1, 2, figsize=(9, 3.6))
-    art = [res.artificial_torque for res in rows]
-    ax[0].plot(ROBUSTNESS, [res.duration_s for res in rows], "o-", label="time tracked before falling (s)")
-    ax[0].axhline(reference.duration, color="gray", ls=":", label="clip length")
-    ax[0].set_xlabel("robustness")
-    ax[0].legend(fontsize=8)
-    ax[1].plot(art, [res.joint_rms_deg for res in rows], "o-")
-    for r, a, res in zip(ROBUSTNESS, art, rows):
-        ax[1].annotate(f"R={r}", (a, res.joint_rms_deg), fontsize=8)
-    ax[1].set_xlabel("mean artificial torque (N·m)")
-    ax[1].set_ylabel("joint RMS error (deg)")
-    fig.suptitle("CMU 02_01 walk on the built-in walker")
-    fig.tight_layout()
-    PLOT.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(PLOT, dpi=120)
-    print(f"\nplot: {PLOT}")
     gaits()
 
 

@@ -1,37 +1,73 @@
-"""Picture strips of the shipped gaits for the README: one cycle of each, played with gravity, side view.
+"""Picture strips and footfall diagrams of the shipped gaits for the README: each gait played with gravity for two
+cycles; the strip shows the second cycle from a fixed side camera (so travel shows), each tile stamped with its
+time, its phase in the cycle and the feet on the ground; below it, the contact diagram of both cycles, with the
+strip's frames marked.
 
-Usage: python scripts/gait_strips.py  ->  docs/images/gait_<name>.png
+Usage: python scripts/gait_strips.py [--output FOLDER] [GAIT ...]  ->  FOLDER/gait_<name>.png (default docs/images)
 """
 
 from __future__ import annotations
 
+import argparse
 from pathlib import Path
 
-import imageio.v2 as imageio
-import numpy as np
+import matplotlib
 
-from eigengait.control.controller import load_controller, system_for, to_parameters
-from eigengait.control.library import gait_names, resolve
-from eigengait.control.playback import play
-from eigengait.render.video import CameraView, iter_frames
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from eigengait.control.controller import load_controller, system_for, to_parameters  # noqa: E402
+from eigengait.control.library import gait_names, resolve  # noqa: E402
+from eigengait.control.playback import play  # noqa: E402
+from eigengait.motion.resample import resample  # noqa: E402
+from eigengait.render.contacts import contact_diagram, foot_contacts  # noqa: E402
+from eigengait.render.video import CameraView, iter_frames  # noqa: E402
 
 FRAMES = 8
+TILE = (240, 260)                     # width, height in pixels
+VIEW = CameraView(azimuth_deg=100.0, elevation_deg=-27.0, fill=0.85, follow=False)
 OUT = Path(__file__).resolve().parents[1] / "docs" / "images"
 
 
-def strip(name: str) -> Path:
+def strip(name: str, folder: Path) -> Path:
     controller = load_controller(resolve("gait", name))
     system = system_for(controller)
     result = play(system, to_parameters(controller, system), cycles=2)
-    per_cycle = len(result.qpos) // 2
-    picks = result.qpos[per_cycle + np.linspace(0, per_cycle - 1, FRAMES).astype(int)]   # the second cycle
-    view = CameraView(azimuth_deg=100.0, elevation_deg=-24.0)
-    frames = list(iter_frames(system.world, picks, 240, 260, view))
-    path = OUT / f"gait_{name}.png"
-    imageio.imwrite(path, np.concatenate(frames, axis=1))
+    world, period = system.world, controller.period
+    times = np.arange(len(result.qpos)) / result.fps
+    picks = period + np.arange(FRAMES) * period / FRAMES                      # the second cycle
+    poses = resample(world.model, result.qpos, times, picks)
+    tiles = list(iter_frames(world, poses, *TILE, VIEW, times=picks))
+
+    width, title, chart = FRAMES * TILE[0], 34, 250                          # pixels
+    height = title + TILE[1] + chart
+    fig = plt.figure(figsize=(width / 100, height / 100), dpi=100)
+    fell = f" — FELL at t = {times[-1]:.2f} s (tiles after it repeat the last pose)" if result.fell else ""
+    fig.text(0.005, 1 - 17 / height, f"{name}: its second cycle ({period:.3f} s) from a fixed side camera, "
+             f"and the feet on the ground over two cycles{fell}", fontsize=13, weight="bold", va="center",
+             color="#c0392b" if fell else "black")
+    top = fig.add_axes((0, (chart) / height, 1, TILE[1] / height))
+    top.imshow(np.concatenate(tiles, axis=1), interpolation="nearest")
+    top.set_axis_off()
+    for k in range(FRAMES):
+        top.text((k + 0.5) * TILE[0], TILE[1] - 8, f"phase {k / FRAMES:.3g}", ha="center", va="bottom",
+                 fontsize=11, bbox={"facecolor": "white", "edgecolor": "none", "alpha": 0.8})
+        if k:
+            top.axvline(k * TILE[0] - 0.5, color="white", lw=2)
+    diagram = fig.add_axes((0.07, 45 / height, 0.91, (chart - 120) / height))
+    contact_diagram(diagram, times, foot_contacts(world, result.qpos), list(world.foot_spheres), period, picks)
+    path = folder / f"gait_{name}.png"
+    fig.savefig(path)
+    plt.close(fig)
     return path
 
 
 if __name__ == "__main__":
-    for gait in gait_names():
-        print(strip(gait))
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("gaits", nargs="*", help="shipped gait names (default: all)")
+    parser.add_argument("--output", type=Path, default=OUT, help="folder for the images (default: docs/images)")
+    args = parser.parse_args()
+    args.output.mkdir(parents=True, exist_ok=True)
+    for gait in args.gaits or gait_names():
+        print(strip(gait, args.output))

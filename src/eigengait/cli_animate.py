@@ -15,6 +15,7 @@ import typer
 from rich.console import Console
 from rich.table import Table
 
+from eigengait.cli_media import BVH_UNITS_OPTION, CAMERA_OPTION, SPEED_OPTION, MediaOptions
 from eigengait.errors import UserInputError
 from eigengait.outputs import refuse_existing
 from eigengait.motion.modal_mix import DEFAULT_MAX_ROTATION_DEG
@@ -78,7 +79,8 @@ def animate_command(
                                                 help="Move each mode's frequency to the nearest multiple of this "
                                                      "(Hz), so the motion loops every 1/base-hz seconds."),
         video: Optional[Path] = typer.Option(None, "--video", help="Video to write: .mp4 (H.264) or .gif."),
-        bvh: Optional[Path] = typer.Option(None, "--bvh", help="BVH file to write (y-up, centimetres)."),
+        bvh: Optional[Path] = typer.Option(None, "--bvh", help="BVH file to write (y-up; unit: --bvh-units)."),
+        bvh_units: str = BVH_UNITS_OPTION, speed: float = SPEED_OPTION, camera: str = CAMERA_OPTION,
         width: int = typer.Option(640, "--width", help="Video width in pixels (even)."),
         height: int = typer.Option(480, "--height", help="Video height in pixels (even)."),
         force: bool = typer.Option(False, "--force", help="Overwrite existing files.")):
@@ -88,12 +90,13 @@ def animate_command(
     """
     from eigengait.motion.bvh_export import write_trajectory_bvh
     from eigengait.motion.modal_mix import build_mix, joint_rotations, mix_trajectory, parse_mix
-    from eigengait.render.video import render_video
+    from eigengait.render.video import CameraView, render_video
 
     if video is None and bvh is None:
         raise UserInputError("nothing to write", field="--video/--bvh", fix="give --video out.mp4 and/or --bvh out.bvh")
     _require_suffix(video, (".mp4", ".gif"), "--video")
     _require_suffix(bvh, (".bvh",), "--bvh")
+    MediaOptions(video, bvh, fps, speed, camera, bvh_units).check()
     refuse_existing([video, bvh], force)
     terms = parse_mix(mix)
     world, modes = _world_and_modes(character, phase, foot, relax)
@@ -113,11 +116,12 @@ def animate_command(
 
     if video is not None:
         start = time.perf_counter()
-        frames = render_video(world, qpos, fps, video, width, height, progress=True)
+        frames = render_video(world, qpos, fps, video, width, height, CameraView(follow=camera == "follow"),
+                              progress=True, fps=fps, speed=speed)
         elapsed = time.perf_counter() - start
         console.print(f"wrote {video} ({frames} frames, {width}×{height}, {frames / elapsed:.1f} frames/s)")
     if bvh is not None:
-        clip = write_trajectory_bvh(world, qpos, fps, bvh)
+        clip = write_trajectory_bvh(world, qpos, fps, bvh, units=bvh_units)
         console.print(f"wrote {bvh} ({clip.n_frames} frames, {len(clip.joints)} joints)")
 
 

@@ -12,6 +12,8 @@ import typer
 from rich.console import Console
 from rich.table import Table
 
+from eigengait.cli_media import (BVH_UNITS_OPTION, CAMERA_OPTION, FPS_OPTION, SPEED_OPTION, MediaOptions,
+                                 status_console, write_media)
 from eigengait.errors import UserInputError
 from eigengait.outputs import refuse_existing
 
@@ -20,21 +22,11 @@ DEMO_KINEMATIC_MIX = "2:1.4,15:0.8@90"   # stride + both knees a quarter period 
 DEMO_KINEMATIC_BASE_HZ = 0.9           # snap both frequencies to multiples of 0.9 Hz so the clip loops
 
 
-def _video_and_bvh(world, qpos, fps, video: Optional[Path], bvh: Optional[Path]) -> None:
-    if video:
-        from eigengait.render.video import render_video
-        render_video(world, qpos, fps, video, progress=True)
-        console.print(f"video: {video}")
-    if bvh:
-        from eigengait.motion.bvh_export import write_trajectory_bvh
-        write_trajectory_bvh(world, qpos, fps, bvh)
-        console.print(f"BVH: {bvh}")
-
-
 def sketch_command(
         sketch: str = typer.Argument(..., help="Sketch file (.yaml/.json) or a shipped preset name."),
         seconds: float = typer.Option(4.0, "--seconds", help="Simulated time (s)."),
         video: Optional[Path] = typer.Option(None, "--video", help="Write a video (.mp4/.gif)."),
+        fps: float = FPS_OPTION, speed: float = SPEED_OPTION, camera: str = CAMERA_OPTION,
         force: bool = typer.Option(False, "--force", help="Overwrite an existing video."),
         as_json: bool = typer.Option(False, "--json", help="Print one JSON object.")):
     """Simulate a sketch with gravity off, as the animator sees it while editing."""
@@ -44,6 +36,7 @@ def sketch_command(
 
     if seconds <= 0:
         raise UserInputError(f"--seconds must be positive, got {seconds}", field="--seconds")
+    media = MediaOptions(video=video, fps=fps, speed=speed, camera=camera).check()
     refuse_existing([video], force)
     path = resolve("sketch", sketch)
     result = simulate_sketch(load_sketch(path), seconds, source=path)
@@ -56,7 +49,7 @@ def sketch_command(
         console.print(f"simulated {seconds:.1f} s of '{path.name}' with gravity off in {result.wall_seconds:.2f} s "
                       f"({summary['realtime_factor']}× real time); largest joint rotation "
                       f"{summary['max_joint_rotation_deg']}°")
-    _video_and_bvh(result.world, result.qpos, result.fps, video, None)
+    write_media(result.world, result.qpos, result.fps, media, status_console(as_json))
 
 
 def optimize_command(
@@ -105,6 +98,8 @@ def play_command(
         as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
         video: Optional[Path] = typer.Option(None, "--video", help="Write a video (.mp4/.gif)."),
         bvh: Optional[Path] = typer.Option(None, "--bvh", help="Write the motion as BVH."),
+        fps: float = FPS_OPTION, speed: float = SPEED_OPTION, camera: str = CAMERA_OPTION,
+        bvh_units: str = BVH_UNITS_OPTION,
         force: bool = typer.Option(False, "--force", help="Overwrite existing outputs.")):
     """Play a controller on the ground with gravity, physics only; report speed, energy, survival and gait quality."""
     from eigengait.control.controller import load_controller, system_for, to_parameters
@@ -117,6 +112,7 @@ def play_command(
     if pushes and snap:
         raise UserInputError("--push and --snap do not go together", field="--push",
                              fix="pushes test the gait's own balance: play without --snap")
+    media = MediaOptions(video=video, bvh=bvh, fps=fps, speed=speed, camera=camera, bvh_units=bvh_units).check()
     refuse_existing([video, bvh], force)
     path = resolve("gait", controller)
     c = load_controller(path)
@@ -132,7 +128,7 @@ def play_command(
         for k, v in summary.items():
             table.add_row(k, str(v))
         console.print(table)
-    _video_and_bvh(system.world, result.qpos, result.fps, video, bvh)
+    write_media(system.world, result.qpos, result.fps, media, status_console(as_json))
 
 
 def gaits_command(as_json: bool = typer.Option(False, "--json", help="Print JSON.")):
@@ -188,7 +184,7 @@ def demo_command(
     _, qpos = mix_trajectory(world, kinematic, seconds=4.0, fps=30.0)
     console.print(f"[1/4] modes and palettes: {folder}/palette_air.png, palette_ground.png; "
                   f"kinematic two-mode gait (air modes {DEMO_KINEMATIC_MIX}):")
-    _video_and_bvh(world, qpos, 30.0, folder / "kinematic.mp4", folder / "kinematic.bvh")
+    write_media(world, qpos, 30.0, MediaOptions(folder / "kinematic.mp4", folder / "kinematic.bvh"), console)
     sketch_path = resolve("sketch", "basic-run")
     sketch = load_sketch(sketch_path)
     state = optimize_gait(sketch, folder / "optimization",
@@ -202,7 +198,8 @@ def demo_command(
     result = play(system, to_parameters(c, system), cycles=20)
     (folder / "playback.json").write_text(json.dumps(result.summary(), indent=2))
     console.print(f"[3/4] playback: {json.dumps(result.summary())}")
-    _video_and_bvh(system.world, result.qpos, result.fps, folder / "gait.mp4", folder / "gait.bvh")
+    write_media(system.world, result.qpos, result.fps, MediaOptions(folder / "gait.mp4", folder / "gait.bvh"),
+                console)
     console.print(f"[4/4] done in {time.perf_counter() - t0:.0f} s. Outputs in {folder}")
 
 

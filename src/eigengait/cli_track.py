@@ -7,6 +7,9 @@ from pathlib import Path
 
 import typer
 
+from eigengait.cli_media import (BVH_UNITS_OPTION, CAMERA_OPTION, FPS_OPTION, SPEED_OPTION, MediaOptions,
+                                 status_console, write_media)
+from eigengait.outputs import refuse_existing
 
 PUSH_HELP = "Push the torso sideways: FORCE@TIME in N and s (e.g. 150@1.0), held for 0.1 s along +y."
 
@@ -29,19 +32,21 @@ def register(app: typer.Typer) -> None:
         tolerance: float = typer.Option(0.0, "--tolerance",
                                         help="Switch balance off while the compensated fraction is below this."),
         video: Path = typer.Option(None, "--video", help="Write the simulated motion to this .mp4 or .gif."),
+        bvh: Path = typer.Option(None, "--bvh", help="Write the simulated motion as BVH."),
+        fps: float = FPS_OPTION, speed: float = SPEED_OPTION, camera: str = CAMERA_OPTION,
+        bvh_units: str = BVH_UNITS_OPTION,
+        force: bool = typer.Option(False, "--force", help="Overwrite existing outputs."),
         as_json: bool = typer.Option(False, "--json", help="Print the result as JSON."),
     ) -> None:
         """Track a motion-capture clip in physics with the balance controller."""
         from eigengait.motion.tracking import run_track
 
+        media = MediaOptions(video=video, bvh=bvh, fps=fps, speed=speed, camera=camera, bvh_units=bvh_units).check()
+        refuse_existing([video, bvh], force)
         world, reference, result = run_track(clip, character, robustness, push, mapping, start_frame, tolerance)
-        if video is not None:
-            from eigengait.render.video import render_video
-
-            render_video(world, result.qpos, 1.0 / result.frame_time, video)
-        summary = result.summary()
+        write_media(world, result.qpos, 1.0 / result.frame_time, media, status_console(as_json))
         if as_json:
-            typer.echo(json.dumps(summary))
+            typer.echo(json.dumps(result.summary()))
             return
         state = f"fell at {result.fall_time_s:.2f} s" if result.fell else "did not fall"
         typer.echo(f"tracked {result.duration_s:.2f} s of {reference.duration:.2f} s ({state}); "

@@ -66,17 +66,23 @@ def write_log(folder: Path, rows: list[dict]) -> None:
     tmp.replace(folder / "log.csv")
 
 
-def write_plots(folder: Path, rows: list[dict]) -> None:
+def write_plots(folder: Path, rows: list[dict], cycle_tolerance: float | None = None) -> None:
+    """objective.png and violation.png against generation; the violation plot marks the cycle tolerance."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     if not rows:
         return
     g = [r["generation"] for r in rows]
-    for key, name, label in (("best_cost", "objective.png", "best objective f (log)"),
-                             ("best_violation", "violation.png", "cycle violation max|φᵢ| (log)")):
+    for key, name, label in (("best_cost", "objective.png", "best objective f (dimensionless, log)"),
+                             ("best_violation", "violation.png", "best cycle violation max|φᵢ|\n(rad, m; log)")):
         fig, ax = plt.subplots(figsize=(6, 3.2), dpi=110)
-        ax.semilogy(g, [max(r[key], 1e-12) for r in rows], color="#2a6fb0", lw=1.6)
+        ax.semilogy(g, [max(r[key], 1e-12) for r in rows], color="#2a6fb0", lw=1.6, label="best so far")
+        if key == "best_violation" and cycle_tolerance:
+            ax.axhline(cycle_tolerance, color="#c0392b", lw=1.2, label=f"cycle tolerance {cycle_tolerance:g}")
+            low, high = ax.get_ylim()
+            ax.set_ylim(min(low, cycle_tolerance / 1.5), max(high, cycle_tolerance * 1.5))
+            ax.legend(fontsize=8, loc="upper right")
         for r0, r1 in zip(rows, rows[1:]):
             if r1["outer"] != r0["outer"]:
                 ax.axvline(r1["generation"], color="#bbb", lw=0.8, ls="--")
@@ -130,5 +136,5 @@ def optimize(sketch: Sketch, folder: Path, settings: MomSettings, evaluator: str
         close = getattr(evaluate, "close", None)
         close and close()
     save_state(state, folder / "checkpoint.pkl")
-    write_plots(folder, state.log)
+    write_plots(folder, state.log, settings.cycle_tolerance)
     return state

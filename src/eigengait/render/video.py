@@ -1,10 +1,14 @@
 """Render a World's qpos sequence with MuJoCo's offscreen Renderer and write it as MP4 or GIF.
 
-The camera is a free camera framed on the relax pose, then following the creature's centre of mass horizontally
-(x, y) at constant height, looking down at `elevation_deg` so the floor fills the background. Lighting: MuJoCo's
-headlight softened, the world's overhead light casting shadows on the floor. Distances are in metres, angles in
-degrees, sizes in pixels. MP4 is H.264 (libx264, yuv420p: plays in browsers and every player); GIF loops forever
-(GIF stores frame times in 10 ms steps, so 25 or 20 fps play exactly).
+The camera is a free camera looking down at `elevation_deg` so the floor fills the background. By default it is
+framed on the relax pose and follows the creature's centre of mass (COM) horizontally at constant height; a fixed
+camera (`CameraView(follow=False)`) frames the whole trajectory instead, so travel shows. Lighting: MuJoCo's
+headlight softened, and the world's overhead lights moved horizontally with the COM so the creature's shadow
+falls under it wherever it goes. Videos are resampled to exactly the requested frame rate and play in real time
+unless a speed is given (`eigengait.motion.resample`); frames carry the simulated time and, on a floor, a disc
+under each foot on the ground plus a foot box filled while it touches (`eigengait.render.contacts`).
+Distances are in metres, angles in degrees, sizes in pixels. MP4 is H.264 (libx264, yuv420p: plays in browsers
+and every player); GIF loops forever (GIF stores frame times in 10 ms steps, so 25 or 20 fps play exactly).
 """
 
 from __future__ import annotations
@@ -28,11 +32,13 @@ VIDEO_SUFFIXES = (".mp4", ".gif")
 class CameraView:
     """Free-camera placement. MuJoCo azimuth: 90° looks along +y (side view); 135° sees a +x-facing creature
     from its front-right three-quarter. Elevations below −22.5° keep the horizon out of a 4:3 or square frame.
-    `distance_m=None` fits the creature in the frame so that it spans `fill` of the width or height."""
+    `distance_m=None` fits the creature in the frame so that it spans `fill` of the width or height.
+    `follow=True` follows the COM; `False` is a fixed camera framing every pose of the trajectory."""
     azimuth_deg: float = 135.0
     elevation_deg: float = -25.0
     distance_m: float | None = None
     fill: float = 0.75
+    follow: bool = True
 
     def axes(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Unit forward, right and up vectors of the camera in the world."""
@@ -102,18 +108,19 @@ def fit_camera(points: np.ndarray, view: CameraView, aspect: float, fovy_deg: fl
 class FrameRenderer:
     """Offscreen renderer of a world's poses; use as a context manager (it owns a GL context).
 
-    The camera is fitted to the relax pose (refit with `fit`) and then follows the COM horizontally at
-    constant height.
+    The camera is fitted to the relax pose (refit with `fit`, or `fit_trajectory` for a fixed camera) and, if the
+    view follows, moves with the COM horizontally at constant height. The world's lights always move with the COM.
     """
 
     def __init__(self, world: World, width: int = 640, height: int = 480, view: CameraView = CameraView()):
         self.world = world
         self.model = visual_model(world, width, height)
         self.data = mujoco.MjData(self.model)
-        self.ghost_data = mujoco.MjData(self.model)
+        self.pose_data = mujoco.MjData(self.model)          # for poses measured but not drawn
         self.renderer = mujoco.Renderer(self.model, height=height, width=width)
         self.renderer.scene.flags[mujoco.mjtRndFlag.mjRND_SHADOW] = True
         self.geoms = creature_geoms(self.model, world.root_body)
+        self.world_lights = np.flatnonzero(self.model.light_bodyid == 0)
         self.view = view
         self.camera = mujoco.MjvCamera()
         self.camera.type = mujoco.mjtCamera.mjCAMERA_FREE
@@ -130,6 +137,17 @@ class FrameRenderer:
         self.camera.distance = self.view.distance_m or distance
         self.height_m = float(lookat[2])
         self.lookat_offset = lookat[:2] - self.relax_com[:2]
+        self.camera.lookat[:] = lookat
+
+    def fit_trajectory(self, qpos: np.ndarray, samples: int = 40) -> None:
+        """Frame up to `samples` evenly spread poses of a trajectory (T × nq) at once, for a fixed camera."""
+        picks = qpos[np.unique(np.linspace(0, len(qpos) - 1, samples).astype(int))]
+        self.fit(np.vstack([self._corners(q) for q in picks]))
+
+    def _corners(self, qpos: np.ndarray) -> np.ndarray:
+        self.pose_data.qpos[:] = qpos
+        mujoco.mj_kinematics(self.model, self.pose_data)
+        return geom_corners(self.model, self.pose_data, self.geoms)
 
     def __enter__(self) -> "FrameRenderer":
         return self
@@ -140,55 +158,85 @@ class FrameRenderer:
     def close(self) -> None:
         self.renderer.close()
 
-    def render(self, qpos: np.ndarray, ghosts: tuple[tuple[np.ndarray, tuple], ...] = (),
-               solid_rgba: tuple | None = None) -> np.ndarray:
-        """RGB image (height × width × 3, uint8) of the pose, camera on the current COM.
+    def render(self, qpos: np.ndarray, solid_rgba: tuple | None = None, contact_marks: bool = False) -> np.ndarray:
+        """RGB image (height × width × 3, uint8) of the pose (arguments: `update_scene`)."""
+        self.update_scene(qpos, solid_rgba, contact_marks)
+        return self.renderer.render()
 
-        `ghosts` are extra poses (qpos, rgba) drawn translucent in one flat colour each, shrunk by 3% so they
-        hide inside the solid pose wherever they coincide with it. `solid_rgba` recolours the solid pose.
+    def update_scene(self, qpos: np.ndarray, solid_rgba: tuple | None = None, contact_marks: bool = False) -> None:
+        """Build the scene of the pose; `add_marker` may add to it before `self.renderer.render()` draws it.
+
+        `solid_rgba` recolours the creature in one flat colour. `contact_marks` draws a disc on the floor under
+        each foot touching it, in the foot's colour.
         """
         self.data.qpos[:] = qpos
         mujoco.mj_kinematics(self.model, self.data)
         mujoco.mj_comPos(self.model, self.data)
         com = self.data.subtree_com[self.world.root_body]
-        self.camera.lookat[:] = [*(com[:2] + self.lookat_offset), self.height_m]
+        self.data.light_xpos[self.world_lights, :2] = self.model.light_pos[self.world_lights, :2] + com[:2]
+        if self.view.follow:
+            self.camera.lookat[:] = [*(com[:2] + self.lookat_offset), self.height_m]
         self.renderer.update_scene(self.data, self.camera)
         if solid_rgba is not None:
-            self._recolour(0, solid_rgba)
-        for ghost_qpos, rgba in ghosts:
-            self._add_ghost(ghost_qpos, rgba)
-        return self.renderer.render()
+            self._recolour(solid_rgba)
+        if contact_marks:
+            self._add_contact_marks()
 
-    def _recolour(self, first: int, rgba: tuple, scale: float = 1.0) -> None:
+    def add_marker(self, kind: int, size: tuple, pos: np.ndarray, rgba: tuple, mat: np.ndarray = np.eye(3)) -> None:
+        """Add one decorative geom (an `mjtGeom` type; size and position in m) to the scene being drawn."""
         scene = self.renderer.scene
-        for i in range(first, scene.ngeom):
+        if scene.ngeom >= scene.maxgeom:
+            return
+        mujoco.mjv_initGeom(scene.geoms[scene.ngeom], kind, np.asarray(size, float), np.asarray(pos, float),
+                            np.asarray(mat, float).ravel(), np.asarray(rgba, np.float32))
+        scene.ngeom += 1
+
+    def _add_contact_marks(self) -> None:
+        from eigengait.render.contacts import contact_points, foot_colour
+
+        for index, point in enumerate(contact_points(self.world, self.data).values()):
+            if point is not None:
+                self.add_marker(mujoco.mjtGeom.mjGEOM_CYLINDER, (0.07, 0.002, 0), [point[0], point[1], 0.002],
+                                (*foot_colour(index), 0.85))
+
+    def _recolour(self, rgba: tuple) -> None:
+        scene = self.renderer.scene
+        for i in range(scene.ngeom):
             geom = scene.geoms[i]
             if geom.objtype == mujoco.mjtObj.mjOBJ_GEOM and geom.objid in self.geoms:
                 geom.rgba[:] = rgba
-                geom.size[:] *= scale
-
-    def _add_ghost(self, qpos: np.ndarray, rgba: tuple) -> None:
-        first = self.renderer.scene.ngeom
-        self.ghost_data.qpos[:] = qpos
-        mujoco.mj_kinematics(self.model, self.ghost_data)
-        mujoco.mjv_addGeoms(self.model, self.ghost_data, mujoco.MjvOption(), mujoco.MjvPerturb(),
-                            mujoco.mjtCatBit.mjCAT_DYNAMIC, self.renderer.scene)
-        self._recolour(first, rgba, scale=0.97)
 
 
 def iter_frames(world: World, qpos: np.ndarray, width: int = 640, height: int = 480,
-                view: CameraView = CameraView(), progress: bool = False) -> Iterator[np.ndarray]:
-    """Frames of a qpos sequence (T × nq), one RGB uint8 image at a time, with a progress bar if asked."""
+                view: CameraView = CameraView(), progress: bool = False,
+                times: np.ndarray | None = None) -> Iterator[np.ndarray]:
+    """Frames of a qpos sequence (T × nq), one RGB uint8 image at a time, with a progress bar if asked.
+
+    With `times` (s, one per pose) every frame is annotated: the time, and on a floor the feet on the ground.
+    """
+    from eigengait.render.contacts import contact_points, foot_colour, has_floor
+    from eigengait.render.overlay import annotate
+
+    marks = times is not None and has_floor(world) and bool(world.foot_spheres)
     with FrameRenderer(world, width, height, view) as renderer, _progress(progress) as bar:
+        if not view.follow:
+            renderer.fit_trajectory(qpos)
         task = bar.add_task("rendering", total=len(qpos))
-        for q in qpos:
-            yield renderer.render(q)
+        for i, q in enumerate(qpos):
+            frame = renderer.render(q, contact_marks=marks)
+            if times is not None:
+                feet = [(name, point is not None, foot_colour(k)) for k, (name, point)
+                        in enumerate(contact_points(world, renderer.data).items())] if marks else []
+                frame = annotate(frame, float(times[i]), feet)
+            yield frame
             bar.advance(task)
 
 
 def _progress(visible: bool) -> Progress:
+    from rich.console import Console
+
     return Progress(TextColumn("{task.description}"), BarColumn(), TextColumn("{task.completed}/{task.total} frames"),
-                    TimeRemainingColumn(), disable=not visible, transient=True)
+                    TimeRemainingColumn(), console=Console(stderr=True), disable=not visible, transient=True)
 
 
 def video_path(path: str | Path) -> Path:
@@ -217,8 +265,17 @@ def write_video(frames: Iterator[np.ndarray], path: str | Path, fps: float) -> i
     return count
 
 
-def render_video(world: World, qpos: np.ndarray, fps: float, path: str | Path, width: int = 640, height: int = 480,
-                 view: CameraView = CameraView(), progress: bool = False) -> int:
-    """Render a qpos sequence (T × nq) sampled at `fps` to a video file; returns the frame count."""
+def render_video(world: World, qpos: np.ndarray, source_fps: float, path: str | Path, width: int = 640,
+                 height: int = 480, view: CameraView = CameraView(), progress: bool = False, fps: float = 30.0,
+                 speed: float = 1.0, annotate: bool = True) -> int:
+    """Render a qpos sequence (T × nq) recorded at `source_fps` to a video file at exactly `fps` frames per
+    second, showing `speed` simulated seconds per second of video (1 = real time); returns the frame count.
+
+    `annotate` stamps each frame with its simulated time and marks the feet on the ground (see `iter_frames`).
+    """
+    from eigengait.motion.resample import at_frame_rate, frame_times
+
     video_path(path)
-    return write_video(iter_frames(world, qpos, width, height, view, progress), path, fps)
+    frames = at_frame_rate(world.model, qpos, source_fps, fps, speed)
+    times = frame_times((len(qpos) - 1) / source_fps, fps, speed) if annotate else None
+    return write_video(iter_frames(world, frames, width, height, view, progress, times), path, fps)

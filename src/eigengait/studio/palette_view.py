@@ -1,8 +1,9 @@
 """The mode palette: every air and ground mode of the character vibrating, one small copy per mode.
 
 The copies stand on two walls behind the stage (air on the left, ground on the right), in frequency order,
-left to right and top to bottom, each labelled "mode N · f Hz" (mode 1 = lowest non-rigid mode). A copy is
-coloured by its status in the sketch: green priority, grey-blue allowed, red excluded. Every copy loops its
+left to right and top to bottom, each labelled "N · f Hz" (mode 1 = lowest non-rigid mode) in text sized with
+the scene, so labels never run into each other at any zoom. A copy is coloured by its status in the sketch:
+green priority, grey-blue allowed, red excluded (the legend stands under each wall's title). Every copy loops its
 kinematic vibration ±A sin(2πt/LOOP_SECONDS), A turning the mode's most-moving joint by 25°, so every mode is
 equally visible and equally paced; the label gives the true natural frequency. All copies are one batched mesh,
 so a frame of the whole palette is one message.
@@ -31,6 +32,10 @@ LOOP_SECONDS = 1.6
 COPY_SCALE = 0.45
 COPY_YAW_DEG = -35.0
 COLUMNS = 6
+COLUMN_SPACING = 2.3     # copy widths (plus 0.2 m) from one copy to the next: room for a legible label
+LABEL_HEIGHT = 0.13      # fraction of the column spacing: label text height in the scene
+LEGEND = "green: priority  ·  grey-blue: allowed  ·  red: excluded"
+LABEL_SCALE = {"title": 1.6, "legend": 1.25}     # relative to a mode label
 WALL_X = -2.5            # m: the walls stand behind the stage
 WALL_GAP = 1.2           # m: half the space between the two walls (the stage sits in it)
 PSI_LIMIT = 200.0        # N·m: slider range ±
@@ -61,7 +66,7 @@ class PaletteView:
         figure = Figure.of(world)
         low, high = figure.extent(world.model.qpos0[None])
         anchor = (low + high) / 2
-        spacing = COPY_SCALE * np.array([1.75 * (max(high[:2] - low[:2]) + 0.2), 1.45 * (high[2] - low[2])])
+        spacing = COPY_SCALE * np.array([COLUMN_SPACING * (max(high[:2] - low[:2]) + 0.2), 1.45 * (high[2] - low[2])])
         phase_t = np.sin(2 * np.pi * np.arange(LOOP_FRAMES) / LOOP_FRAMES)
         positions, wxyzs, copies, labels = [], [], [], []
         for side, phase in zip((-1, 1), PHASES):
@@ -78,10 +83,12 @@ class PaletteView:
                 positions.append(p)
                 wxyzs.append(q)
                 copies.append((phase, i + 1))
-                labels.append((f"{phase}{i + 1}", f"{i + 1} · {modes.frequencies_hz[i]:.2f} Hz",
+                labels.append((f"{phase}{i + 1}", f"{i + 1} · {modes.frequencies_hz[i]:.1f} Hz",
                                cell - [0, 0, spacing[1] * 0.42]))
             title = f"{phase.upper()} phase modes" + (f" ({modes.foot} toe pinned)" if modes.foot else "")
-            labels.append((f"{phase}_title", title, [WALL_X, side * (WALL_GAP + width / 2), rows * spacing[1] + 0.15]))
+            top = rows * spacing[1]
+            labels.append((f"{phase}_title", title, [WALL_X, side * (WALL_GAP + width / 2), top + 0.4]))
+            labels.append((f"{phase}_legend", LEGEND, [WALL_X, side * (WALL_GAP + width / 2), top + 0.18]))
         with self.lock:
             self._clear_scene()
             self.copies = copies
@@ -94,10 +101,11 @@ class PaletteView:
                 "/palette/copies", UNIT_CUBE_VERTICES, UNIT_CUBE_FACES, batched_wxyzs=self.wxyzs[0],
                 batched_positions=self.positions[0], batched_scales=sizes, batched_colors=self._colors(),
                 flat_shading=True, lod="off", cast_shadow=False, receive_shadow=False)
+            height = LABEL_HEIGHT * spacing[0]
             for name, text, position in labels:
                 self.scene_nodes.append(self.server.scene.add_label(
                     f"/palette/labels/{name}", text, position=position, anchor="top-center",
-                    font_screen_scale=0.55 if "title" not in name else 1.0))
+                    font_size_mode="scene", font_scene_height=height * LABEL_SCALE.get(name.split("_")[-1], 1.0)))
         self._rebuild_gui()
 
     def _clear_scene(self) -> None:

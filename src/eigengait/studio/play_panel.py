@@ -1,7 +1,8 @@
 """Play a controller on the ground with gravity, report speed and cycles, export BVH and video, save a copy.
 
 A controller is a shipped gait name or a controller JSON inside the studio folder (e.g. a run's
-`best_controller.json`); the character it names must be built in or inside the folder too.
+`best_controller.json`); the character it names must be built in or inside the folder too. Exports are written
+at exactly EXPORT_FPS, BVH lengths in metres (the CLI's defaults).
 """
 
 from __future__ import annotations
@@ -20,6 +21,7 @@ from eigengait.studio.feedback import Feedback
 from eigengait.studio.sandbox import Sandbox
 from eigengait.studio.stage import Stage
 
+EXPORT_FPS = 30.0        # frames/s of exported BVH and video (the CLI's --fps default), resampled by time
 
 class PlayPanel:
     def __init__(self, server: viser.ViserServer, sandbox: Sandbox, stage: Stage, feedback: Feedback,
@@ -89,7 +91,7 @@ class PlayPanel:
         from eigengait.motion.bvh_export import write_trajectory_bvh
         result = self._played()
         path = self.sandbox.resolve(self.bvh_name.value, (".bvh",))
-        write_trajectory_bvh(self.world, result.qpos, result.fps, path)
+        write_trajectory_bvh(self.world, result.qpos, result.fps, path, fps=EXPORT_FPS)
         self.feedback.info(f"Wrote `{self.sandbox.relative(path)}`.", event.client)
 
     def _on_video(self, event: viser.GuiEvent) -> None:
@@ -97,7 +99,7 @@ class PlayPanel:
         result = self._played()
         path = self.sandbox.resolve(self.video_name.value, (".mp4", ".gif"))
         self.feedback.info(f"Rendering `{self.sandbox.relative(path)}` …", event.client)
-        render_video(self.world, result.qpos, result.fps, path)
+        render_video(self.world, result.qpos, result.fps, path, fps=EXPORT_FPS)
         self.feedback.info(f"Wrote `{self.sandbox.relative(path)}`.", event.client)
 
     def _on_save(self, event: viser.GuiEvent) -> None:
