@@ -23,11 +23,14 @@ GAITS = {"humanoid-basic-run": "basic-run", "monster-run": "monster", "kangaroo-
 PACKAGE = Path(__file__).resolve().parents[1] / "src" / "eigengait" / "data" / "gaits"
 
 
-def make(gait: str, evaluations: int, runs: Path, seed: int, max_outer: int, minutes: float | None) -> None:
+def make(gait: str, evaluations: int, runs: Path, seed: int, max_outer: int, minutes: float | None,
+         horizon: int | None) -> None:
     sketch_path = resolve("sketch", GAITS[gait])
     folder = runs / gait
     resume = folder.exists()
     sketch = load_sketch(sketch_path)
+    if horizon:
+        sketch.feedback.horizon_cycles = horizon
     state = optimize_gait(sketch, folder,
                           MomSettings(seed=seed, max_evaluations=evaluations, inner_generations=100,
                                       max_seconds=minutes * 60 if minutes else None,
@@ -55,9 +58,10 @@ def main() -> None:
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument("--max-outer", type=int, default=20, help="multiplier iterations at most")
     parser.add_argument("--minutes", type=float, default=None, help="wall-clock budget per gait")
+    parser.add_argument("--horizon", type=int, default=None, help="cycles per candidate (default: the sketch's)")
     args = parser.parse_args()
     for gait in args.gaits:
-        make(gait, args.evaluations, args.runs, args.seed, args.max_outer, args.minutes)
+        make(gait, args.evaluations, args.runs, args.seed, args.max_outer, args.minutes, args.horizon)
 
 
 if __name__ == "__main__":
