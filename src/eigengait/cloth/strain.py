@@ -1,0 +1,76 @@
+"""Strain limiting (Provot 1995): no spring may end a step longer than ``(1 + bound)`` times its rest length.
+
+After the dynamics step, every spring stretched beyond the bound is shortened back to it by moving its ends
+towards each other, sweeping the springs Gauss–Seidel style until no spring exceeds the bound by more than
+``tolerance`` of its rest length. Velocities receive the same correction divided by the step, so the projected
+motion is the one the points carry on with. Compression is not limited. Positions in m, velocities in m/s, the
+bound is a strain (0.1 = 10 %).
+
+Order and weights (:func:`projection_order`): springs are swept outwards from the fixed points (by hop distance
+over the spring graph), and of a spring's two ends only the one farther from the fixed points moves — both, in
+proportion to their inverse masses, when they are equally far (or the surface has no fixed point). A hanging sheet
+then satisfies its bound in one or two sweeps instead of the hundreds an equal-share projection needs to pass a
+correction down a long chain.
+"""
+
+from __future__ import annotations
+
+import numba as nb
+import numpy as np
+import scipy.sparse as sp
+from scipy.sparse import csgraph
+
+#: default strain bound (10 %), the user-set limit of ``--strain-limit``
+DEFAULT_BOUND = 0.10
+
+
+@nb.njit(cache=True)
+def limit_strain(x, v, springs, rest, weights, bound, h, max_sweeps, tolerance):
+    """Project ``x`` (N, 3) in place so every spring obeys the bound; adjust ``v``. Returns the sweeps made.
+
+    ``weights`` (S, 2) are the shares (inverse masses, 1/kg, or 0) by which each spring's two ends move.
+    """
+    for sweep in range(max_sweeps):
+        worst = 0.0
+        for s in range(springs.shape[0]):
+            i, j = springs[s, 0], springs[s, 1]
+            wi, wj = weights[s, 0], weights[s, 1]
+            w = wi + wj
+            if w == 0.0:
+                continue
+            d0, d1, d2 = x[j, 0] - x[i, 0], x[j, 1] - x[i, 1], x[j, 2] - x[i, 2]
+            length = np.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
+            excess = length - (1.0 + bound) * rest[s]
+            if excess <= 0.0:
+                continue
+            worst = max(worst, excess / rest[s])
+            scale = excess / (w * length)
+            for q, dq in ((0, d0), (1, d1), (2, d2)):
+                x[i, q] += wi * scale * dq
+                x[j, q] -= wj * scale * dq
+                v[i, q] += wi * scale * dq / h
+                v[j, q] -= wj * scale * dq / h
+        if worst <= tolerance:
+            return sweep + 1
+    return max_sweeps
+
+
+def projection_order(springs: np.ndarray, mass: np.ndarray, fixed: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(spring order, (S, 2) end weights) for :func:`limit_strain`, from the hop distance to the fixed points."""
+    n = len(mass)
+    depth = np.full(n, np.inf)
+    if fixed.any():
+        graph = sp.coo_matrix((np.ones(len(springs)), (springs[:, 0], springs[:, 1])), shape=(n, n))
+        depth = csgraph.dijkstra(graph, directed=False, indices=np.flatnonzero(fixed), unweighted=True,
+                                 min_only=True)
+    di, dj = depth[springs[:, 0]], depth[springs[:, 1]]
+    order = np.argsort(np.minimum(di, dj), kind="stable")
+    inverse = np.where(fixed, 0.0, 1.0 / mass)
+    weights = np.stack([np.where(di >= dj, inverse[springs[:, 0]], 0.0),
+                        np.where(dj >= di, inverse[springs[:, 1]], 0.0)], axis=1)
+    return order, weights[order]
+
+
+def max_strain(x: np.ndarray, springs: np.ndarray, rest: np.ndarray) -> float:
+    """Largest spring strain ``|d|/rest - 1`` at positions ``x`` (NumPy)."""
+    return float((np.linalg.norm(x[springs[:, 1]] - x[springs[:, 0]], axis=1) / rest - 1.0).max())
