@@ -51,7 +51,6 @@ def rk4(accel: Acceleration, x, v, t: float, h: float):
 
 
 EXPLICIT = {"euler": forward_euler, "symplectic": symplectic_euler, "rk4": rk4}
-_FUSED = {"euler": kernels.EULER, "symplectic": kernels.SYMPLECTIC}
 INTEGRATORS = (*EXPLICIT, "implicit")
 
 
@@ -157,8 +156,8 @@ def make_stepper(name: str, model: ClothModel, h: float) -> Callable:
         return lambda x, v, t: solver(x, v, t, h)
     if name not in EXPLICIT:
         raise KeyError(name)
-    if model.compiled and name in _FUSED:
-        return CompiledExplicit(model, h, _FUSED[name])
+    if model.compiled and name in kernels.FUSED:
+        return CompiledExplicit(model, h, kernels.FUSED[name])
     method = EXPLICIT[name]
 
     def accel(x, v, t):

@@ -11,8 +11,11 @@ from __future__ import annotations
 import numba as nb
 import numpy as np
 
+from eigengait.cloth.strain import limit_strain
+
 #: explicit methods the fused step kernel knows
 EULER, SYMPLECTIC = 0, 1
+FUSED = {"euler": EULER, "symplectic": SYMPLECTIC}
 
 
 @nb.njit(cache=True)
@@ -55,6 +58,7 @@ def explicit_step(x, v, h, method, mass, springs, rest, k, bend, bend_coef, grav
     left untouched (their prescribed motion is imposed afterwards). ``force`` (N, 3) is scratch space.
     """
     internal_forces(x, springs, rest, k, bend, bend_coef, force)
+    inv_h = 1.0 / h
     for i in range(x.shape[0]):
         if fixed[i]:
             continue
@@ -62,24 +66,43 @@ def explicit_step(x, v, h, method, mass, springs, rest, k, bend, bend_coef, grav
         f0 = force[i, 0] + m * gravity[0] + external[0]
         f1 = force[i, 1] + m * gravity[1] + external[1]
         f2 = force[i, 2] + m * gravity[2] + external[2]
+        v0, v1, v2 = v[i, 0], v[i, 1], v[i, 2]
         if friction != 0.0:
-            speed = np.sqrt(v[i, 0] ** 2 + v[i, 1] ** 2 + v[i, 2] ** 2)
+            speed = np.sqrt(v0 * v0 + v1 * v1 + v2 * v2)
             if speed > 0.0:
-                drag = min(friction * np.sqrt(f0 * f0 + f1 * f1 + f2 * f2), m * speed / h) / speed
-                f0 -= drag * v[i, 0]
-                f1 -= drag * v[i, 1]
-                f2 -= drag * v[i, 2]
+                drag = min(friction * np.sqrt(f0 * f0 + f1 * f1 + f2 * f2), m * speed * inv_h) / speed
+                f0 -= drag * v0
+                f1 -= drag * v1
+                f2 -= drag * v2
         if method == EULER:
-            x[i, 0] += h * v[i, 0]
-            x[i, 1] += h * v[i, 1]
-            x[i, 2] += h * v[i, 2]
-        v[i, 0] += h * f0 / m
-        v[i, 1] += h * f1 / m
-        v[i, 2] += h * f2 / m
+            x[i, 0] += h * v0
+            x[i, 1] += h * v1
+            x[i, 2] += h * v2
+        step = h / m
+        v0 += step * f0
+        v1 += step * f1
+        v2 += step * f2
+        v[i, 0], v[i, 1], v[i, 2] = v0, v1, v2
         if method == SYMPLECTIC:
-            x[i, 0] += h * v[i, 0]
-            x[i, 1] += h * v[i, 1]
-            x[i, 2] += h * v[i, 2]
+            x[i, 0] += h * v0
+            x[i, 1] += h * v1
+            x[i, 2] += h * v2
+
+
+@nb.njit(cache=True)
+def explicit_steps(x, v, steps, h, method, mass, springs, rest, k, bend, bend_coef, gravity, external, friction,
+                   fixed, force, strain_springs, strain_rest, strain_weights, strain_bound, max_sweeps, tolerance):
+    """``steps`` calls of :func:`explicit_step`, each followed by strain limiting when ``strain_bound`` ≥ 0, in
+    one compiled loop (for scenes whose fixed points stand still and that have nothing else to resolve per step).
+    Returns the number of strain-limiting sweeps made."""
+    sweeps = 0
+    for _ in range(steps):
+        explicit_step(x, v, h, method, mass, springs, rest, k, bend, bend_coef, gravity, external, friction, fixed,
+                      force)
+        if strain_bound >= 0.0:
+            sweeps += limit_strain(x, v, strain_springs, strain_rest, strain_weights, strain_bound, h, max_sweeps,
+                                   tolerance)
+    return sweeps
 
 
 @nb.njit(cache=True)

@@ -34,22 +34,31 @@ def limit_strain(x, v, springs, rest, weights, bound, h, max_sweeps, tolerance):
         worst = 0.0
         for s in range(springs.shape[0]):
             i, j = springs[s, 0], springs[s, 1]
-            wi, wj = weights[s, 0], weights[s, 1]
-            w = wi + wj
-            if w == 0.0:
-                continue
             d0, d1, d2 = x[j, 0] - x[i, 0], x[j, 1] - x[i, 1], x[j, 2] - x[i, 2]
-            length = np.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
-            excess = length - (1.0 + bound) * rest[s]
-            if excess <= 0.0:
+            squared = d0 * d0 + d1 * d1 + d2 * d2
+            limit = (1.0 + bound) * rest[s]
+            if squared <= limit * limit:
                 continue
+            wi, wj = weights[s, 0], weights[s, 1]
+            if wi + wj == 0.0:
+                continue
+            length = np.sqrt(squared)
+            excess = length - limit
             worst = max(worst, excess / rest[s])
-            scale = excess / (w * length)
-            for q, dq in ((0, d0), (1, d1), (2, d2)):
-                x[i, q] += wi * scale * dq
-                x[j, q] -= wj * scale * dq
-                v[i, q] += wi * scale * dq / h
-                v[j, q] -= wj * scale * dq / h
+            scale = excess / ((wi + wj) * length)
+            si, sj = wi * scale, wj * scale
+            x[i, 0] += si * d0
+            x[i, 1] += si * d1
+            x[i, 2] += si * d2
+            x[j, 0] -= sj * d0
+            x[j, 1] -= sj * d1
+            x[j, 2] -= sj * d2
+            v[i, 0] += si * d0 / h
+            v[i, 1] += si * d1 / h
+            v[i, 2] += si * d2 / h
+            v[j, 0] -= sj * d0 / h
+            v[j, 1] -= sj * d1 / h
+            v[j, 2] -= sj * d2 / h
         if worst <= tolerance:
             return sweep + 1
     return max_sweeps
