@@ -56,3 +56,33 @@ def test_compiled_steps_match_the_reference_steps(integrator, h):
         runs.append(sim.x)
     assert np.abs(runs[0]).max() > 0.5
     np.testing.assert_allclose(runs[0], runs[1], atol=1e-6 if integrator == "implicit" else 1e-10)
+
+
+def test_compiled_self_collision_matches_the_numpy_pass():
+    from eigengait.cloth.contact import collide_self as compiled_self
+    from eigengait.cloth.collision import collide_self as numpy_self
+    from eigengait.cloth.simulate import TriangleGrid
+
+    floor = SurfaceSpec("floor", 3, 3, 1.0, np.zeros(3), np.array([0.0, 0.0, 1.0]), 1.0, (10.0,) * 3, (0, 0, 0))
+    dot = SurfaceSpec("dot", 1, 2, 3.0, np.array([1.7, 0.3, 0.05]), np.array([0.0, 0.0, 1.0]), 0.5, (0.0,) * 3,
+                      (0, 0, 0))
+    model = surface_model([floor, dot])
+    x0 = model.rest_positions.copy()
+    x0[9:, 2] = 0.05
+    x1 = x0.copy()
+    x1[9:, 2] = 0.01  # one dot over the floor's interior comes within the 0.04 m gap, the other is off the sheet
+    v = np.zeros_like(x0)
+    v[9:, 2] = -2.0
+    results = []
+    for collide in ("compiled", "numpy"):
+        x, vel = x1.copy(), v.copy()
+        if collide == "compiled":
+            grid = TriangleGrid(model.triangles, 1.0).build(x, 0.04)
+            count = compiled_self(x0, x, vel, model.mass, model.free, model.triangles, *grid, 0.04, 1.0)
+        else:
+            count = numpy_self(x0, x, vel, model.mass, model.triangles, model.free, thickness=0.04, restitution=1.0)
+        results.append((count, x, vel))
+    assert results[0][0] == results[1][0] == 1
+    np.testing.assert_allclose(results[0][1], results[1][1], atol=1e-12)
+    np.testing.assert_allclose(results[0][2], results[1][2], atol=1e-12)
+    assert results[0][2][9:, 2].max() > 0  # elastic: the dot bounces

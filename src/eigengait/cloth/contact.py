@@ -26,13 +26,46 @@ import numpy as np
 _MAX_CELLS = 64 ** 3
 
 
+# Small 3-vectors are tuples inside the kernels: they live in registers, where arrays would be heap-allocated.
+@nb.njit(cache=True, inline="always")
+def _row(a, i):
+    return (a[i, 0], a[i, 1], a[i, 2])
+
+
+@nb.njit(cache=True, inline="always")
+def _sub(a, b):
+    return (a[0] - b[0], a[1] - b[1], a[2] - b[2])
+
+
+@nb.njit(cache=True, inline="always")
+def _axpy(s, a, b):
+    """s·a + b"""
+    return (s * a[0] + b[0], s * a[1] + b[1], s * a[2] + b[2])
+
+
+@nb.njit(cache=True, inline="always")
+def _dot(a, b):
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+@nb.njit(cache=True, inline="always")
+def _cross(a, b):
+    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
+
+
+@nb.njit(cache=True, inline="always")
+def _store(a, i, value):
+    a[i, 0], a[i, 1], a[i, 2] = value
+
+
 @nb.njit(cache=True)
 def _cell_range(lo, hi, origin, cell, dims):
-    a = np.empty(3, np.int64)
-    b = np.empty(3, np.int64)
-    for q in range(3):
-        a[q] = max(int(np.floor((lo[q] - origin[q]) / cell)), 0)
-        b[q] = min(int(np.floor((hi[q] - origin[q]) / cell)), dims[q] - 1)
+    """First and last cell (i, j, k) of the box [lo, hi], clipped to the grid."""
+    a = (max(int(np.floor((lo[0] - origin[0]) / cell)), 0), max(int(np.floor((lo[1] - origin[1]) / cell)), 0),
+         max(int(np.floor((lo[2] - origin[2]) / cell)), 0))
+    b = (min(int(np.floor((hi[0] - origin[0]) / cell)), dims[0] - 1),
+         min(int(np.floor((hi[1] - origin[1]) / cell)), dims[1] - 1),
+         min(int(np.floor((hi[2] - origin[2]) / cell)), dims[2] - 1))
     return a, b
 
 
@@ -41,7 +74,7 @@ def build_grid(lo, hi, origin, cell, dims):
     """Bucket boxes [lo, hi] (B, 3) into a uniform grid; returns CSR (start (C+1,), items)."""
     count = np.zeros(dims[0] * dims[1] * dims[2] + 1, np.int64)
     for t in range(lo.shape[0]):
-        a, b = _cell_range(lo[t], hi[t], origin, cell, dims)
+        a, b = _cell_range(_row(lo, t), _row(hi, t), origin, cell, dims)
         for i in range(a[0], b[0] + 1):
             for j in range(a[1], b[1] + 1):
                 for k in range(a[2], b[2] + 1):
@@ -50,7 +83,7 @@ def build_grid(lo, hi, origin, cell, dims):
     fill = start[:-1].copy()
     items = np.empty(start[-1], np.int64)
     for t in range(lo.shape[0]):
-        a, b = _cell_range(lo[t], hi[t], origin, cell, dims)
+        a, b = _cell_range(_row(lo, t), _row(hi, t), origin, cell, dims)
         for i in range(a[0], b[0] + 1):
             for j in range(a[1], b[1] + 1):
                 for k in range(a[2], b[2] + 1):
@@ -72,18 +105,18 @@ def grid_layout(lo: np.ndarray, hi: np.ndarray, cell: float):
 @nb.njit(cache=True)
 def _ray_triangle(p, d, a, b, c):
     """(hit, s, u, v) for the line p + s d against triangle abc (s unbounded; u, v barycentric of b, c)."""
-    e1 = b - a
-    e2 = c - a
-    pvec = np.cross(d, e2)
-    det = (e1 * pvec).sum()
+    e1 = _sub(b, a)
+    e2 = _sub(c, a)
+    pvec = _cross(d, e2)
+    det = _dot(e1, pvec)
     if abs(det) < 1e-14:
         return False, 0.0, 0.0, 0.0
     inv = 1.0 / det
-    tvec = p - a
-    u = (tvec * pvec).sum() * inv
-    qvec = np.cross(tvec, e1)
-    v = (d * qvec).sum() * inv
-    s = (e2 * qvec).sum() * inv
+    tvec = _sub(p, a)
+    u = _dot(tvec, pvec) * inv
+    qvec = _cross(tvec, e1)
+    v = _dot(d, qvec) * inv
+    s = _dot(e2, qvec) * inv
     tol = 1e-9
     return (u >= -tol) and (v >= -tol) and (u + v <= 1.0 + tol), s, u, v
 
@@ -96,11 +129,12 @@ def collide_points(x0, x1, v, movable, corners, normals, origin, cell, dims, sta
     for p in range(x0.shape[0]):
         if not movable[p]:
             continue
-        lo = np.minimum(x0[p], x1[p]) - thickness
-        hi = np.maximum(x0[p], x1[p]) + thickness
+        p0, p1 = _row(x0, p), _row(x1, p)
+        lo = (min(p0[0], p1[0]) - thickness, min(p0[1], p1[1]) - thickness, min(p0[2], p1[2]) - thickness)
+        hi = (max(p0[0], p1[0]) + thickness, max(p0[1], p1[1]) + thickness, max(p0[2], p1[2]) + thickness)
         a, b = _cell_range(lo, hi, origin, cell, dims)
         best_s, best_t, rest_depth, rest_t = 2.0, -1, 0.0, -1
-        step = x1[p] - x0[p]
+        step = _sub(p1, p0)
         for i in range(a[0], b[0] + 1):
             for j in range(a[1], b[1] + 1):
                 for k in range(a[2], b[2] + 1):
@@ -110,33 +144,35 @@ def collide_points(x0, x1, v, movable, corners, normals, origin, cell, dims, sta
                         if stamp[t] == p:
                             continue
                         stamp[t] = p
-                        n = normals[t]
-                        side0 = ((x0[p] - corners[t, 0]) * n).sum()
-                        side1 = ((x1[p] - corners[t, 0]) * n).sum()
+                        n = _row(normals, t)
+                        ca, cb, cc = _row(corners[t], 0), _row(corners[t], 1), _row(corners[t], 2)
+                        side0 = _dot(_sub(p0, ca), n)
+                        side1 = _dot(_sub(p1, ca), n)
                         if side0 * side1 <= 0.0:
-                            hit, s, _, _ = _ray_triangle(x0[p], step, corners[t, 0], corners[t, 1], corners[t, 2])
+                            hit, s, _, _ = _ray_triangle(p0, step, ca, cb, cc)
                             if hit and 0.0 <= s <= 1.0 and s < best_s:
                                 best_s, best_t = s, t
                         elif abs(side1) < thickness:
-                            hit, _, _, _ = _ray_triangle(x1[p], n, corners[t, 0], corners[t, 1], corners[t, 2])
+                            hit, _, _, _ = _ray_triangle(p1, n, ca, cb, cc)
                             if hit and thickness - abs(side1) > rest_depth:
                                 rest_depth, rest_t = thickness - abs(side1), t
         if best_t >= 0:
-            n = normals[best_t].copy()
-            if ((x0[p] - corners[best_t, 0]) * n).sum() < 0.0:
-                n = -n
-            tangential = step - (step * n).sum() * n
-            x1[p] = x0[p] + best_s * step + (1.0 - best_s) * tangential + thickness * n
+            n = _row(normals, best_t)
+            if _dot(_sub(p0, _row(corners[best_t], 0)), n) < 0.0:
+                n = _axpy(-2.0, n, n)
+            tangential = _axpy(-_dot(step, n), n, step)
+            _store(x1, p, _axpy(thickness, n, _axpy(1.0 - best_s, tangential, _axpy(best_s, step, p0))))
         elif rest_t >= 0:
-            n = normals[rest_t].copy()
-            if ((x1[p] - corners[rest_t, 0]) * n).sum() < 0.0:
-                n = -n
-            x1[p] += rest_depth * n
+            n = _row(normals, rest_t)
+            if _dot(_sub(p1, _row(corners[rest_t], 0)), n) < 0.0:
+                n = _axpy(-2.0, n, n)
+            _store(x1, p, _axpy(rest_depth, n, p1))
         else:
             continue
-        vn = (v[p] * n).sum()
+        vp = _row(v, p)
+        vn = _dot(vp, n)
         if vn < 0.0:
-            v[p] -= (1.0 + restitution) * vn * n
+            _store(v, p, _axpy(-(1.0 + restitution) * vn, n, vp))
         contacts += 1
     return contacts
 
@@ -146,10 +182,11 @@ def collide_edges(samples, directions, x, v, movable, triangles, origin, cell, d
     """Push cloth triangles out of the obstacle edge samples (S, 3) along ``directions``; returns the count."""
     contacts = 0
     for f in range(samples.shape[0]):
-        p = samples[f]
-        d = directions[f]
-        lo = np.minimum(p - depth * d, p + thickness * d)
-        hi = np.maximum(p - depth * d, p + thickness * d)
+        p = _row(samples, f)
+        d = _row(directions, f)
+        back, ahead = _axpy(-depth, d, p), _axpy(thickness, d, p)
+        lo = (min(back[0], ahead[0]), min(back[1], ahead[1]), min(back[2], ahead[2]))
+        hi = (max(back[0], ahead[0]), max(back[1], ahead[1]), max(back[2], ahead[2]))
         a, b = _cell_range(lo, hi, origin, cell, dims)
         best_s, best_t, best_u, best_v = thickness, -1, 0.0, 0.0
         for i in range(a[0], b[0] + 1):
@@ -158,29 +195,91 @@ def collide_edges(samples, directions, x, v, movable, triangles, origin, cell, d
                     c = (i * dims[1] + j) * dims[2] + k
                     for slot in range(start[c], start[c + 1]):
                         t = items[slot]
-                        tri = triangles[t]
-                        hit, s, u, w = _ray_triangle(p, d, x[tri[0]], x[tri[1]], x[tri[2]])
+                        hit, s, u, w = _ray_triangle(p, d, _row(x, triangles[t, 0]), _row(x, triangles[t, 1]),
+                                                     _row(x, triangles[t, 2]))
                         if hit and -depth <= s < best_s:
                             best_s, best_t, best_u, best_v = s, t, u, w
         if best_t < 0:
             continue
-        tri = triangles[best_t]
-        weights = np.array([1.0 - best_u - best_v, best_u, best_v])
+        weights = (1.0 - best_u - best_v, best_u, best_v)
         norm = 0.0
         for q in range(3):
-            if movable[tri[q]]:
+            if movable[triangles[best_t, q]]:
                 norm += weights[q] ** 2
         if norm == 0.0:
             continue
         push = (thickness - best_s) / norm
         for q in range(3):
-            node = tri[q]
+            node = triangles[best_t, q]
             if movable[node]:
-                x[node] += weights[q] * push * d
-                vn = (v[node] * d).sum()
+                _store(x, node, _axpy(weights[q] * push, d, _row(x, node)))
+                vq = _row(v, node)
+                vn = _dot(vq, d)
                 if vn < 0.0:
-                    v[node] -= vn * d
+                    _store(v, node, _axpy(-vn, d, vq))
         contacts += 1
+    return contacts
+
+
+@nb.njit(cache=True)
+def collide_self(x0, x1, v, mass, movable, triangles, origin, cell, dims, start, items, thickness, restitution):
+    """Compiled self-collision, in place on (x1, v); returns the number of contacts.
+
+    Each movable point closer than ``thickness`` to a cloth triangle that does not contain it (its projection inside
+    the triangle) is pushed halfway back towards ``thickness`` on the side it was on at the start of the step, and
+    an impulse along the normal, shared by the triangle's points by their barycentric weights, removes the approach
+    velocity (restitution e; for e = 1 and equal masses it swaps normal velocities). Same rule as the NumPy
+    ``collision.collide_self``, applied point by point.
+    """
+    contacts = 0
+    for p in range(x1.shape[0]):
+        if not movable[p]:
+            continue
+        point = _row(x1, p)
+        lo = (point[0] - thickness, point[1] - thickness, point[2] - thickness)
+        hi = (point[0] + thickness, point[1] + thickness, point[2] + thickness)
+        a, b = _cell_range(lo, hi, origin, cell, dims)
+        for i in range(a[0], b[0] + 1):
+            for j in range(a[1], b[1] + 1):
+                for k in range(a[2], b[2] + 1):
+                    c = (i * dims[1] + j) * dims[2] + k
+                    for slot in range(start[c], start[c + 1]):
+                        t0, t1, t2 = triangles[items[slot], 0], triangles[items[slot], 1], triangles[items[slot], 2]
+                        if t0 == p or t1 == p or t2 == p:
+                            continue
+                        point = _row(x1, p)
+                        pa, pb, pc = _row(x1, t0), _row(x1, t1), _row(x1, t2)
+                        normal = _cross(_sub(pb, pa), _sub(pc, pa))
+                        size = np.sqrt(_dot(normal, normal))
+                        if size == 0.0:
+                            continue
+                        normal = (normal[0] / size, normal[1] / size, normal[2] / size)
+                        dist = _dot(_sub(point, pa), normal)
+                        if abs(dist) >= thickness:
+                            continue
+                        hit, _, u, w = _ray_triangle(point, normal, pa, pb, pc)
+                        if not hit or min(u, w, 1.0 - u - w) < 0.0:
+                            continue
+                        if _dot(_sub(_row(x0, p), _row(x0, t0)), normal) < 0.0:
+                            normal = (-normal[0], -normal[1], -normal[2])
+                            dist = -dist
+                        _store(x1, p, _axpy(0.5 * (thickness - dist), normal, point))
+                        weights = (1.0 - u - w, u, w)
+                        nodes = (t0, t1, t2)
+                        relative = _row(v, p)
+                        for q in range(3):
+                            relative = _axpy(-weights[q], _row(v, nodes[q]), relative)
+                        approach = _dot(relative, normal)
+                        if approach < 0.0:
+                            share = 1.0 / mass[p]
+                            for q in range(3):
+                                share += weights[q] ** 2 / mass[nodes[q]]
+                            impulse = (1.0 + restitution) * approach / share
+                            _store(v, p, _axpy(-impulse / mass[p], normal, _row(v, p)))
+                            for q in range(3):
+                                _store(v, nodes[q], _axpy(weights[q] * impulse / mass[nodes[q]], normal,
+                                                          _row(v, nodes[q])))
+                        contacts += 1
     return contacts
 
 

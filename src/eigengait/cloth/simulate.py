@@ -63,7 +63,8 @@ class Simulation:
         self.strain_limit = None if dissertation else strain_limit
         self.floor = floor
         self.dissertation = dissertation
-        self.obstacles = Obstacles(model, self.thickness) if model.obstacles else None
+        self._cloth_grid = TriangleGrid(model.triangles, float(model.spring_rest.max()))
+        self.obstacles = Obstacles(model, self.thickness, self._cloth_grid) if model.obstacles else None
         self._reached = np.zeros(len(model.targets), bool)
         self._force = np.zeros((model.size, 3))
         self._order_springs()
@@ -93,7 +94,11 @@ class Simulation:
                 self.contacts += self.obstacles.collide(self.x, x_new, v_new, movable, self.restitution)
         if self.floor is not None:
             self.contacts += rest_on_floor(x_new, v_new, movable, self.floor + self.thickness, self.restitution)
-        if self.self_collision:
+        if self.self_collision and m.compiled:
+            grid = self._cloth_grid.build(x_new, self.thickness)
+            self.contacts += contact.collide_self(self.x, x_new, v_new, m.mass, movable, self._cloth_grid.triangles,
+                                                  *grid, self.thickness, self.restitution)
+        elif self.self_collision:
             self.contacts += collide_self(self.x, x_new, v_new, m.mass, m.triangles, movable,
                                           thickness=self.thickness, restitution=self.restitution)
         if len(m.links):
@@ -149,10 +154,26 @@ class Simulation:
         return kernels.FUSED.get(self.integrator) if simple else None
 
 
+class TriangleGrid:
+    """A uniform grid over the cloth's triangles, rebuilt from the current positions when asked."""
+
+    def __init__(self, triangles: np.ndarray, cell: float):
+        self.triangles = triangles
+        self.cell = cell
+        self._lo = np.zeros((len(triangles), 3))
+        self._hi = np.zeros((len(triangles), 3))
+
+    def build(self, x: np.ndarray, pad: float) -> tuple:
+        """(origin, cell, dims, start, items) of the triangles' boxes at ``x``, padded by ``pad`` m."""
+        contact.triangle_boxes(x, self.triangles, pad, self._lo, self._hi)
+        origin, cell, dims = contact.grid_layout(self._lo, self._hi, self.cell)
+        return (origin, cell, dims, *contact.build_grid(self._lo, self._hi, origin, cell, dims))
+
+
 class Obstacles:
     """The static obstacles of a model, prepared for the compiled contact tests (grids built once)."""
 
-    def __init__(self, model: ClothModel, thickness: float):
+    def __init__(self, model: ClothModel, thickness: float, cloth: TriangleGrid):
         corners = np.concatenate([mesh.vertices[mesh.triangles] for mesh in model.obstacles])
         self.soup = TriangleSoup(corners)
         self.thickness = thickness
@@ -164,21 +185,17 @@ class Obstacles:
         samples = [contact.convex_edge_samples(mesh.vertices, mesh.triangles, spacing) for mesh in model.obstacles]
         self.samples = np.concatenate([s for s, _ in samples])
         self.directions = np.concatenate([d for _, d in samples])
-        self.triangles = model.triangles
+        self.cloth = cloth
         self.depth = float(model.spring_rest.max())
-        self._lo = np.zeros((len(self.triangles), 3))
-        self._hi = np.zeros((len(self.triangles), 3))
 
     def collide(self, x0: np.ndarray, x1: np.ndarray, v: np.ndarray, movable: np.ndarray, restitution: float) -> int:
         """Crossing, resting and edge contacts, in place on (x1, v); returns the number of contacts."""
         count = contact.collide_points(x0, x1, v, movable, self.soup.corners, self.soup.normals, self.origin,
                                        self.cell, self.dims, self.start, self.items, self.thickness, restitution)
-        if len(self.samples) and len(self.triangles):
-            contact.triangle_boxes(x1, self.triangles, 0.0, self._lo, self._hi)
-            origin, cell, dims = contact.grid_layout(self._lo, self._hi, self.depth)
-            start, items = contact.build_grid(self._lo, self._hi, origin, cell, dims)
-            count += contact.collide_edges(self.samples, self.directions, x1, v, movable, self.triangles, origin,
-                                           cell, dims, start, items, self.thickness, self.depth)
+        if len(self.samples) and len(self.cloth.triangles):
+            grid = self.cloth.build(x1, 0.0)
+            count += contact.collide_edges(self.samples, self.directions, x1, v, movable, self.cloth.triangles,
+                                           *grid, self.thickness, self.depth)
         return count
 
 
