@@ -91,18 +91,15 @@ def explicit_step(x, v, h, method, mass, springs, rest, k, bend, bend_coef, grav
 
 @nb.njit(cache=True)
 def explicit_steps(x, v, steps, h, method, mass, springs, rest, k, bend, bend_coef, gravity, external, friction,
-                   fixed, force, strain_springs, strain_rest, strain_weights, strain_bound, max_sweeps, tolerance):
-    """``steps`` calls of :func:`explicit_step`, each followed by strain limiting when ``strain_bound`` ≥ 0, in
-    one compiled loop (for scenes whose fixed points stand still and that have nothing else to resolve per step).
-    Returns the number of strain-limiting sweeps made."""
-    sweeps = 0
+                   fixed, force, strain_springs, strain_rest, strain_weights, strain_bound):
+    """``steps`` calls of :func:`explicit_step`, each followed by a strain-limiting sweep when ``strain_bound`` ≥ 0,
+    in one compiled loop (for scenes whose fixed points stand still and that have nothing else to resolve per step).
+    """
     for _ in range(steps):
         explicit_step(x, v, h, method, mass, springs, rest, k, bend, bend_coef, gravity, external, friction, fixed,
                       force)
         if strain_bound >= 0.0:
-            sweeps += limit_strain(x, v, strain_springs, strain_rest, strain_weights, strain_bound, h, max_sweeps,
-                                   tolerance)
-    return sweeps
+            limit_strain(x, v, strain_springs, strain_rest, strain_weights, strain_bound, h)
 
 
 @nb.njit(cache=True)

@@ -16,10 +16,6 @@ from eigengait.cloth.strain import DEFAULT_BOUND, limit_strain, projection_order
 from eigengait.errors import SimulationBlowUp, UserInputError
 
 
-_MAX_SWEEPS = 1
-_STRAIN_TOLERANCE = 1e-3
-
-
 @dataclass(frozen=True)
 class Frame:
     """Positions (N, 3) m and velocities (N, 3) m/s at ``time`` s; ``index`` counts frames from 0."""
@@ -73,7 +69,6 @@ class Simulation:
         self.t = 0.0
         self.steps = 0
         self.contacts = 0
-        self.strain_sweeps = 0
 
     def step(self) -> None:
         m = self.model
@@ -82,9 +77,8 @@ class Simulation:
         t_new = self.steps * self.h
         m.apply_constraints(x_new, v_new, t_new)
         if self.strain_limit is not None:
-            self.strain_sweeps += limit_strain(x_new, v_new, self._strain_springs, self._strain_rest,
-                                               self._strain_weights, self.strain_limit, self.h, _MAX_SWEEPS,
-                                               _STRAIN_TOLERANCE)
+            limit_strain(x_new, v_new, self._strain_springs, self._strain_rest, self._strain_weights,
+                         self.strain_limit, self.h)
         movable = m.free
         if self.obstacles is not None:
             if self.dissertation:
@@ -137,10 +131,9 @@ class Simulation:
             return
         m = self.model
         bound = -1.0 if self.strain_limit is None else self.strain_limit
-        self.strain_sweeps += kernels.explicit_steps(
-            self.x, self.v, steps, self.h, self._fused, m.mass, m.springs, m.spring_rest, m.spring_k, m.bend,
-            m.bend_coef, m.gravity, m.external_force, m.friction, m.fixed, self._force, self._strain_springs,
-            self._strain_rest, self._strain_weights, bound, _MAX_SWEEPS, _STRAIN_TOLERANCE)
+        kernels.explicit_steps(self.x, self.v, steps, self.h, self._fused, m.mass, m.springs, m.spring_rest,
+                               m.spring_k, m.bend, m.bend_coef, m.gravity, m.external_force, m.friction, m.fixed,
+                               self._force, self._strain_springs, self._strain_rest, self._strain_weights, bound)
         self.steps += steps
         self.t = self.steps * self.h
 
