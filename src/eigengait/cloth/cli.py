@@ -84,6 +84,8 @@ def run(script: str = typer.Argument(..., help="a .PAR file or a shipped example
             raise UserInputError("--restitution must be between 0 and 1.", field="--restitution")
         if strain_limit < 0.0:
             raise UserInputError("--strain-limit must not be negative.", field="--strain-limit")
+        if thickness is not None and thickness <= 0.0:
+            raise UserInputError("--thickness must be positive.", field="--thickness")
         if integrator not in INTEGRATORS:
             raise UserInputError(f"unknown integrator '{integrator}'.", field="--integrator",
                                  fix=f"use one of: {', '.join(INTEGRATORS)}.")
