@@ -160,3 +160,19 @@ def test_point_attached_to_an_obstacle_sits_on_its_surface():
     point = 2 * 3 + 1
     assert model.fixed[point]
     np.testing.assert_allclose(model.rest_positions[point], [0.0, 0.0, 0.0], atol=1e-12)
+
+
+def test_run_options_for_fabric(tmp_path):
+    from typer.testing import CliRunner
+
+    from eigengait.cloth.cli import app
+
+    runner = CliRunner()
+    ok = runner.invoke(app, ["run", "tablecloth", "-o", str(tmp_path / "a"), "--duration", "0.5", "--no-render",
+                             "--strain-limit", "0.05", "--thickness", "0.2", "--floor", "0"])
+    assert ok.exit_code == 0, ok.output
+    assert runner.invoke(app, ["run", "curtain", "-o", str(tmp_path / "b"), "--duration", "1", "--no-render",
+                               "--dissertation"]).exit_code == 0
+    for option, value in (("--strain-limit", "-0.1"), ("--thickness", "0")):
+        bad = runner.invoke(app, ["run", "curtain", "-o", str(tmp_path / "c"), "--no-render", option, value])
+        assert bad.exit_code == 2 and option in bad.output and "Traceback" not in bad.output
