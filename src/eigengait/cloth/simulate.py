@@ -71,6 +71,7 @@ class Simulation:
         self.contacts = 0
 
     def step(self) -> None:
+        """One step: integrate, prescribed points, strain limit, contacts, links, targets."""
         m = self.model
         x_new, v_new = self.step_function(self.x, self.v, self.t)
         self.steps += 1
@@ -125,6 +126,7 @@ class Simulation:
             self._order_springs()
 
     def advance(self, steps: int) -> None:
+        """Take ``steps`` steps of h s (in one compiled loop when :attr:`_fused` allows it)."""
         if self._fused is None:
             for _ in range(steps):
                 self.step()
