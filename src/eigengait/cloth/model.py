@@ -12,6 +12,11 @@ All surfaces of a scene are packed into one particle system (positions (N, 3) in
 * Friction removes a fraction μ (ATRITO) of the resultant force, opposite to the velocity:
   ``F_fric = -min(μ |F|, m |v| / h) v/|v|``. The cap stops friction from reversing a velocity within one step,
   so the friction power ``F_fric · v`` is never positive.
+* Point constraints: fixed points (with timed translations), ``targets`` that become fixed on reaching a position
+  (within ``target_radius`` m), and ``links`` (pairs of points of two surfaces held together).
+
+Forces are computed by the compiled kernels of :mod:`eigengait.cloth.kernels`; with ``compiled`` off, the NumPy
+reference path (:meth:`ClothModel.internal_forces_reference`) runs instead.
 """
 
 from __future__ import annotations
