@@ -58,7 +58,7 @@ GOOD = ("DURACAO = 1\nQUADROS_SEG = 1\nDELTA_t = 0.01\nNUM_SUPERFICIES = 1\nSUPE
 ])
 def test_bad_input_exits_2_with_one_line(tmp_path, text, needle):
     out = tmp_path / "out"
-    result = runner.invoke(app, ["run", str(write(tmp_path, text)), "-o", str(out), "--no-render"])
+    result = runner.invoke(app, ["run", str(write(tmp_path, text)), "-o", str(out), "--no-render", "--dissertation"])
     assert result.exit_code == 2
     assert "Traceback" not in result.output
     assert needle in result.output
@@ -68,7 +68,8 @@ def test_bad_input_exits_2_with_one_line(tmp_path, text, needle):
 def test_blow_up_warns_first_and_leaves_no_frames(tmp_path):
     text = (GOOD.replace("DELTA_t = 0.01", "DELTA_t = 0.1").replace("DURACAO = 1", "DURACAO = 5")
             .replace("(10 10 10)", "(1e5 1e5 1e5)"))
-    result = runner.invoke(app, ["run", str(write(tmp_path, text)), "-o", str(tmp_path / "o"), "--no-render"])
+    result = runner.invoke(app, ["run", str(write(tmp_path, text)), "-o", str(tmp_path / "o"), "--no-render",
+                                 "--dissertation"])
     assert result.exit_code == 2
     assert "warning:" in result.output and "stable step" in result.output
     assert "line 3: DELTA_t" in result.output

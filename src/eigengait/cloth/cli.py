@@ -19,6 +19,7 @@ from eigengait.cloth.model import script_model
 from eigengait.cloth.obt import read_obt
 from eigengait.cloth.output import staged_output, write_frame
 from eigengait.cloth.par import read_par
+from eigengait.cloth.strain import DEFAULT_BOUND
 from eigengait.errors import UserInputError
 
 app = typer.Typer(help="Deformable surfaces (FLEX3D, Nedel 1993): run .PAR scripts, examples, vibration modes.",
@@ -62,6 +63,11 @@ def run(script: str = typer.Argument(..., help="a .PAR file or a shipped example
         no_render: bool = typer.Option(False, "--no-render", help="write .OBT/.obj frames only"),
         self_collision: bool = typer.Option(False, "--self-collision", help="collide surfaces with themselves"),
         restitution: float = typer.Option(0.0, help="normal restitution at contacts, 0..1 (1 = FLEX3D elastic)"),
+        strain_limit: float = typer.Option(DEFAULT_BOUND, help="largest spring strain kept (0.1 = 10 %); 0 = off"),
+        thickness: Optional[float] = typer.Option(None, help="contact gap in m (default 5 % of the spacing)"),
+        floor: Optional[float] = typer.Option(None, help="floor plane at this height (m, world z; PISO in scripts)"),
+        dissertation: bool = typer.Option(False, "--dissertation",
+                                          help="FLEX3D as published: no strain limit, swept hits only"),
         video_fps: float = typer.Option(10.0, help="frames per second of the video")) -> None:
     """Simulate a script and write <NAME>_<frame>.OBT, obj/<NAME>_<frame>.obj, png/ frames and a video."""
     from eigengait.cloth.render import CAMERAS, render_run
@@ -76,6 +82,10 @@ def run(script: str = typer.Argument(..., help="a .PAR file or a shipped example
             raise UserInputError("--duration must be positive.", field="--duration")
         if not 0.0 <= restitution <= 1.0:
             raise UserInputError("--restitution must be between 0 and 1.", field="--restitution")
+        if strain_limit < 0.0:
+            raise UserInputError("--strain-limit must not be negative.", field="--strain-limit")
+        if thickness is not None and thickness <= 0.0:
+            raise UserInputError("--thickness must be positive.", field="--thickness")
         if integrator not in INTEGRATORS:
             raise UserInputError(f"unknown integrator '{integrator}'.", field="--integrator",
                                  fix=f"use one of: {', '.join(INTEGRATORS)}.")
@@ -88,7 +98,9 @@ def run(script: str = typer.Argument(..., help="a .PAR file or a shipped example
             warnings.simplefilter("always")
             frames = run_frames(model, time_step=h, duration=total, frames_per_second=parsed.frames_per_second,
                                 integrator=integrator, source=str(path), step_field=step_field,
-                                self_collision=self_collision, restitution=restitution)
+                                self_collision=self_collision or parsed.self_collision, restitution=restitution,
+                                strain_limit=strain_limit or None, thickness=thickness,
+                                floor=floor if floor is not None else parsed.floor, dissertation=dissertation)
             with _progress() as progress:
                 task = progress.add_task(f"simulating {path.name} ({integrator})", total=count)
                 for frame in frames:

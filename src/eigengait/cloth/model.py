@@ -12,6 +12,11 @@ All surfaces of a scene are packed into one particle system (positions (N, 3) in
 * Friction removes a fraction μ (ATRITO) of the resultant force, opposite to the velocity:
   ``F_fric = -min(μ |F|, m |v| / h) v/|v|``. The cap stops friction from reversing a velocity within one step,
   so the friction power ``F_fric · v`` is never positive.
+* Point constraints: fixed points (with timed translations), ``targets`` that become fixed on reaching a position
+  (within ``target_radius`` m), and ``links`` (pairs of points of two surfaces held together).
+
+Forces are computed by the compiled kernels of :mod:`eigengait.cloth.kernels`; with ``compiled`` off, the NumPy
+reference path (:meth:`ClothModel.internal_forces_reference`) runs instead.
 """
 
 from __future__ import annotations
@@ -21,8 +26,10 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.sparse as sp
 
+from eigengait.cloth import contact, kernels
 from eigengait.cloth.obt import Mesh
 from eigengait.cloth.par import Script, SurfaceSpec
+from eigengait.errors import UserInputError
 
 #: (row step, col step, stiffness class) for the 4 spring directions that cover the 8-neighbourhood once.
 _SPRING_DIRECTIONS = ((0, 1, 0), (1, 0, 1), (1, 1, 2), (1, -1, 2))
@@ -91,6 +98,11 @@ class ClothModel:
     external_force: np.ndarray = field(default_factory=lambda: np.zeros(3))
     friction: float = 0.0
     obstacles: list[Mesh] = field(default_factory=list)
+    targets: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))
+    target_positions: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
+    target_radius: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    links: np.ndarray = field(default_factory=lambda: np.zeros((0, 2), np.int64))
+    compiled: bool = True
 
     def __post_init__(self):
         n, s, b = len(self.mass), len(self.springs), len(self.bend)
@@ -100,6 +112,7 @@ class ClothModel:
             shape=(n, s))
         self._bend_scatter = sp.csr_matrix((np.ones(b), (self.bend[:, 1], np.arange(b))), shape=(n, b))
         self.free = ~self.fixed
+        self.bend_coef = 0.5 * self.bend_k * self.bend_r
 
     @property
     def size(self) -> int:
@@ -110,7 +123,17 @@ class ClothModel:
         return np.concatenate([s.triangles for s in self.surfaces]) if self.surfaces else np.zeros((0, 3), int)
 
     def internal_forces(self, x: np.ndarray) -> np.ndarray:
-        """Elastic + angular-spring forces (N, 3) in N at positions ``x``."""
+        """Elastic + angular-spring forces (N, 3) in N at positions ``x`` (compiled kernel unless ``compiled`` is
+        off, then the NumPy reference below)."""
+        if self.compiled:
+            force = np.empty_like(x)
+            kernels.internal_forces(x, self.springs, self.spring_rest, self.spring_k, self.bend, self.bend_coef,
+                                    force)
+            return force
+        return self.internal_forces_reference(x)
+
+    def internal_forces_reference(self, x: np.ndarray) -> np.ndarray:
+        """NumPy reference of :meth:`internal_forces`: vectorized over springs, scattered by sparse products."""
         d = x[self.springs[:, 1]] - x[self.springs[:, 0]]
         length = np.linalg.norm(d, axis=1)
         tension = self.spring_k * (length - self.spring_rest) / np.maximum(length, 1e-12)
@@ -121,7 +144,7 @@ class ClothModel:
             ub = x[self.bend[:, 2]] - c
             ua /= np.maximum(np.linalg.norm(ua, axis=1), 1e-12)[:, None]
             ub /= np.maximum(np.linalg.norm(ub, axis=1), 1e-12)[:, None]
-            force += self._bend_scatter @ ((0.5 * self.bend_k * self.bend_r)[:, None] * (ua + ub))
+            force += self._bend_scatter @ (self.bend_coef[:, None] * (ua + ub))
         return force
 
     def applied_forces(self, x: np.ndarray) -> np.ndarray:
@@ -154,10 +177,24 @@ class ClothModel:
 
     def apply_constraints(self, x: np.ndarray, v: np.ndarray, t: float) -> None:
         """Overwrite fixed points in place with their prescribed state at time t."""
-        if self.fixed.any():
-            px, pv = self.prescribed(t)
-            x[self.fixed] = px[self.fixed]
-            v[self.fixed] = pv[self.fixed]
+        index = np.flatnonzero(self.fixed)
+        x[index] = self.rest_positions[index]
+        v[index] = 0.0
+        for motion in self.motions:
+            x[motion.indices] += motion.displacement(t)
+            v[motion.indices] = motion.velocity_at(t)
+
+    def join_links(self, x: np.ndarray, v: np.ndarray) -> None:
+        """Give both points of every link their common mass-weighted position and velocity, in place; a fixed
+        point keeps its own and the other follows it."""
+        a, b = self.links[:, 0], self.links[:, 1]
+        wa = np.where(self.fixed[a], 1.0, np.where(self.fixed[b], 0.0, self.mass[a]))
+        wb = np.where(self.fixed[b], 1.0, np.where(self.fixed[a], 0.0, self.mass[b]))
+        share = (wa / (wa + wb))[:, None]
+        for state in (x, v):
+            common = share * state[a] + (1.0 - share) * state[b]
+            state[a] = common
+            state[b] = common
 
     def energy(self, x: np.ndarray, v: np.ndarray) -> float:
         """Kinetic + spring + gravity + external-force potential energy in J (angular springs excluded)."""
@@ -226,11 +263,16 @@ def grid_bending(rows: int, cols: int, start: int, constants) -> tuple[np.ndarra
 
 def surface_model(surfaces: list[SurfaceSpec], *, frames_per_second: float = 1.0, stretch: float = 1.0,
                   gravity=(0.0, 0.0, 0.0), external_force=(0.0, 0.0, 0.0), friction: float = 0.0,
-                  obstacles: list[Mesh] | None = None) -> ClothModel:
+                  obstacles: list[Mesh] | None = None, source: str = "<script>") -> ClothModel:
     """Pack ``surfaces`` into one :class:`ClothModel`.
 
     ``stretch`` scales the initial spacing (1.05 starts every spring 5 % longer than rest: a pre-tensioned
-    surface); translations are per frame, so ``frames_per_second`` turns them into velocities.
+    surface); translations are per frame, so ``frames_per_second`` turns them into velocities. A target point is
+    reached when its path passes within 10 % of its surface's spacing of the target. A point attached to an
+    obstacle is moved to the nearest point of the obstacle's surface and fixed there (obstacles are static).
+
+    Raises:
+        UserInputError: an attachment names no surface or obstacle of the scene (``source`` names the file).
     """
     positions, mass, springs, rest, k, bend, bend_k, bend_r, fixed, layouts, motions = ([] for _ in range(11))
     start = 0
@@ -255,17 +297,58 @@ def surface_model(surfaces: list[SurfaceSpec], *, frames_per_second: float = 1.0
                 end=np.array([t.end for t in spec.translations], float)))
         layouts.append(SurfaceLayout(spec.name, start, spec.rows, spec.cols))
         start += count
-    return ClothModel(
+    model = ClothModel(
         rest_positions=np.concatenate(positions), mass=np.concatenate(mass),
         springs=np.concatenate(springs).astype(np.int64), spring_rest=np.concatenate(rest),
         spring_k=np.concatenate(k), bend=np.concatenate(bend).astype(np.int64).reshape(-1, 3),
         bend_k=np.concatenate(bend_k), bend_r=np.concatenate(bend_r), fixed=np.concatenate(fixed),
         surfaces=layouts, motions=motions, gravity=np.asarray(gravity, float),
         external_force=np.asarray(external_force, float), friction=friction, obstacles=list(obstacles or []))
+    _add_point_constraints(model, surfaces, source)
+    return model
+
+
+def _add_point_constraints(model: ClothModel, surfaces: list[SurfaceSpec], source: str) -> None:
+    """Targets and attachments of ``surfaces`` into ``model`` (in place; rebuilds its derived arrays)."""
+    starts = {layout.name: layout.start for layout in model.surfaces}
+    meshes = {mesh.name: mesh for mesh in model.obstacles}
+    targets, positions, radius, links = [], [], [], []
+    for spec, layout in zip(surfaces, model.surfaces):
+        for target in spec.targets:
+            targets.append(layout.start + target.i * spec.cols + target.j)
+            positions.append(target.position)
+            radius.append(0.1 * spec.spacing)
+        for attached in spec.attachments:
+            point = layout.start + attached.i * spec.cols + attached.j
+            other = next((s for s in surfaces if s.name == attached.body), None)
+            if attached.point is not None and other is not None:
+                k, l_ = attached.point
+                if not (0 <= k < other.rows and 0 <= l_ < other.cols):
+                    raise UserInputError(f"point ({k} {l_}) is outside surface '{other.name}' "
+                                         f"({other.rows}x{other.cols}).", file=source,
+                                         field=f"line {attached.line}: {attached.body}")
+                links.append((point, starts[other.name] + k * other.cols + l_))
+            elif attached.point is None and attached.body in meshes:
+                mesh = meshes[attached.body]
+                model.rest_positions[point] = contact.closest_surface_point(model.rest_positions[point],
+                                                                            mesh.vertices[mesh.triangles])
+                model.fixed[point] = True
+            else:
+                kind = "surface" if attached.point is not None else "obstacle"
+                names = sorted(starts) if attached.point is not None else sorted(meshes)
+                raise UserInputError(f"there is no {kind} named '{attached.body}' to attach to.", file=source,
+                                     field=f"line {attached.line}: {attached.body}",
+                                     fix=f"use one of: {', '.join(names) or '(none in this scene)'}.")
+    model.targets = np.array(targets, np.int64)
+    model.target_positions = np.array(positions, float).reshape(-1, 3)
+    model.target_radius = np.array(radius, float)
+    model.links = np.array(links, np.int64).reshape(-1, 2)
+    model.__post_init__()
 
 
 def script_model(script: Script, obstacles: list[Mesh] | None = None, *, gravity: bool = True) -> ClothModel:
     """The model a ``.PAR`` script describes; ``gravity=False`` drops gravity whatever GRAVIDADE says."""
     g = np.array([0.0, 0.0, -script.gravity]) if gravity else np.zeros(3)
     return surface_model(script.surfaces, frames_per_second=script.frames_per_second, gravity=g,
-                         external_force=script.external_force, friction=script.friction, obstacles=obstacles)
+                         external_force=script.external_force, friction=script.friction, obstacles=obstacles,
+                         source=script.path)

@@ -8,6 +8,12 @@ and a fixed point may be written ``i j`` or as one row-major index ``i*n + j`` o
 prints ``90`` for ``9 0``). ``#`` starts a comment. One extension: ``GRAVIDADE = <m/s²>`` sets the gravity
 acceleration (default 9.81, pointing down).
 
+Further extensions (FLEX3D's §3.2.6 constraints that its script language lacked, and two scene switches):
+``PONTOS_ALVO = <n>`` then n lines ``i j (x y z)`` — point (i, j) is fixed once it reaches (x, y, z);
+``PONTOS_PRESOS = <n>`` then n lines ``i j <surface> k l`` (held to point (k, l) of that surface) or
+``i j <obstacle>`` (held where it is nearest that obstacle's surface), both inside ``RESTRIÇÕES``;
+``PISO = <y>`` adds a floor plane at height y; ``AUTOCOLISAO = 1`` turns self-collision on.
+
 FLEX3D is y-up; everything returned here is already converted to eigengait's z-up world,
 ``(x, y, z)_flex3d -> (x, -z, y)``. Numbers are read as SI units (m, kg, s, N).
 """
@@ -47,6 +53,26 @@ class Translation:
     end: float
 
 
+@dataclass(frozen=True)
+class Target:
+    """Point (i, j) becomes fixed once it reaches ``position`` (z-up, m)."""
+
+    i: int
+    j: int
+    position: np.ndarray
+
+
+@dataclass(frozen=True)
+class Attachment:
+    """Point (i, j) held to point ``point`` of surface ``body``, or (``point`` None) to the obstacle ``body``."""
+
+    i: int
+    j: int
+    body: str
+    point: tuple[int, int] | None
+    line: int
+
+
 @dataclass
 class SurfaceSpec:
     """One ``SUPERFÍCIE`` block. Vectors are z-up; ``rows`` × ``cols`` mass points ``spacing`` m apart."""
@@ -63,6 +89,8 @@ class SurfaceSpec:
     fixed: list[tuple[int, int]] = field(default_factory=list)
     translations: list[Translation] = field(default_factory=list)
     line: int = 0
+    targets: list[Target] = field(default_factory=list)
+    attachments: list[Attachment] = field(default_factory=list)
 
 
 @dataclass
@@ -77,6 +105,8 @@ class Script:
     obstacles: list[Path]
     surfaces: list[SurfaceSpec]
     gravity: float = STANDARD_GRAVITY
+    floor: float | None = None
+    self_collision: bool = False
     path: str = "<script>"
     lines: dict[str, int] = field(default_factory=dict)
 
@@ -88,12 +118,12 @@ _SYNONYMS = {
     "NUM_SUPERFICIE": "NUM_SUPERFICIES",
     "GRAVITY": "GRAVIDADE",
 }
-_GLOBAL_SCALARS = {"DURACAO", "QUADROS_SEG", "DELTA_T", "ATRITO", "GRAVIDADE"}
+_GLOBAL_SCALARS = {"DURACAO", "QUADROS_SEG", "DELTA_T", "ATRITO", "GRAVIDADE", "PISO", "AUTOCOLISAO"}
 _SURFACE_KEYWORDS = {"MALHA", "DENSIDADE", "POSIC_NO_SRU", "VETOR_NORMAL", "MASSA", "CONST_ELASTICIDADE",
                      "CONST_CURVATURA", "RESTRICOES", "FIM_SUPERFICIE"}
 _KEYWORDS = (_GLOBAL_SCALARS | _SURFACE_KEYWORDS | {
     "FORCA_EXTERNA", "OBJETOS_NA_CENA", "NUM_SUPERFICIES", "SUPERFICIE", "PONTOS_FIXOS", "TRANSLACAO",
-    "INI_TRANSL", "FIM_TRANSL", "FIM_RESTRICOES"})
+    "INI_TRANSL", "FIM_TRANSL", "FIM_RESTRICOES", "PONTOS_ALVO", "PONTOS_PRESOS"})
 _REQUIRED_GLOBALS = ("DURACAO", "QUADROS_SEG", "DELTA_T")
 
 
@@ -220,6 +250,7 @@ def parse_par(text: str, path: str | Path = "<script>") -> Script:
     return Script(duration=values["DURACAO"], frames_per_second=values["QUADROS_SEG"],
                   time_step=values["DELTA_T"], external_force=force, friction=values.get("ATRITO", 0.0),
                   obstacles=obstacles, surfaces=surfaces, gravity=values.get("GRAVIDADE", STANDARD_GRAVITY),
+                  floor=values.get("PISO"), self_collision=bool(values.get("AUTOCOLISAO", 0.0)),
                   path=path, lines=lines)
 
 
@@ -231,6 +262,8 @@ def _parse_surface(reader: _Reader, opener: _Token, index: int) -> SurfaceSpec:
     fields: dict[str, object] = {}
     spec_fixed: list[tuple[int, int]] = []
     translations: list[Translation] = []
+    targets: list[Target] = []
+    attachments: list[Attachment] = []
     while True:
         token = reader.next("FIM_SUPERFICIE")
         key = token.keyword
@@ -256,7 +289,7 @@ def _parse_surface(reader: _Reader, opener: _Token, index: int) -> SurfaceSpec:
             if "MALHA" not in fields:
                 raise reader.error("RESTRICOES comes before MALHA, so fixed points cannot be checked.", token,
                                    fix="put MALHA (<m> <n>) first in the surface block.")
-            _parse_constraints(reader, fields["MALHA"], spec_fixed, translations)
+            _parse_constraints(reader, fields, spec_fixed, translations, targets, attachments)
         else:
             raise reader.error(f"unknown keyword '{token.text}' inside SUPERFICIE.", token,
                                fix="check the spelling against the FLEX3D grammar (docs/cloth.md).")
@@ -276,11 +309,27 @@ def _parse_surface(reader: _Reader, opener: _Token, index: int) -> SurfaceSpec:
                        position=fields.get("POSIC_NO_SRU", np.zeros(3)), normal=normal / np.linalg.norm(normal),
                        mass=fields["MASSA"], stiffness=fields["CONST_ELASTICIDADE"],
                        bending=fields.get("CONST_CURVATURA", (0.0, 0.0, 0.0)), fixed=spec_fixed,
-                       translations=translations, line=opener.line)
+                       translations=translations, line=opener.line, targets=targets, attachments=attachments)
 
 
-def _parse_constraints(reader: _Reader, grid, fixed: list, translations: list) -> None:
-    rows, cols, _ = grid
+def _grid_point(reader: _Reader, keyword: _Token, rows: int, cols: int, what: str) -> tuple[int, int, _Token]:
+    """An 'i j' pair inside a (rows x cols) grid."""
+    first = reader.next(f"the point 'i j' of {keyword.text}")
+    try:
+        i = int(first.text)
+    except ValueError:
+        raise reader.error(f"{keyword.text} expects 'i j' integers, got '{first.text}'.", first,
+                           fix=f"check that {keyword.text} counts the lines that follow.") from None
+    j = reader.number(keyword, int)
+    if not (0 <= i < rows and 0 <= j < cols):
+        raise reader.error(f"{what} ({i} {j}) is outside the {rows}x{cols} grid.", first,
+                           fix=f"use 0 <= i < {rows} and 0 <= j < {cols}.")
+    return i, j, first
+
+
+def _parse_constraints(reader: _Reader, fields: dict, fixed: list, translations: list, targets: list,
+                       attachments: list) -> None:
+    rows, cols, _ = fields["MALHA"]
     pending: dict[str, object] = {}
 
     def close_translation():
@@ -314,6 +363,23 @@ def _parse_constraints(reader: _Reader, grid, fixed: list, translations: list) -
                                        f"outside the {rows}x{cols} grid.", first,
                                        fix=f"use 0 <= i < {rows} and 0 <= j < {cols}.")
                 fixed.append((i, j))
+        elif key == "PONTOS_ALVO":
+            for _ in range(reader.number(token, int)):
+                i, j, _ = _grid_point(reader, token, rows, cols, "target point")
+                position = yup_to_zup(reader.numbers(token, 3))
+                targets.append(Target(i, j, position))
+        elif key == "PONTOS_PRESOS":
+            for _ in range(reader.number(token, int)):
+                i, j, first = _grid_point(reader, token, rows, cols, "attached point")
+                body = reader.next("the name of a surface or obstacle")
+                if body.line != first.line or body.keyword in _KEYWORDS:
+                    raise reader.error("an attached point needs 'i j <surface> k l' or 'i j <obstacle>' on one "
+                                       "line.", first, fix="name the surface or obstacle it is held to.")
+                point = None
+                following = reader.peek()
+                if following is not None and following.line == first.line and following.keyword not in _KEYWORDS:
+                    point = (reader.number(token, int), reader.number(token, int))
+                attachments.append(Attachment(i, j, body.text, point, body.line))
         elif key == "TRANSLACAO":
             close_translation()
             pending["step"] = yup_to_zup(reader.numbers(token, 3))
@@ -326,7 +392,8 @@ def _parse_constraints(reader: _Reader, grid, fixed: list, translations: list) -
             pending[key] = reader.number(token)
         else:
             raise reader.error(f"unknown keyword '{token.text}' inside RESTRICOES.", token,
-                               fix="only PONTOS_FIXOS, TRANSLACAO, INI_TRANSL and FIM_TRANSL belong here.")
+                               fix="only PONTOS_FIXOS, PONTOS_ALVO, PONTOS_PRESOS, TRANSLACAO, INI_TRANSL and "
+                                   "FIM_TRANSL belong here.")
 
 
 def read_legacy_text(path: Path, what: str, fix: str) -> str:

@@ -104,8 +104,10 @@ class FrameRenderer:
             quads = positions[layout.quads]
             polygons += list(quads)
             colours.append(shade(quads, colour))
-        # One collection, so that cloth and obstacle polygons are depth-sorted together.
-        collection = Poly3DCollection(polygons, facecolors=np.concatenate(colours), edgecolors="none")
+        # One collection, so that cloth and obstacle polygons are depth-sorted together; edges drawn in the face
+        # colour close the anti-aliasing seams that otherwise show the background between neighbouring quads.
+        faces = np.concatenate(colours)
+        collection = Poly3DCollection(polygons, facecolors=faces, edgecolors=faces, linewidths=0.3)
         self.ax.add_collection3d(collection)
         self.dynamic.append(collection)
         self.dynamic.append(self.ax.text2D(0.02, 0.95, f"{self.title}  t = {time:6.2f} s",
