@@ -10,6 +10,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+import mujoco
 import numpy as np
 
 from eigengait.control.closed_loop import PUSH_SECONDS, BatchRun, ClosedLoopRunner, Push, cycle_errors
@@ -106,8 +107,12 @@ def _result(system: GaitSystem, p: GaitParameters, run: BatchRun, completed: int
     work = float(np.sum(np.clip(np.sum(torques * qvel[:, world.internal_qvel], axis=1), 0, None)) * dt)
     duration = end * dt
     distance = float(sensors[-1, 0] - system.initial_com(p)[0])
-    frames = np.round(np.arange(1, int(duration * fps) + 1) / fps / dt).astype(int) - 1
-    frames = frames[(frames >= 0) & (frames < end)]
+    # frame k shows time k / fps: frame 0 is the initial state, frame k the state after step round(k/(fps dt))
+    first = _initial_row(system, p)
+    states = np.vstack([first[0], states])
+    sensors = np.vstack([first[1], sensors])
+    frames = np.round(np.arange(int(duration * fps) + 1) / fps / dt).astype(int)
+    frames = frames[frames <= end]
     recording = GaitRecording(
         fps=fps, period=p.period, qpos=states[frames, 1:1 + nq], com=sensors[frames, 0:3],
         foot_points={f: np.stack([sensors[frames, world.foot_sensor[s]:world.foot_sensor[s] + 3]
@@ -123,6 +128,15 @@ def _result(system: GaitSystem, p: GaitParameters, run: BatchRun, completed: int
                           cost_of_transport=work / (mass * GRAVITY * distance) if distance > 1e-6 else float("inf"),
                           cycle_violation=violation, snapped=snap, quality=quality, pushes=tuple(pushes),
                           pushes_survived=_pushes_survived(pushes, run) if pushes else None)
+
+
+def _initial_row(system: GaitSystem, p: GaitParameters) -> tuple[np.ndarray, np.ndarray]:
+    """The MuJoCo state and sensor rows at t = 0."""
+    model = system.world.model
+    data = mujoco.MjData(model)
+    data.qpos[:], data.qvel[:] = p.qpos0, p.qvel0
+    mujoco.mj_forward(model, data)
+    return system.initial_state(p)[None], data.sensordata.copy()[None]
 
 
 def _violation(system: GaitSystem, p: GaitParameters, run: BatchRun, completed: int) -> float:
