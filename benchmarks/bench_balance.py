@@ -4,8 +4,6 @@
    (plot: docs/images/balance_tradeoff.png).
 2. Push recovery: a 0.1 s sideways push on the torso at t = 0.5 s; the largest force survived per robustness.
 3. The ankleless humanoid with the same controller, for comparison.
-4. Modal gaits (src/eigengait/data/gaits/*.json) played without the snap: open loop (`play(..., snap=False)`)
-   vs with balance feedback (`play_with_feedback`), cycles survived out of 20.
 Character: the walker (the humanoid with ankles). Prints Markdown tables. Run: .venv/bin/python benchmarks/bench_balance.py
 (`... bench_balance.py tradeoff` runs part 1 and redraws the plot only).
 """
@@ -22,10 +20,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 from eigengait.character import load_character  # noqa: E402
-from eigengait.control.balance.gait_feedback import play_with_feedback  # noqa: E402
 from eigengait.control.balance.reference import kinematic_replay  # noqa: E402
-from eigengait.control.controller import load_controller, system_for, to_parameters  # noqa: E402
-from eigengait.control.playback import play  # noqa: E402
 from eigengait.control.balance.tracker import Push, track  # noqa: E402
 from eigengait.motion.bvh import read_bvh  # noqa: E402
 from eigengait.motion.retarget import builtin_mapping, retarget  # noqa: E402
@@ -34,8 +29,6 @@ from eigengait.sim.world import build_world  # noqa: E402
 CLIP = Path("/work/shared/data/mocap/cmu_02_01_walk.bvh")
 ROBUSTNESS = [0.0, 0.25, 0.5, 0.75, 0.9, 1.0]
 PUSHES = [0, 100, 200, 300, 400, 600]
-GAITS = sorted((Path(__file__).resolve().parents[1] / "src/eigengait/data/gaits").glob("*.json"))
-CYCLES = 20
 PLOT = Path(__file__).resolve().parents[1] / "docs/images/balance_tradeoff.png"
 
 
@@ -44,20 +37,6 @@ def load(character: str):
     clip = read_bvh(CLIP)
     poses = retarget(clip, world, builtin_mapping(character, clip))
     return world, kinematic_replay(world, poses.qpos, poses.frame_time)
-
-
-def gaits() -> None:
-    print("\n| gait | open loop, no snap (cycles) | feedback R=0 (cycles) | feedback R=0.5 (cycles) | "
-          "COM error R=0 (m) | balance torque RMS R=0 (N·m) |\n|---|---:|---:|---:|---:|---:|")
-    for path in GAITS:
-        controller = load_controller(path)
-        system = system_for(controller)
-        params = to_parameters(controller, system, path)
-        open_loop = play(system, params, cycles=CYCLES, snap=False)
-        fb0 = play_with_feedback(system, params, cycles=CYCLES, robustness=0.0)
-        fb5 = play_with_feedback(system, params, cycles=CYCLES, robustness=0.5)
-        print(f"| {path.stem} | {open_loop.cycles_completed} | {fb0.cycles_completed} | {fb5.cycles_completed} | "
-              f"{fb0.com_error_m:.3f} | {fb0.balance_torque_rms:.0f} |", flush=True)
 
 
 def tradeoff(world, reference) -> None:
@@ -129,8 +108,6 @@ def main() -> None:
         res = track(humanoid_world, plain, r)
         print(f"| {r} | {res.duration_s:.2f} | {res.fell} | {res.joint_rms_deg:.1f} | {res.com_error_m:.3f} | "
               f"{res.artificial_torque:.1f} |", flush=True)
-
-    gaits()
 
 
 if __name__ == "__main__":
