@@ -37,17 +37,24 @@ def make(gait: str, evaluations: int, runs: Path, seed: int, max_outer: int, min
                                       max_outer=max_outer, cycle_tolerance=sketch.targets.cycle_tolerance),
                           resume=resume, sketch_source=sketch_path)
     controller = load_controller(folder / "best_controller.json")
+    controller.name = gait
+    controller.metrics = {"cycle_tolerance": sketch.targets.cycle_tolerance, "evaluations": state.evaluations,
+                          "optimizer_seconds": round(state.elapsed, 1), "horizon_cycles": sketch.feedback.horizon_cycles}
+    measure(controller)
+
+
+def measure(controller) -> None:
+    """Play the controller 20 cycles with physics only and push it; record the figures and ship it."""
     system = system_for(controller)
     params = to_parameters(controller, system)
     free = play(system, params, cycles=20).summary()
     pushes = push_robustness(system, params)
-    controller.name = gait
+    kept = {k: controller.metrics[k] for k in ("cycle_tolerance", "evaluations", "optimizer_seconds",
+                                                "horizon_cycles") if k in controller.metrics}
     controller.metrics = {k: v for k, v in free.items() if isinstance(v, (int, float, bool)) and v is not None}
-    controller.metrics.update({"cycle_tolerance": sketch.targets.cycle_tolerance,
-                               "pushes_survived_of_5": sum(pushes),
-                               "evaluations": state.evaluations, "optimizer_seconds": round(state.elapsed, 1)})
-    save_controller(controller, PACKAGE / f"{gait}.json")
-    print(json.dumps({"gait": gait, **controller.metrics}))
+    controller.metrics.update({**kept, "pushes_survived_of_5": sum(pushes)})
+    save_controller(controller, PACKAGE / f"{controller.name}.json")
+    print(json.dumps({"gait": controller.name, **controller.metrics}))
 
 
 def main() -> None:
@@ -59,8 +66,13 @@ def main() -> None:
     parser.add_argument("--max-outer", type=int, default=20, help="multiplier iterations at most")
     parser.add_argument("--minutes", type=float, default=None, help="wall-clock budget per gait")
     parser.add_argument("--horizon", type=int, default=None, help="cycles per candidate (default: the sketch's)")
+    parser.add_argument("--measure-only", action="store_true",
+                        help="re-measure the shipped gaits (no optimization)")
     args = parser.parse_args()
     for gait in args.gaits:
+        if args.measure_only:
+            measure(load_controller(PACKAGE / f"{gait}.json"))
+            continue
         make(gait, args.evaluations, args.runs, args.seed, args.max_outer, args.minutes, args.horizon)
 
 
