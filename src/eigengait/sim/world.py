@@ -9,6 +9,8 @@
   `contact="feet"` lets only the spheres collide, and `set_stance_foot` restricts that to one foot (the thesis's
   filtering).
 * Sensors: the COM and COM velocity of the whole creature, and the world position of every foot's toe and heel.
+* Everything added is named with a reserved prefix (`eigengait:`, `motor:`, `spring:`, `contact:`, `pos:`),
+  which `character/scene.py` forbids in models, so it cannot clash with the model's own names.
 """
 
 from __future__ import annotations
@@ -24,6 +26,7 @@ from eigengait.character.relax import DEFAULT_POSE, posed_spec
 from eigengait.errors import UserInputError
 
 BODY_GROUP, FOOT_GROUP, FLOOR_AFFINITY = 1, 2, 3
+FLOOR = "eigengait:floor"
 GRAVITY = 9.81
 
 
@@ -147,24 +150,24 @@ def _set_contacts(spec: mujoco.MjSpec, character: Character, contact: str) -> No
 
 def _add_floor_and_sensors(spec: mujoco.MjSpec, character: Character, root_name: str, floor: bool) -> None:
     if floor:
-        tex = spec.add_texture(name="grid", type=mujoco.mjtTexture.mjTEXTURE_2D,
+        tex = spec.add_texture(name="eigengait:grid", type=mujoco.mjtTexture.mjTEXTURE_2D,
                                builtin=mujoco.mjtBuiltin.mjBUILTIN_CHECKER, width=256, height=256,
                                rgb1=[0.82, 0.84, 0.86], rgb2=[0.70, 0.72, 0.75])
-        mat = spec.add_material(name="floor")
+        mat = spec.add_material(name=FLOOR)
         mat.textures[mujoco.mjtTextureRole.mjTEXROLE_RGB] = tex.name
         mat.texrepeat = [1, 1]
         mat.texuniform = True
-        g = spec.worldbody.add_geom(name="floor", type=mujoco.mjtGeom.mjGEOM_PLANE, size=[0, 0, 0.05],
-                                    material="floor")
+        g = spec.worldbody.add_geom(name=FLOOR, type=mujoco.mjtGeom.mjGEOM_PLANE, size=[0, 0, 0.05],
+                                    material=FLOOR)
         g.contype, g.conaffinity = 0, FLOOR_AFFINITY
         g.friction = [1.0, 0.005, 0.0001]
     spec.worldbody.add_light(pos=[0, 0, 6], dir=[0, 0, -1], type=mujoco.mjtLightType.mjLIGHT_DIRECTIONAL,
                               diffuse=[0.7, 0.7, 0.7])
-    cam = spec.worldbody.add_camera(name="side", pos=[0.5, -4.0, 1.3], xyaxes=[1, 0, 0, 0, 0.3, 1])
+    cam = spec.worldbody.add_camera(name="eigengait:side", pos=[0.5, -4.0, 1.3], xyaxes=[1, 0, 0, 0, 0.3, 1])
     cam.mode = mujoco.mjtCamLight.mjCAMLIGHT_TRACKCOM
     for kind in (mujoco.mjtSensor.mjSENS_SUBTREECOM, mujoco.mjtSensor.mjSENS_SUBTREELINVEL):
         s = spec.add_sensor(type=kind, objtype=mujoco.mjtObj.mjOBJ_BODY, objname=root_name)
-        s.name = "com" if kind == mujoco.mjtSensor.mjSENS_SUBTREECOM else "com_velocity"
+        s.name = "eigengait:com" if kind == mujoco.mjtSensor.mjSENS_SUBTREECOM else "eigengait:com_velocity"
     for f in character.feet.values():
         for point in filter(None, (f.toe, f.heel)):
             spec.add_sensor(name=f"pos:{point}", type=mujoco.mjtSensor.mjSENS_FRAMEPOS,
@@ -186,11 +189,16 @@ def _lowest_point(model: mujoco.MjModel, data: mujoco.MjData, geoms: list[int]) 
     return low
 
 
+def _in_subtree(model: mujoco.MjModel, body: int, root: int) -> bool:
+    while body > 0 and body != root:
+        body = int(model.body_parentid[body])
+    return body == root and root > 0
+
+
 def build_world(character: Character, pose: str | dict = DEFAULT_POSE, options: WorldOptions = WorldOptions()) -> World:
     """Compile the character at `pose` into a world, standing with its lowest point on the floor."""
     spec = posed_spec(character, pose)
-    root = next(b for b in spec.worldbody.bodies if b.joints)
-    root.name = root.name or "root"
+    root = spec.body(character.scene.root)
     spec.option.timestep = options.timestep
     spec.option.gravity = [0, 0, -GRAVITY if options.gravity else 0.0]
     spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
@@ -203,12 +211,12 @@ def build_world(character: Character, pose: str | dict = DEFAULT_POSE, options: 
     data = mujoco.MjData(model)
     mujoco.mj_kinematics(model, data)
     sphere_ids = [i for i in range(model.ngeom) if model.geom(i).name.startswith("contact:")]
-    body_geoms = [i for i in range(model.ngeom) if model.geom_bodyid[i] != 0]
+    root_id = model.body(root.name).id
+    body_geoms = [i for i in range(model.ngeom) if _in_subtree(model, int(model.geom_bodyid[i]), root_id)]
     low = _lowest_point(model, data, sphere_ids or body_geoms)
     root.pos = np.asarray(root.pos) - [0, 0, low]
     model = spec.compile()
 
-    root_id = model.body(root.name).id
     internal_joints = [model.joint(j).id for j in character.joints]
     qvel = np.concatenate([model.jnt_dofadr[j] + np.arange(character.joint_dofs[n])
                            for j, n in zip(internal_joints, character.joints)]).astype(int)
