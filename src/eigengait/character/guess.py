@@ -4,6 +4,7 @@
   `FOOT_BAND` of the creature's height above its lowest point. Each gets one contact point (a site named
   `eigengait:foot:<body>`) at the bottom of its lowest geom, with that geom's radius (capsule, sphere, cylinder) or
   smallest half-size (box, ellipsoid, mesh bounding sphere otherwise). The foot is named after the body.
+  A sidecar may name such a site (`toe: eigengait:foot:<body>`) for any body: the point is placed the same way.
 * **Mirror pairs**: joints whose names differ only by left/right (`left`/`right`, `l`/`r` at the start, `_l`/`_r`
   or `_left`/`_right` anywhere) are paired.
 """
@@ -47,6 +48,19 @@ def _geom_bottom(model: mujoco.MjModel, data: mujoco.MjData, g: int) -> tuple[np
         return centre - [0, 0, drop], r
     r = float(model.geom_rbound[g])
     return centre.copy(), r
+
+
+def foot_at(model: mujoco.MjModel, body: str) -> FootPoint | None:
+    """The contact point at the bottom of a named body's lowest geom (None if it has no geom)."""
+    data = mujoco.MjData(model)
+    mujoco.mj_forward(model, data)
+    b = model.body(body).id
+    bottoms = [_geom_bottom(model, data, g) for g in range(model.ngeom) if model.geom_bodyid[g] == b]
+    if not bottoms:
+        return None
+    c, r = min(bottoms, key=lambda cr: cr[0][2] - cr[1])
+    local = data.xmat[b].reshape(3, 3).T @ (c - data.xpos[b])
+    return FootPoint(body, tuple(float(x) for x in local), r)
 
 
 def find_feet(model: mujoco.MjModel, root: int) -> list[FootPoint]:

@@ -17,7 +17,7 @@ from pathlib import Path
 import mujoco
 import numpy as np
 
-from eigengait.character.guess import FootPoint, find_feet
+from eigengait.character.guess import FOOT_SITE_PREFIX, FootPoint, find_feet, foot_at
 from eigengait.character.library import resolve_character
 from eigengait.character.metadata import CharacterMetadata, Foot, is_sidecar, load_metadata, sidecar_path
 from eigengait.character.scene import Scene, prepare
@@ -128,7 +128,14 @@ def load_character(name_or_path: str | Path, body: str | None = None, stiffness:
 
     sites = {model.site(i).name for i in range(model.nsite)}
     guessed = []
-    if not meta.feet and not any(s.endswith("_toe") for s in sites):
+    named = [f.toe[len(FOOT_SITE_PREFIX):] for f in meta.feet.values()
+             if f.toe.startswith(FOOT_SITE_PREFIX) and f.toe not in sites]
+    if named:
+        guessed = [_named_foot(model, body, side) for body in named]
+        _add_foot_sites(spec, guessed)
+        model = _compile(spec, path)
+        sites |= {f.site for f in guessed}
+    elif not meta.feet and not any(s.endswith("_toe") for s in sites):
         guessed = find_feet(model, root)
         _add_foot_sites(spec, guessed)
         model = _compile(spec, path)
@@ -166,6 +173,17 @@ def load_character(name_or_path: str | Path, body: str | None = None, stiffness:
     return Character(name=(side.name[:-len(".eigengait.yaml")] if meta.model else path.stem), path=path, meta=meta,
                      joints=joints, joint_dofs=dofs, stiffness=k_of, scene=scene, guessed_feet=guessed,
                      stiffness_source=source, sidecar=side if side.exists() else None)
+
+
+def _named_foot(model: mujoco.MjModel, body: str, side: Path) -> FootPoint:
+    if mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, body) < 0:
+        raise UserInputError(f"foot site names body '{body}', which is not in the MJCF", file=side, field="feet",
+                             fix=f"write toe: {FOOT_SITE_PREFIX}<body> with an existing body name")
+    point = foot_at(model, body)
+    if point is None:
+        raise UserInputError(f"body '{body}' has no geom to stand on", file=side, field="feet",
+                             fix="name a body with a geom")
+    return point
 
 
 def _internal_joints(model: mujoco.MjModel, root: int, scene: Scene, path: Path) -> list[str]:

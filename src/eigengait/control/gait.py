@@ -121,4 +121,4 @@ class GaitSystem:
         qt, vt = self.cycle_target(qpos, qvel)
         dq = np.zeros(self.world.model.nv)
         mujoco.mj_differentiatePos(self.world.model, dq, 1.0, p.qpos0, qt)
-        return np.concatenate([dq[1:], VELOCITY_WEIGHT * (vt - p.qvel0)])
+        return np.concatenate([np.delete(dq, self.world.root.forward_qvel or []), VELOCITY_WEIGHT * (vt - p.qvel0)])

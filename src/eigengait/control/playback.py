@@ -78,9 +78,9 @@ def play(system: GaitSystem, p: GaitParameters, cycles: int = 4, snap: bool = Tr
         completed += 1
         state = states[-1].copy()
         if snap:
-            x = state[1]
+            x = 1 + world.root.forward_qpos       # state = (time, qpos, qvel, ...)
             snapped = system.initial_state(p)
-            snapped[0], snapped[1] = state[0], x
+            snapped[0], snapped[x] = state[0], state[x]
             state = snapped
     qpos = np.concatenate(frames) if frames else np.zeros((0, nq))
     duration = steps * dt

@@ -101,8 +101,7 @@ class BatchEvaluator:
             for k, i in enumerate(idx):
                 upto = min(b, steps[i]) - a
                 com_z = d[k, :upto, 2]
-                quat = s[k, :upto, 1 + 3:1 + 7]
-                up_z = 1 - 2 * (quat[:, 1] ** 2 + quat[:, 2] ** 2)
+                up_z = self.system.world.root.up_z(s[k, :upto, 1:1 + self.nq])
                 bad = np.flatnonzero((com_z < 0.5 * self.standing_com) | (up_z < 0) |
                                      ~np.isfinite(s[k, :upto, 1:1 + self.nq + self.nv]).all(axis=1))
                 if bad.size:
@@ -127,14 +126,13 @@ class BatchEvaluator:
         mean_vel = (com[-1] - self.system.initial_com(p)) / duration
         energy = terms.energy_objective(controls[:, :n_motor]) if len(controls) else 0.0
         qvel = states[samples, 1 + nq:1 + nq + nv]
-        quat = states[samples, 1 + 3:1 + 7]
         soft = {
             "min_speed": terms.min_speed_term(comvel[samples, 0], tg.min_speed),
             "mean_speed": terms.mean_speed_term(mean_vel, tg.mean_speed, tg.lateral_speed, tg.vertical_speed),
             "joint_speed": terms.joint_speed_term(qvel[:, self.system.world.internal_qvel], tg.joint_speed),
             "energy_max": terms.energy_limit_term(energy, tg.energy),
             "priority": terms.priority_term(self._priority_split(p)),
-            "upright": terms.upright_term(1 - 2 * (quat[:, 1] ** 2 + quat[:, 2] ** 2)),
+            "upright": terms.upright_term(self.system.world.root.up_z(states[samples, 1:1 + nq])),
         }
         soft["stance_contact"], soft["stance_rise"] = self._stance_terms(p, sensors)
         if fell:

@@ -24,6 +24,7 @@ import numpy as np
 from eigengait.character.loader import Character
 from eigengait.character.relax import DEFAULT_POSE, posed_spec
 from eigengait.errors import UserInputError
+from eigengait.sim.root import RootLayout, root_layout
 
 BODY_GROUP, FOOT_GROUP, FLOOR_AFFINITY = 1, 2, 3
 FLOOR = "eigengait:floor"
@@ -57,6 +58,7 @@ class World:
     internal_qpos_joints: list[int] = None    # joint ids of internal joints, model order
     foot_spheres: dict[str, list[int]] = field(default_factory=dict)   # foot -> contact geom ids
     foot_sensor: dict[str, int] = field(default_factory=dict)         # "<foot>_toe"/"<foot>_heel" -> sensordata adr
+    root: RootLayout = None                   # where the root's coordinates are in qpos/qvel
 
     @property
     def nmotor(self) -> int:
@@ -225,4 +227,5 @@ def build_world(character: Character, pose: str | dict = DEFAULT_POSE, options: 
     sensors = {model.sensor(i).name[len("pos:"):]: int(model.sensor_adr[i])
                for i in range(model.nsensor) if model.sensor(i).name.startswith("pos:")}
     return World(character=character, pose=pose, options=options, model=model, spec=spec, root_body=root_id,
-                 internal_qvel=qvel, internal_qpos_joints=internal_joints, foot_spheres=feet, foot_sensor=sensors)
+                 internal_qvel=qvel, internal_qpos_joints=internal_joints, foot_spheres=feet, foot_sensor=sensors,
+                 root=root_layout(model, root_id))
