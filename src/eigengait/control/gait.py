@@ -121,4 +121,5 @@ class GaitSystem:
         qt, vt = self.cycle_target(qpos, qvel)
         dq = np.zeros(self.world.model.nv)
         mujoco.mj_differentiatePos(self.world.model, dq, 1.0, p.qpos0, qt)
-        return np.concatenate([np.delete(dq, self.world.root.forward_qvel or []), VELOCITY_WEIGHT * (vt - p.qvel0)])
+        forward = self.world.root.forward_qvel
+        return np.concatenate([np.delete(dq, [] if forward is None else forward), VELOCITY_WEIGHT * (vt - p.qvel0)])
