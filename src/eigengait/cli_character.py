@@ -67,7 +67,8 @@ def sketch_new_command(model: str = typer.Argument(..., help="Built-in name, MJC
                        output: Path = typer.Option(..., "-o", "--output", help="Sketch file to write (.yaml)."),
                        body: Optional[str] = body_option(), stiffness: Optional[str] = stiffness_option(),
                        force: bool = typer.Option(False, "--force", help="Overwrite existing files.")):
-    """Write a starter sketch (and, for a user model, its character sidecar beside it)."""
+    """Write a starter sketch; for a user's MJCF (or a sidecar with --body/--stiffness), also a character sidecar
+    `NAME.eigengait.yaml` beside it that the sketch refers to."""
     from eigengait.character import builtin_names, load_character
     from eigengait.character.metadata import SIDECAR_SUFFIX
     from eigengait.character.report import sidecar_yaml
@@ -75,9 +76,11 @@ def sketch_new_command(model: str = typer.Argument(..., help="Built-in name, MJC
 
     character = load_character(model, body=body, stiffness=stiffness)
     builtin = model in builtin_names()
-    sidecar = None if builtin else output.with_name(character.name + SIDECAR_SUFFIX)
+    standalone = character.reference != character.path and body is None and stiffness is None
+    sidecar = None if builtin or standalone else output.with_name(character.name + SIDECAR_SUFFIX)
     refuse_existing([output, sidecar], force)
-    reference = model if builtin else os.path.relpath(sidecar.resolve(), output.resolve().parent)
+    target = character.reference if standalone else sidecar
+    reference = model if builtin else os.path.relpath(target.resolve(), output.resolve().parent)
     sketch = starter_sketch(character, reference)
     if sidecar is not None:
         sidecar.write_text(sidecar_yaml(character, sidecar))
