@@ -114,3 +114,20 @@ def test_cli_inspect_and_sketch_new(tmp_path, eigengait_cli, model):
     r = eigengait_cli("sketch", "new", side, "-o", tmp_path / "s.yaml")
     assert r.returncode == 0, r.stderr
     assert f"character: {side.name}" in (tmp_path / "s.yaml").read_text()
+
+
+def test_root_layout_of_planar_and_free_roots():
+    walker = build_world(load_character(WALKER, stiffness="auto"))
+    root = walker.root                       # walker.xml: rootz, rootx, rooty (axis +y)
+    assert (root.kind, root.height_qpos, root.forward_qpos, root.pitch_qpos, root.pitch_sign) == \
+        ("planar", 0, 1, 2, 1.0)
+    assert root.translation_qvel == (0, 1)
+    qpos = np.zeros(walker.model.nq)
+    root.lift_and_pitch(qpos, 0.1, 0.3)
+    assert qpos[:3] == pytest.approx([0.1, 0.0, 0.3]) and root.up_z(qpos) == pytest.approx(np.cos(0.3))
+    free = build_world(load_character("humanoid")).root
+    assert (free.kind, free.translation_qvel, free.forward_qvel, free.vertical_qvel, free.quat_qpos) == \
+        ("free", (0, 1, 2), 0, 2, 3)
+    q = np.array([0, 0, 1.0, 1, 0, 0, 0])
+    free.lift_and_pitch(q, 0.1, np.pi)      # upside down about y
+    assert q[2] == pytest.approx(1.1) and free.up_z(q) == pytest.approx(-1.0)

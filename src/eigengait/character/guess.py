@@ -99,7 +99,7 @@ def _inside(model: mujoco.MjModel, body: int, root: int) -> bool:
     return False
 
 
-_SIDES = [(r"left", "right"), (r"Left", "Right"), (r"LEFT", "RIGHT")]
+_SIDES = [("left", "right"), ("Left", "Right"), ("LEFT", "RIGHT")]
 
 
 def _partner(name: str) -> str | None:

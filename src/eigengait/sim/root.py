@@ -66,6 +66,6 @@ def root_layout(model: mujoco.MjModel, root_body: int) -> RootLayout:
         for name, world_axis in (("x", 0), ("y", 1), ("z", 2)):
             if abs(axis[world_axis]) >= AXIS_TOLERANCE:
                 found[("slide_" if slide else "hinge_") + name] = (a, d, float(np.sign(axis[world_axis])))
-    fx, fz, hy = found.get("slide_x"), found.get("slide_z"), found.get("hinge_y")
-    return RootLayout("planar", tuple(translation), fx and fx[0], fx and fx[1], fz and fz[0], fz and fz[1],
-                      pitch_qpos=hy and hy[0], pitch_sign=hy[2] if hy else 1.0)
+    none = (None, None, 1.0)
+    fx, fz, hy = (found.get(key, none) for key in ("slide_x", "slide_z", "hinge_y"))
+    return RootLayout("planar", tuple(translation), fx[0], fx[1], fz[0], fz[1], pitch_qpos=hy[0], pitch_sign=hy[2])
