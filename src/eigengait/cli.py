@@ -15,7 +15,7 @@ import typer
 from rich.console import Console
 from rich.table import Table
 
-from eigengait.cli_character import BODY_HELP, STIFFNESS_HELP
+from eigengait.cli_character import BODY_HELP, STIFFNESS_HELP, print_notes
 from eigengait.errors import UserInputError
 from eigengait.outputs import refuse_existing
 
@@ -83,7 +83,9 @@ def modes_command(character: str = typer.Argument(..., help="Built-in name, MJCF
     from eigengait.character.relax import parse_relax_argument
     from eigengait.modal import compute_modes
 
-    modes = compute_modes(load_character(character, body, stiffness), phase, foot, parse_relax_argument(relax))
+    loaded = load_character(character, body, stiffness)
+    print_notes(loaded)
+    modes = compute_modes(loaded, phase, foot, parse_relax_argument(relax))
     if save:
         modes.save(save)
     if as_json:

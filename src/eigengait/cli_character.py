@@ -19,6 +19,12 @@ BODY_HELP = "Root body of the creature in a scene with several (default: the lar
 STIFFNESS_HELP = "`auto`: give joints without stiffness k = m·g·r/θ_sag (10° sag under the weight they carry)."
 
 
+def print_notes(character) -> None:
+    """What loading the model changed or guessed, on stderr (stdout stays clean for --json)."""
+    for note in character.scene.notes:
+        Console(stderr=True).print(f"note: {note}", highlight=False, soft_wrap=True)
+
+
 def body_option():
     return typer.Option(None, "--body", help=BODY_HELP)
 
@@ -75,6 +81,7 @@ def sketch_new_command(model: str = typer.Argument(..., help="Built-in name, MJC
     from eigengait.control.starter import starter_sketch
 
     character = load_character(model, body=body, stiffness=stiffness)
+    print_notes(character)
     builtin = model in builtin_names()
     standalone = character.reference != character.path and body is None and stiffness is None
     sidecar = None if builtin or standalone else output.with_name(character.name + SIDECAR_SUFFIX)

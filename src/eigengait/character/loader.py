@@ -20,8 +20,8 @@ import numpy as np
 from eigengait.character.guess import FOOT_SITE_PREFIX, FootPoint, find_feet, foot_at
 from eigengait.character.library import resolve_character
 from eigengait.character.metadata import CharacterMetadata, Foot, is_sidecar, load_metadata, sidecar_path
-from eigengait.character.scene import Scene, prepare
-from eigengait.character.stiffness import auto_stiffness
+from eigengait.character.scene import Scene, compile_spec, prepare
+from eigengait.character.stiffness import SAG_DEG, auto_stiffness
 from eigengait.errors import UserInputError
 
 JOINT_DOFS = {mujoco.mjtJoint.mjJNT_BALL: 3, mujoco.mjtJoint.mjJNT_HINGE: 1}
@@ -82,7 +82,7 @@ def _parse(path: Path) -> mujoco.MjSpec:
 
 def _compile(spec: mujoco.MjSpec, path: Path) -> mujoco.MjModel:
     try:
-        return spec.compile()
+        return compile_spec(spec)
     except Exception as exc:
         msg = str(exc).strip().replace("\n", " ")
         raise UserInputError(f"MuJoCo cannot compile the model: {msg}", file=path) from None
@@ -166,7 +166,7 @@ def load_character(name_or_path: str | Path, body: str | None = None, stiffness:
         dofs[name], k_of[name] = n, k[:n]
     if "auto" in source.values():
         ks = [k_of[j][0] for j in joints if source[j] == "auto"]
-        scene.notes.append(f"--stiffness auto: {len(ks)} joint(s) given k = m·g·r/θ_sag, "
+        scene.notes.append(f"--stiffness auto: {len(ks)} joint(s) given k = m·g·r/θ_sag (θ_sag = {SAG_DEG:g}°), "
                            f"{min(ks):.3g} to {max(ks):.3g} N·m/rad")
 
     _check_metadata(meta, side, joints, sites)

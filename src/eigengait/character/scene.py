@@ -15,6 +15,7 @@
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -37,6 +38,14 @@ class Scene:
     added_free_joint: bool = False
     removed: dict[str, int] = field(default_factory=dict)   # element kind -> how many of the model's were removed
     notes: list[str] = field(default_factory=list)
+
+
+def compile_spec(spec: mujoco.MjSpec) -> mujoco.MjModel:
+    """`spec.compile()` without MuJoCo's deprecation notice on a model's own `settotalmass` (meant for the model's
+    author; it would otherwise be printed several times by every command)."""
+    with warnings.catch_warnings():
+        warnings.filterwarnings("ignore", message="compiler attribute 'settotalmass' is deprecated")
+        return spec.compile()
 
 
 def _subtree(body) -> list:
@@ -73,7 +82,7 @@ def choose_root(spec: mujoco.MjSpec, path: Path, body: str | None):
 
 
 def _check_reserved_names(spec: mujoco.MjSpec, path: Path) -> None:
-    model = spec.compile()
+    model = compile_spec(spec)
     for kind in (mujoco.mjtObj.mjOBJ_BODY, mujoco.mjtObj.mjOBJ_GEOM, mujoco.mjtObj.mjOBJ_SITE,
                  mujoco.mjtObj.mjOBJ_JOINT, mujoco.mjtObj.mjOBJ_CAMERA, mujoco.mjtObj.mjOBJ_TEXTURE,
                  mujoco.mjtObj.mjOBJ_MATERIAL, mujoco.mjtObj.mjOBJ_LIGHT, mujoco.mjtObj.mjOBJ_TENDON):
@@ -95,7 +104,7 @@ def _count(model: mujoco.MjModel, kind: mujoco.mjtObj) -> int:
 
 
 def _is_y_up(spec: mujoco.MjSpec, root: str) -> bool:
-    model = spec.compile()
+    model = compile_spec(spec)
     data = mujoco.MjData(model)
     mujoco.mj_kinematics(model, data)
     r = model.body(root).id
@@ -115,7 +124,7 @@ def _ancestor(model: mujoco.MjModel, body: int, root: int) -> bool:
 
 
 def _body_quat(spec: mujoco.MjSpec, name: str) -> np.ndarray:
-    model = spec.compile()
+    model = compile_spec(spec)
     return model.body(name).quat.copy()
 
 

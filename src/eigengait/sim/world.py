@@ -23,6 +23,7 @@ import numpy as np
 
 from eigengait.character.loader import Character
 from eigengait.character.relax import DEFAULT_POSE, posed_spec
+from eigengait.character.scene import compile_spec
 from eigengait.errors import UserInputError
 from eigengait.sim.root import RootLayout, root_layout
 
@@ -208,7 +209,7 @@ def build_world(character: Character, pose: str | dict = DEFAULT_POSE, options: 
     _add_springs(spec, character)
     _set_contacts(spec, character, options.contact)
     _add_floor_and_sensors(spec, character, root.name, options.floor)
-    model = spec.compile()
+    model = compile_spec(spec)
 
     data = mujoco.MjData(model)
     mujoco.mj_kinematics(model, data)
@@ -217,7 +218,7 @@ def build_world(character: Character, pose: str | dict = DEFAULT_POSE, options: 
     body_geoms = [i for i in range(model.ngeom) if _in_subtree(model, int(model.geom_bodyid[i]), root_id)]
     low = _lowest_point(model, data, sphere_ids or body_geoms)
     root.pos = np.asarray(root.pos) - [0, 0, low]
-    model = spec.compile()
+    model = compile_spec(spec)
 
     internal_joints = [model.joint(j).id for j in character.joints]
     qvel = np.concatenate([model.jnt_dofadr[j] + np.arange(character.joint_dofs[n])
