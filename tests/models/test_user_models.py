@@ -1,6 +1,7 @@
 """Users' MJCF models (dm_control copies in shared/data/models): loading rules and their numbers."""
 
 import json
+import re
 from pathlib import Path
 
 import mujoco
@@ -131,3 +132,17 @@ def test_root_layout_of_planar_and_free_roots():
     q = np.array([0, 0, 1.0, 1, 0, 0, 0])
     free.lift_and_pitch(q, 0.1, np.pi)      # upside down about y
     assert q[2] == pytest.approx(1.1) and free.up_z(q) == pytest.approx(-1.0)
+
+
+@pytest.mark.parametrize("xml, expected", [
+    ('<mujoco><worldbody><body><geom size=".1"/></body></worldbody></mujoco>', "the model has no joints"),
+    ('<mujoco><worldbody><body><joint type="slide"/><geom size=".1"/><body><joint name="h"/><geom size=".1"/>'
+     '</body></body></worldbody></mujoco>', "field 'the root body (unnamed)'"),
+    ('<mujoco><worldbody><body><freejoint/><geom size=".1"/><body><joint name="h"/><geom size=".1"/>'
+     '</body></body></worldbody><sensor><actuatorfrc actuator="none"/></sensor></mujoco>', "cannot compile"),
+])
+def test_unusable_models_give_one_clear_error(tmp_path, xml, expected):
+    path = tmp_path / "m.xml"
+    path.write_text(xml)
+    with pytest.raises(UserInputError, match=re.escape(expected)):
+        load_character(path, stiffness="auto")

@@ -1,6 +1,6 @@
 """What eigengait guesses about a model without a sidecar: feet and left/right mirror pairs.
 
-* **Feet**: the creature's end bodies (no child body) whose lowest geom point at the model's zero pose lies within
+* **Feet**: the creature's named end bodies (no child body) whose lowest geom point at the model's zero pose lies within
   `FOOT_BAND` of the creature's height above its lowest point. Each gets one contact point (a site named
   `eigengait:foot:<body>`) at the bottom of its lowest geom, with that geom's radius (capsule, sphere, cylinder) or
   smallest half-size (box, ellipsoid, mesh bounding sphere otherwise). The foot is named after the body.
@@ -80,7 +80,8 @@ def find_feet(model: mujoco.MjModel, root: int) -> list[FootPoint]:
     low = min(c[2] - r for c, r in bottoms.values())
     high = max(data.geom_xpos[g][2] + model.geom_rbound[g] for g in range(model.ngeom)
                if int(model.geom_bodyid[g]) in bodies)
-    leaves = [b for b in bodies if b in bottoms and not any(model.body_parentid[c] == b for c in bodies if c != b)]
+    leaves = [b for b in bodies if b in bottoms and model.body(b).name
+              and not any(model.body_parentid[c] == b for c in bodies if c != b)]
     feet = []
     for b in leaves:
         c, r = bottoms[b]

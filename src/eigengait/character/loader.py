@@ -80,12 +80,7 @@ def _parse(path: Path) -> mujoco.MjSpec:
         raise UserInputError(f"malformed MJCF: {msg}", file=path, fix="fix the XML so MuJoCo can load it") from None
 
 
-def _compile(spec: mujoco.MjSpec, path: Path) -> mujoco.MjModel:
-    try:
-        return compile_spec(spec)
-    except Exception as exc:
-        msg = str(exc).strip().replace("\n", " ")
-        raise UserInputError(f"MuJoCo cannot compile the model: {msg}", file=path) from None
+
 
 
 def _add_foot_sites(spec: mujoco.MjSpec, feet: list[FootPoint]) -> None:
@@ -122,7 +117,7 @@ def load_character(name_or_path: str | Path, body: str | None = None, stiffness:
     path, side, meta = _locate(name_or_path)
     spec = _parse(path)
     scene = prepare(spec, path, body or meta.body)
-    model = _compile(spec, path)
+    model = compile_spec(spec, path)
     root = model.body(scene.root).id
     joints = _internal_joints(model, root, scene, path)
 
@@ -133,12 +128,12 @@ def load_character(name_or_path: str | Path, body: str | None = None, stiffness:
     if named:
         guessed = [_named_foot(model, body, side) for body in named]
         _add_foot_sites(spec, guessed)
-        model = _compile(spec, path)
+        model = compile_spec(spec, path)
         sites |= {f.site for f in guessed}
     elif not meta.feet and not any(s.endswith("_toe") for s in sites):
         guessed = find_feet(model, root)
         _add_foot_sites(spec, guessed)
-        model = _compile(spec, path)
+        model = compile_spec(spec, path)
         sites |= {f.site for f in guessed}
         meta.feet = {f.body: Foot(toe=f.site) for f in guessed}
         if guessed:

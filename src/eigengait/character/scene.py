@@ -40,12 +40,17 @@ class Scene:
     notes: list[str] = field(default_factory=list)
 
 
-def compile_spec(spec: mujoco.MjSpec) -> mujoco.MjModel:
-    """`spec.compile()` without MuJoCo's deprecation notice on a model's own `settotalmass` (meant for the model's
-    author; it would otherwise be printed several times by every command)."""
+def compile_spec(spec: mujoco.MjSpec, path: Path | None = None) -> mujoco.MjModel:
+    """`spec.compile()`, its errors as UserInputError naming `path`, without MuJoCo's deprecation notice on a
+    model's own `settotalmass` (meant for the model's author; every command would print it several times)."""
     with warnings.catch_warnings():
         warnings.filterwarnings("ignore", message="compiler attribute 'settotalmass' is deprecated")
-        return spec.compile()
+        try:
+            return spec.compile()
+        except ValueError as exc:
+            msg = str(exc).strip().replace("\n", " ")
+            raise UserInputError(f"MuJoCo cannot compile the model: {msg}", file=path,
+                                 fix="fix the MJCF so that `mujoco.MjModel.from_xml_path` loads it") from None
 
 
 def _subtree(body) -> list:
@@ -82,7 +87,7 @@ def choose_root(spec: mujoco.MjSpec, path: Path, body: str | None):
 
 
 def _check_reserved_names(spec: mujoco.MjSpec, path: Path) -> None:
-    model = compile_spec(spec)
+    model = compile_spec(spec, path)
     for kind in (mujoco.mjtObj.mjOBJ_BODY, mujoco.mjtObj.mjOBJ_GEOM, mujoco.mjtObj.mjOBJ_SITE,
                  mujoco.mjtObj.mjOBJ_JOINT, mujoco.mjtObj.mjOBJ_CAMERA, mujoco.mjtObj.mjOBJ_TEXTURE,
                  mujoco.mjtObj.mjOBJ_MATERIAL, mujoco.mjtObj.mjOBJ_LIGHT, mujoco.mjtObj.mjOBJ_TENDON):
@@ -132,8 +137,8 @@ def prepare(spec: mujoco.MjSpec, path: Path, body: str | None = None) -> Scene:
     """Edit `spec` in place into an eigengait character (rules in the module docstring)."""
     _check_reserved_names(spec, path)
     root = choose_root(spec, path, body)
-    if not root.name:
-        root.name = UNNAMED_ROOT
+    where = f"body '{root.name}'" if root.name else "the root body (unnamed)"
+    root.name = root.name or UNNAMED_ROOT
     scene = Scene(root=root.name)
     for kind, elements in (("actuator", spec.actuators), ("sensor", spec.sensors), ("keyframe", spec.keys)):
         items = list(elements)
@@ -158,13 +163,12 @@ def prepare(spec: mujoco.MjSpec, path: Path, body: str | None = None) -> Scene:
             scene.notes.append("the creature is longest along y (Y-up): turned +90° about x to stand along z")
     elif any(j.type == mujoco.mjtJoint.mjJNT_FREE for j in joints):
         if len(joints) != 1:
-            raise UserInputError("the root body has a free joint and other joints", file=path,
-                                 field=f"body '{root.name}'", fix="keep only the free joint on the root body")
+            raise UserInputError("the root body has a free joint and other joints", file=path, field=where, fix="keep only the free joint on the root body")
     else:
         for j in joints:
             if j.type not in ROOT_JOINT_TYPES or not j.name:
                 raise UserInputError("a root joint must be a named slide or hinge (or one free joint)", file=path,
-                                     field=f"body '{root.name}'", fix="name the root's slide/hinge joints")
+                                     field=where, fix="name the root's slide/hinge joints")
         scene.root_joints = [j.name for j in joints]
         scene.notes.append(f"root '{root.name}' moves by its own joints ({', '.join(scene.root_joints)}): "
                            "kept as the character's rigid degrees of freedom")
