@@ -15,6 +15,7 @@ import typer
 from rich.console import Console
 from rich.table import Table
 
+from eigengait.cli_character import BODY_HELP, STIFFNESS_HELP, print_notes
 from eigengait.errors import UserInputError
 from eigengait.outputs import refuse_existing
 
@@ -51,34 +52,40 @@ def characters_command(as_json: bool = typer.Option(False, "--json", help="Print
 
 
 @character_app.command("export")
-def character_export(name: str = typer.Argument(..., help="Built-in name or MJCF path."),
+def character_export(name: str = typer.Argument(..., help="Built-in name, MJCF path or character sidecar."),
                      output: Path = typer.Option(..., "-o", "--output", help="MJCF file to write."),
                      relax: Optional[str] = typer.Option(None, "--relax", help="Relax pose: preset or JOINT=rx,ry,rz;..."),
-                     force: bool = typer.Option(False, "--force", help="Overwrite an existing file.")):
+                     force: bool = typer.Option(False, "--force", help="Overwrite an existing file."),
+                     body: Optional[str] = typer.Option(None, "--body", help=BODY_HELP),
+                     stiffness: Optional[str] = typer.Option(None, "--stiffness", help=STIFFNESS_HELP)):
     """Write the character's MJCF exactly as simulated (springs, motors, contact spheres, floor)."""
     from eigengait.character import load_character
     from eigengait.character.relax import parse_relax_argument
     from eigengait.sim.world import build_world
 
     refuse_existing([output], force)
-    world = build_world(load_character(name), parse_relax_argument(relax))
+    world = build_world(load_character(name, body, stiffness), parse_relax_argument(relax))
     output.write_text(world.mjcf())
     console.print(f"wrote {output}")
 
 
 @app.command("modes")
-def modes_command(character: str = typer.Argument(..., help="Built-in name or MJCF path."),
+def modes_command(character: str = typer.Argument(..., help="Built-in name, MJCF path or character sidecar."),
                   phase: str = typer.Option("air", "--phase", help="air (free body) or ground (toe pinned)."),
                   foot: Optional[str] = typer.Option(None, "--foot", help="Stance foot for the ground phase."),
                   relax: Optional[str] = typer.Option(None, "--relax", help="Relax pose: preset or JOINT=rx,ry,rz;..."),
                   as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
-                  save: Optional[Path] = typer.Option(None, "--save", help="Save the ModeSet (.npz).")):
+                  save: Optional[Path] = typer.Option(None, "--save", help="Save the ModeSet (.npz)."),
+                  body: Optional[str] = typer.Option(None, "--body", help=BODY_HELP),
+                  stiffness: Optional[str] = typer.Option(None, "--stiffness", help=STIFFNESS_HELP)):
     """Natural vibration modes about the relax pose. Mode 1 is the lowest non-rigid mode."""
     from eigengait.character import load_character
     from eigengait.character.relax import parse_relax_argument
     from eigengait.modal import compute_modes
 
-    modes = compute_modes(load_character(character), phase, foot, parse_relax_argument(relax))
+    loaded = load_character(character, body, stiffness)
+    print_notes(loaded)
+    modes = compute_modes(loaded, phase, foot, parse_relax_argument(relax))
     if save:
         modes.save(save)
     if as_json:
@@ -98,6 +105,7 @@ def modes_command(character: str = typer.Argument(..., help="Built-in name or MJ
 
 def _register_command_groups() -> None:
     from eigengait.cli_animate import register as register_animate
+    from eigengait.cli_character import register as register_character
     from eigengait.cli_gait import register as register_gait
     from eigengait.cli_studio import register as register_studio
     from eigengait.cli_track import register as register_track
@@ -106,6 +114,7 @@ def _register_command_groups() -> None:
 
     app.add_typer(cloth_app, name="cloth", help="The FLEX3D deformable-surface simulator.")
     register_animate(app)
+    register_character(app, character_app)
     register_gait(app)
     register_track(app)
     register_studio(app)
@@ -116,6 +125,8 @@ _register_command_groups()
 
 def main() -> None:
     """Entry point: run the app, turning bad input into one message and exit status 2."""
+    if sys.argv[1:3] == ["sketch", "new"]:      # `sketch new MODEL`: the starter-sketch command
+        sys.argv[1:3] = ["sketch-new"]
     try:
         app(standalone_mode=False)
     except UserInputError as err:

@@ -15,8 +15,11 @@ from eigengait.sim.stepping import step
 GOOD_BODY = '<geom type="box" size=".1 .1 .1"/>'
 CASES = {
     "malformed": ("<mujoco><worldbody><body>", "malformed MJCF"),
-    "no_free_root": (f'<mujoco><worldbody><body><joint name="j" type="ball" stiffness="5"/>{GOOD_BODY}</body>'
-                     "</worldbody></mujoco>", "no free joint"),
+    "ball_root": (f'<mujoco><worldbody><body><joint name="j" type="ball" stiffness="5"/>{GOOD_BODY}</body>'
+                  "</worldbody></mujoco>", "root joint must be a named slide or hinge"),
+    "reserved_name": (f'<mujoco><worldbody><body><freejoint/>{GOOD_BODY}<body pos="0 0 .2">'
+                      f'<joint name="j" type="ball" stiffness="5"/><geom name="eigengait:floor" size=".1"/></body>'
+                      "</body></worldbody></mujoco>", "geom 'eigengait:floor'"),
     "no_stiffness": (f'<mujoco><worldbody><body><freejoint/>{GOOD_BODY}<body pos="0 0 .2">'
                      f'<joint name="elbow" type="ball"/>{GOOD_BODY}</body></body></worldbody></mujoco>',
                      "joint 'elbow' stiffness"),

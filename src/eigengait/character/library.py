@@ -23,9 +23,10 @@ def resolve_character(name_or_path: str | Path) -> Path:
     if text in builtin_names():
         return library_dir() / f"{text}.xml"
     path = Path(text)
-    if path.suffix.lower() == ".xml" or path.exists():
+    if path.suffix.lower() in (".xml", ".yaml") or path.exists():
         if not path.is_file():
-            raise UserInputError("file not found", file=path, fix="give a path to an MJCF .xml file")
+            raise UserInputError("file not found", file=path,
+                                 fix="give a path to an MJCF .xml file or a NAME.eigengait.yaml sidecar")
         return path
     raise UserInputError(f"unknown character '{text}'", field="CHARACTER",
                          fix=f"use a built-in name ({', '.join(builtin_names())}) or a path to an MJCF file")

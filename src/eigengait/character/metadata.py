@@ -2,14 +2,18 @@
 
 ```yaml
 eigengait: 1                     # format version
+model: ../models/walker.xml      # optional: the MJCF this sidecar describes (relative to the sidecar), which makes
+                                 # the sidecar itself a CHARACTER argument; without it the sidecar sits beside the MJCF
+body: torso                      # optional: the creature's root body in a scene with several (default: the largest)
 feet:                            # foot name -> MJCF site names of its toe and heel points
   left: {toe: left_toe, heel: left_heel}
 gait_order: [left, right]        # order in which feet take the ground in a gait cycle
 mirror:                          # left/right symmetry through the plane normal to `axis` (body frames)
   axis: y
   pairs: {left_thigh: right_thigh}
-stiffness:                       # anisotropic joint stiffness (kx, ky, kz) in N·m/rad, joint frame
-  torso: [500, 800, 300]
+stiffness:                       # joint stiffness in N·m/rad, joint frame: (kx, ky, kz) for a ball, k for a hinge;
+  torso: [500, 800, 300]         # `auto` instead of a mapping: the sag rule (see `character/stiffness.py`)
+  knee: 120
 damping_ratio: 0.1               # damping = damping_ratio × stiffness (s)
 relax_poses:                     # named relax poses: joint -> rotation vector in degrees, joint frame
   crouched: {left_thigh: [0, -35, 0]}
@@ -46,10 +50,12 @@ class CharacterMetadata(BaseModel):
     """Validated content of a character sidecar file."""
     model_config = ConfigDict(extra="forbid")
     eigengait: int = FORMAT_VERSION
+    model: str | None = None
+    body: str | None = None
     feet: dict[str, Foot] = Field(default_factory=dict)
     gait_order: list[str] = Field(default_factory=list)
     mirror: Mirror | None = None
-    stiffness: dict[str, tuple[float, float, float]] = Field(default_factory=dict)
+    stiffness: dict[str, tuple[float, float, float] | float] | Literal["auto"] = Field(default_factory=dict)
     damping_ratio: float = Field(0.1, ge=0.0)
     relax_poses: dict[str, dict[str, tuple[float, float, float] | float]] = Field(default_factory=dict)
 
@@ -63,15 +69,22 @@ class CharacterMetadata(BaseModel):
     @field_validator("stiffness")
     @classmethod
     def _positive_stiffness(cls, v):
-        for joint, k in v.items():
-            if min(k) <= 0:
+        for joint, k in ({} if v == "auto" else v).items():
+            if min(k if isinstance(k, tuple) else (k,)) <= 0:
                 raise ValueError(f"stiffness of joint '{joint}' must be positive in every axis, got {list(k)}")
         return v
 
 
+SIDECAR_SUFFIX = ".eigengait.yaml"
+
+
 def sidecar_path(mjcf: Path) -> Path:
     """The sidecar file that belongs to an MJCF file: `NAME.xml` -> `NAME.eigengait.yaml`."""
-    return mjcf.with_name(mjcf.stem + ".eigengait.yaml")
+    return mjcf.with_name(mjcf.stem + SIDECAR_SUFFIX)
+
+
+def is_sidecar(path: Path) -> bool:
+    return path.name.endswith(SIDECAR_SUFFIX)
 
 
 def first_error(err: ValidationError) -> tuple[str, str]:

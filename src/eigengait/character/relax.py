@@ -11,6 +11,7 @@ import mujoco
 import numpy as np
 
 from eigengait.character.loader import Character
+from eigengait.character.scene import compile_spec
 from eigengait.errors import UserInputError
 
 DEFAULT_POSE = "default"
@@ -69,7 +70,7 @@ def posed_spec(character: Character, pose: str | dict = DEFAULT_POSE) -> mujoco.
     rotations = pose_rotations(character, pose)
     if not rotations:
         return spec
-    model = spec.compile()
+    model = compile_spec(spec)
     for joint, rot in rotations.items():
         j = model.joint(joint).id
         b = int(model.jnt_bodyid[j])

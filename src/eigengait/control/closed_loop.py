@@ -19,6 +19,7 @@ from mujoco import rollout
 from eigengait.control.feedback import (FEEDBACK_DT, MIRROR_SIGNS, FeatureReader, FeedbackGains, hip_motors,
                                         hip_torque, state_roles)
 from eigengait.control.gait import GaitParameters, GaitSystem
+from eigengait.sim.root import RootLayout
 
 PUSH_SECONDS = 0.1   # s, duration of every push
 
@@ -41,10 +42,9 @@ class BatchRun:
     fell_time: np.ndarray    # s, when each fallen candidate fell (nan if it did not)
 
 
-def fallen(states: np.ndarray, sensors: np.ndarray, nq: int, standing_com: float) -> np.ndarray:
+def fallen(states: np.ndarray, sensors: np.ndarray, root: RootLayout, nq: int, standing_com: float) -> np.ndarray:
     """Per row: COM below half its standing height, root upside down, or a non-finite state."""
-    quat = states[..., 4:8]
-    up_z = 1 - 2 * (quat[..., 1] ** 2 + quat[..., 2] ** 2)
+    up_z = root.up_z(states[..., 1:1 + nq])
     finite = np.isfinite(states[..., 1:]).all(axis=-1) & (np.abs(states[..., 1:]) < 1e6).all(axis=-1)
     return (sensors[..., 2] < 0.5 * standing_com) | (up_z < 0) | ~finite
 
@@ -189,7 +189,7 @@ class ClosedLoopRunner:
             states[idx, a:b], sensors[idx, a:b] = s, d
             torques[idx, a:b] = control[:, :, :n_motor]
             state[idx], sensors_now[idx] = s[:, -1], d[:, -1]
-            bad = fallen(s, d, nq, self.standing_com)
+            bad = fallen(s, d, system.world.root, nq, self.standing_com)
             for k, i in enumerate(idx):
                 upto = min(b, steps[i]) - a
                 hit = np.flatnonzero(bad[k, :upto])

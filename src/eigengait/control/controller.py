@@ -84,7 +84,7 @@ def to_file(system: GaitSystem, p: GaitParameters, name: str = "", metrics: dict
     acts: dict[str, dict[str, dict[int, float]]] = {}
     for (foot, phase), psi in p.activations.items():
         acts.setdefault(foot, {})[phase] = {int(i + 1): float(v) for i, v in enumerate(psi) if v != 0}
-    return ControllerFile(name=name, character=system.character.name if _is_builtin(system) else str(system.character.path),
+    return ControllerFile(name=name, character=system.character.name if _is_builtin(system) else str(system.character.reference.resolve()),
                           relax_pose=system.pose, feet=system.feet, symmetric=system.mirror is not None,
                           basis=system.basis, torque_limit=system.torque_limit, period=p.period,
                           air_ratio=p.air_ratio, pulse_air=p.pulse_air, pulse_ground=p.pulse_ground,

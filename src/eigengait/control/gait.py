@@ -115,7 +115,8 @@ class GaitSystem:
         """
         dq = np.zeros(self.world.model.nv)
         mujoco.mj_differentiatePos(self.world.model, dq, 1.0, qpos_ref, qpos)
-        return np.concatenate([dq[1:], VELOCITY_WEIGHT * (qvel - qvel_ref)])
+        forward = self.world.root.forward_qvel
+        return np.concatenate([np.delete(dq, [] if forward is None else forward), VELOCITY_WEIGHT * (qvel - qvel_ref)])
 
     def half_cycle_error(self, p: GaitParameters, qpos: np.ndarray, qvel: np.ndarray) -> np.ndarray:
         """The thesis's constraint for symmetric gaits: the mirrored state at T/2 against (q₀, q̇₀)."""

@@ -26,7 +26,8 @@ class GaitRecording:
     """A played motion sampled at `fps` frames/s (MuJoCo z-up world, x forward, metres, seconds)."""
     fps: float
     period: float                        # s, one controller cycle (phase = (t mod period) / period, t = frame / fps)
-    qpos: np.ndarray                     # F × nq MuJoCo positions; joint 0 is the root free joint (pos xyz, quat wxyz)
+    qpos: np.ndarray                     # F × nq MuJoCo positions; joint 0 is the root (free: pos xyz, quat wxyz;
+                                         # other roots give no tilt or root jump)
     com: np.ndarray                      # F × 3 whole-body COM (m)
     foot_points: dict[str, np.ndarray]   # foot name -> F × k × 3 world positions of the foot's contact-sphere centres
     foot_radius: dict[str, float]        # foot name -> contact-sphere radius (m)
@@ -160,7 +161,8 @@ def gait_metrics(model: mujoco.MjModel, rec: GaitRecording) -> dict:
     slips = {f: _stance_slips(rec.foot_points[f], _sphere_contacts(rec, f, CONTACT_TOLERANCE), c)
              for f, c in contacts.items()}
     slip = {f: _round(s.mean()) if s.size else None for f, s in slips.items()}
-    pitch, roll = _root_tilt_deg(rec.qpos[:, 3:7])
+    free = model.njnt > 0 and model.jnt_type[0] == mujoco.mjtJoint.mjJNT_FREE
+    pitch, roll = _root_tilt_deg(rec.qpos[:, 3:7]) if free else (np.full(frames, np.nan),) * 2
     moved = frames > 1
     return {
         "cadence_spm": _round(60.0 * _step_count(touchdowns, SAME_STEP_S * rec.fps) * rec.fps / frames),
@@ -173,5 +175,6 @@ def gait_metrics(model: mujoco.MjModel, rec: GaitRecording) -> dict:
         "torso_roll_deg": [_round(roll.min()), _round(roll.max())],
         "footfall": {f: _footfall(t, rec.fps, rec.period) for f, t in touchdowns.items()},
         "max_frame_jump_deg": _round(_max_frame_jump_deg(model, rec.qpos)) if moved else None,
-        "max_root_jump_m": _round(np.linalg.norm(np.diff(rec.qpos[:, 0:3], axis=0), axis=1).max()) if moved else None,
+        "max_root_jump_m": (_round(np.linalg.norm(np.diff(rec.qpos[:, 0:3], axis=0), axis=1).max())
+                            if moved and free else None),
     }

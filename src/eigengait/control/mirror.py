@@ -50,8 +50,9 @@ class Mirror:
             ball = model.jnt_type[j] == mujoco.mjtJoint.mjJNT_BALL
             s = 1.0 if ball else float(-self.S @ model.jnt_axis[j] @ model.jnt_axis[jo])
             self.joint_maps.append((int(model.jnt_qposadr[j]), int(model.jnt_qposadr[jo]), ball, s))
-        free = next(j for j in range(model.njnt) if model.jnt_type[j] == mujoco.mjtJoint.mjJNT_FREE)
-        self.root_qpos, self.root_qvel = int(model.jnt_qposadr[free]), int(model.jnt_dofadr[free])
+        # a planar root (slides along x/z, hinge about y) lies in the mirror plane: mirroring leaves it unchanged
+        self.root_qpos = world.root.forward_qpos if world.root.kind == "free" else None
+        self.root_qvel = world.root.forward_qvel
         self.sign = np.array(sign)
         self.S_quat_axis = -np.diag(self.S)
 
@@ -68,10 +69,11 @@ class Mirror:
         """Mirror a full state (free root + ball/hinge joints)."""
         qp, qv = qpos.copy(), qvel.copy()
         a, d = self.root_qpos, self.root_qvel
-        qp[a:a + 3] = self.S @ qpos[a:a + 3]
-        qp[a + 3:a + 7] = self._quat(qpos[a + 3:a + 7])
-        qv[d:d + 3] = self.S @ qvel[d:d + 3]
-        qv[d + 3:d + 6] = -self.S @ qvel[d + 3:d + 6]
+        if a is not None:
+            qp[a:a + 3] = self.S @ qpos[a:a + 3]
+            qp[a + 3:a + 7] = self._quat(qpos[a + 3:a + 7])
+            qv[d:d + 3] = self.S @ qvel[d:d + 3]
+            qv[d + 3:d + 6] = -self.S @ qvel[d + 3:d + 6]
         qv[self.world.internal_qvel] = self.dofs(qvel[self.world.internal_qvel])
         for adr, partner, ball, sign in self.joint_maps:
             if ball:

@@ -81,15 +81,18 @@ def play(system: GaitSystem, p: GaitParameters, cycles: int = 4, snap: bool = Fa
 def _play_snapped(runner: ClosedLoopRunner, p: GaitParameters, cycles: int) -> tuple[BatchRun, int]:
     """Cycle by cycle from (q₀, q̇₀), open loop, keeping the root's forward position: the thesis's reset."""
     parts, completed = [], 0
-    x = p.qpos0[0]
+    forward = runner.system.world.root.forward_qpos
+    start = p
     for _ in range(cycles):
-        start = GaitParameters(**{**p.__dict__, "qpos0": np.r_[x, p.qpos0[1:]]})
         run = runner.run([start], 1, persistent=False)
         parts.append(run)
         if run.fell[0]:
             break
         completed += 1
-        x = run.states[0, -1, 1]
+        qpos0 = p.qpos0.copy()
+        if forward is not None:
+            qpos0[forward] = run.states[0, -1, 1 + forward]
+        start = GaitParameters(**{**p.__dict__, "qpos0": qpos0})
     cat = lambda name: np.concatenate([getattr(r, name)[0, :r.ended[0]] for r in parts])[None]  # noqa: E731
     ended = sum(int(r.ended[0]) for r in parts)
     return BatchRun(states=cat("states"), sensors=cat("sensors"), torques=cat("torques"), ended=np.array([ended]),

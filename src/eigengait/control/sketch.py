@@ -2,7 +2,7 @@
 
 ```yaml
 eigengait_sketch: 1
-character: humanoid          # built-in name or MJCF path
+character: humanoid          # built-in name, MJCF path or character sidecar (NAME.eigengait.yaml)
 relax_pose: default          # preset name or {joint: [rx, ry, rz] degrees}
 feet: [left, right]          # stance order (default: the character's gait_order)
 symmetric: true              # second foot mirrors the first
@@ -122,7 +122,7 @@ def load_sketch(path: str | Path) -> Sketch:
     """Read a sketch file (JSON or YAML); a relative character path is taken relative to the file."""
     path = Path(path)
     sketch = validate(Sketch, read_mapping(path), path, "see the sketch format in the README (Sketches)")
-    if sketch.character.endswith(".xml") and not Path(sketch.character).is_absolute():
+    if sketch.character.endswith((".xml", ".yaml")) and not Path(sketch.character).is_absolute():
         sketch.character = str((path.parent / sketch.character).resolve())
     return sketch
 

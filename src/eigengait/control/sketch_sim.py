@@ -58,8 +58,8 @@ def simulate_sketch(sketch: Sketch, seconds: float, source: str | Path | None = 
     biggest = 0.0
     for q in qpos:
         for j in system.world.internal_qpos_joints:
-            if model.jnt_type[j] == mujoco.mjtJoint.mjJNT_BALL:
-                a = model.jnt_qposadr[j]
-                biggest = max(biggest, 2 * np.arccos(np.clip(abs(q[a]), 0, 1)))
+            a = model.jnt_qposadr[j]
+            ball = model.jnt_type[j] == mujoco.mjtJoint.mjJNT_BALL
+            biggest = max(biggest, 2 * np.arccos(np.clip(abs(q[a]), 0, 1)) if ball else abs(q[a]))
     return SketchRun(world=system.world, qpos=qpos, fps=1 / (stride * model.opt.timestep), wall_seconds=wall,
                      max_joint_rotation_deg=float(np.rad2deg(biggest)))

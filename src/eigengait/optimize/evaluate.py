@@ -62,7 +62,8 @@ class BatchEvaluator:
         feet = world.character.feet
         self.toe_sensor = {f: world.foot_sensor[feet[f].toe] for f in system.feet}
         self.heel_sensor = {f: world.foot_sensor[feet[f].heel] if feet[f].heel else None for f in system.feet}
-        self.hip_offset = self._hip_offsets()
+        self.hip_joint = {f: self.model.joint(leg_root_joint(world, f)).id for f in dict.fromkeys(system.feet)}
+        self.kinematics = mujoco.MjData(self.model)
 
     @property
     def steps_simulated(self) -> int:
@@ -93,14 +94,13 @@ class BatchEvaluator:
         mean_vel = (sensors[-1, 0:3] - self.system.initial_com(p)) / (end * self.dt)
         energy = terms.energy_objective(torques) if end else 0.0
         qvel = states[samples, 1 + nq:1 + nq + nv]
-        quat = states[samples, 1 + 3:1 + 7]
         soft = {
             "min_speed": terms.min_speed_term(comvel[samples, 0], tg.min_speed),
             "mean_speed": terms.mean_speed_term(mean_vel, tg.mean_speed, tg.lateral_speed, tg.vertical_speed),
             "joint_speed": terms.joint_speed_term(qvel[:, self.system.world.internal_qvel], tg.joint_speed),
             "energy_max": terms.energy_limit_term(energy, tg.energy),
             "priority": terms.priority_term(self._priority_split(p)),
-            "upright": terms.upright_term(1 - 2 * (quat[:, 1] ** 2 + quat[:, 2] ** 2)),
+            "upright": terms.upright_term(self.system.world.root.up_z(states[samples, 1:1 + nq])),
             **self._stance_terms(p, states, sensors),
         }
         if run.fell[i]:
@@ -127,24 +127,16 @@ class BatchEvaluator:
         return out
 
     # ------------------------------------------------------------------ stance terms (Eqs. 4.17–4.20)
-    def _hip_offsets(self) -> dict[str, np.ndarray]:
-        """Each leg's hip anchor in the root body's frame (m), for the anti-stumble term."""
-        world, data = self.system.world, self.system.world.new_data()
-        root = world.root_body
-        R = data.xmat[root].reshape(3, 3)
-        out = {}
-        for f in dict.fromkeys(self.system.feet):
-            j = self.model.joint(leg_root_joint(world, f)).id
-            out[f] = R.T @ (data.xanchor[j] - data.xpos[root])
+    def _hips(self, states: np.ndarray) -> dict[str, np.ndarray]:
+        """World hip-anchor positions (n × 3) per leg, from forward kinematics of the recorded states."""
+        model, data, nq = self.model, self.kinematics, self.nq
+        out = {f: np.empty((len(states), 3)) for f in self.hip_joint}
+        for k, row in enumerate(states):
+            data.qpos[:] = row[1:1 + nq]
+            mujoco.mj_kinematics(model, data)
+            for f, j in self.hip_joint.items():
+                out[f][k] = data.xanchor[j]
         return out
-
-    def _hips(self, states: np.ndarray, foot: str) -> np.ndarray:
-        """World hip-anchor positions (n × 3) from root positions and quaternions."""
-        pos, quat = states[:, 1:4], states[:, 4:8]
-        R = np.empty((len(states), 9))
-        for k in range(len(states)):
-            mujoco.mju_quat2Mat(R[k], quat[k])
-        return pos + R.reshape(-1, 3, 3) @ self.hip_offset[foot]
 
     def _stance_terms(self, p: GaitParameters, states: np.ndarray, sensors: np.ndarray) -> dict[str, float]:
         out = {"stance_contact": 0.0, "stance_rise": 0.0, "anti_stumble": 0.0}
@@ -176,11 +168,12 @@ class BatchEvaluator:
                     rows = np.arange(a, b, self.sample_every)
                     touching = rows[clearance[rows - a] < 0.01]
                     if touching.size:
+                        hips = self._hips(states[touching])
                         out["anti_stumble"] += terms.anti_stumble_term(
-                            self._toe_to_hip(states, sensors, touching, s.foot),
-                            self._toe_to_hip(states, sensors, touching, other))
+                            self._toe_to_hip(sensors[touching], hips, s.foot),
+                            self._toe_to_hip(sensors[touching], hips, other))
         return out
 
-    def _toe_to_hip(self, states, sensors, rows, foot: str) -> np.ndarray:
-        toe = sensors[rows, self.toe_sensor[foot]:self.toe_sensor[foot] + 3]
-        return np.linalg.norm(toe - self._hips(states[rows], foot), axis=1)
+    def _toe_to_hip(self, sensors: np.ndarray, hips: dict[str, np.ndarray], foot: str) -> np.ndarray:
+        toe = sensors[:, self.toe_sensor[foot]:self.toe_sensor[foot] + 3]
+        return np.linalg.norm(toe - hips[foot], axis=1)

@@ -134,17 +134,14 @@ class ParameterSpace:
         shapes = system.air_modes.shapes
         disp = sum((get(f"q0/{m}") * shapes[:, m - 1] for m in self.pose_modes), np.zeros(model.nv))
         vel = sum((get(f"qd0/{m}") * shapes[:, m - 1] for m in self.pose_modes), np.zeros(model.nv))
-        disp[:3] = 0.0          # root translation is set below, the modes keep their joint and root rotation part
+        root = system.world.root
+        disp[list(root.translation_qvel)] = 0.0   # root translation is set below; modes keep joints and rotation
         mujoco.mj_integratePos(model, qpos, disp, 1.0)
-        qpos[2] += get("root_height")
-        pitch = np.zeros(4)
-        mujoco.mju_axisAngle2Quat(pitch, np.array([0.0, 1.0, 0.0]), get("root_pitch"))
-        quat = np.zeros(4)
-        mujoco.mju_mulQuat(quat, pitch, qpos[3:7])
-        qpos[3:7] = quat
+        root.lift_and_pitch(qpos, get("root_height"), get("root_pitch"))
         qvel[:] = vel
-        qvel[0] += get("root_speed_x")
-        qvel[2] += get("root_speed_z")
+        for adr, name in ((root.forward_qvel, "root_speed_x"), (root.vertical_qvel, "root_speed_z")):
+            if adr is not None:
+                qvel[adr] += get(name)
         return GaitParameters(period=get("period"), air_ratio=get("air_ratio"), pulse_air=get("pulse_air"),
                               pulse_ground=get("pulse_ground"), activations=activations, qpos0=qpos, qvel0=qvel,
                               feedback=self._decode_feedback(v))

@@ -9,6 +9,8 @@
   `contact="feet"` lets only the spheres collide, and `set_stance_foot` restricts that to one foot (the thesis's
   filtering).
 * Sensors: the COM and COM velocity of the whole creature, and the world position of every foot's toe and heel.
+* Everything added is named with a reserved prefix (`eigengait:`, `motor:`, `spring:`, `contact:`, `pos:`),
+  which `character/scene.py` forbids in models, so it cannot clash with the model's own names.
 """
 
 from __future__ import annotations
@@ -21,9 +23,12 @@ import numpy as np
 
 from eigengait.character.loader import Character
 from eigengait.character.relax import DEFAULT_POSE, posed_spec
+from eigengait.character.scene import compile_spec
 from eigengait.errors import UserInputError
+from eigengait.sim.root import RootLayout, root_layout
 
 BODY_GROUP, FOOT_GROUP, FLOOR_AFFINITY = 1, 2, 3
+FLOOR = "eigengait:floor"
 GRAVITY = 9.81
 
 
@@ -54,6 +59,7 @@ class World:
     internal_qpos_joints: list[int] = None    # joint ids of internal joints, model order
     foot_spheres: dict[str, list[int]] = field(default_factory=dict)   # foot -> contact geom ids
     foot_sensor: dict[str, int] = field(default_factory=dict)         # "<foot>_toe"/"<foot>_heel" -> sensordata adr
+    root: RootLayout = None                   # where the root's coordinates are in qpos/qvel
 
     @property
     def nmotor(self) -> int:
@@ -147,24 +153,24 @@ def _set_contacts(spec: mujoco.MjSpec, character: Character, contact: str) -> No
 
 def _add_floor_and_sensors(spec: mujoco.MjSpec, character: Character, root_name: str, floor: bool) -> None:
     if floor:
-        tex = spec.add_texture(name="grid", type=mujoco.mjtTexture.mjTEXTURE_2D,
+        tex = spec.add_texture(name="eigengait:grid", type=mujoco.mjtTexture.mjTEXTURE_2D,
                                builtin=mujoco.mjtBuiltin.mjBUILTIN_CHECKER, width=256, height=256,
                                rgb1=[0.82, 0.84, 0.86], rgb2=[0.70, 0.72, 0.75])
-        mat = spec.add_material(name="floor")
+        mat = spec.add_material(name=FLOOR)
         mat.textures[mujoco.mjtTextureRole.mjTEXROLE_RGB] = tex.name
         mat.texrepeat = [1, 1]
         mat.texuniform = True
-        g = spec.worldbody.add_geom(name="floor", type=mujoco.mjtGeom.mjGEOM_PLANE, size=[0, 0, 0.05],
-                                    material="floor")
+        g = spec.worldbody.add_geom(name=FLOOR, type=mujoco.mjtGeom.mjGEOM_PLANE, size=[0, 0, 0.05],
+                                    material=FLOOR)
         g.contype, g.conaffinity = 0, FLOOR_AFFINITY
         g.friction = [1.0, 0.005, 0.0001]
     spec.worldbody.add_light(pos=[0, 0, 6], dir=[0, 0, -1], type=mujoco.mjtLightType.mjLIGHT_DIRECTIONAL,
                               diffuse=[0.7, 0.7, 0.7])
-    cam = spec.worldbody.add_camera(name="side", pos=[0.5, -4.0, 1.3], xyaxes=[1, 0, 0, 0, 0.3, 1])
+    cam = spec.worldbody.add_camera(name="eigengait:side", pos=[0.5, -4.0, 1.3], xyaxes=[1, 0, 0, 0, 0.3, 1])
     cam.mode = mujoco.mjtCamLight.mjCAMLIGHT_TRACKCOM
     for kind in (mujoco.mjtSensor.mjSENS_SUBTREECOM, mujoco.mjtSensor.mjSENS_SUBTREELINVEL):
         s = spec.add_sensor(type=kind, objtype=mujoco.mjtObj.mjOBJ_BODY, objname=root_name)
-        s.name = "com" if kind == mujoco.mjtSensor.mjSENS_SUBTREECOM else "com_velocity"
+        s.name = "eigengait:com" if kind == mujoco.mjtSensor.mjSENS_SUBTREECOM else "eigengait:com_velocity"
     for f in character.feet.values():
         for point in filter(None, (f.toe, f.heel)):
             spec.add_sensor(name=f"pos:{point}", type=mujoco.mjtSensor.mjSENS_FRAMEPOS,
@@ -186,11 +192,16 @@ def _lowest_point(model: mujoco.MjModel, data: mujoco.MjData, geoms: list[int]) 
     return low
 
 
+def _in_subtree(model: mujoco.MjModel, body: int, root: int) -> bool:
+    while body > 0 and body != root:
+        body = int(model.body_parentid[body])
+    return body == root and root > 0
+
+
 def build_world(character: Character, pose: str | dict = DEFAULT_POSE, options: WorldOptions = WorldOptions()) -> World:
     """Compile the character at `pose` into a world, standing with its lowest point on the floor."""
     spec = posed_spec(character, pose)
-    root = next(b for b in spec.worldbody.bodies if b.joints)
-    root.name = root.name or "root"
+    root = spec.body(character.scene.root)
     spec.option.timestep = options.timestep
     spec.option.gravity = [0, 0, -GRAVITY if options.gravity else 0.0]
     spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
@@ -198,17 +209,17 @@ def build_world(character: Character, pose: str | dict = DEFAULT_POSE, options: 
     _add_springs(spec, character)
     _set_contacts(spec, character, options.contact)
     _add_floor_and_sensors(spec, character, root.name, options.floor)
-    model = spec.compile()
+    model = compile_spec(spec)
 
     data = mujoco.MjData(model)
     mujoco.mj_kinematics(model, data)
     sphere_ids = [i for i in range(model.ngeom) if model.geom(i).name.startswith("contact:")]
-    body_geoms = [i for i in range(model.ngeom) if model.geom_bodyid[i] != 0]
+    root_id = model.body(root.name).id
+    body_geoms = [i for i in range(model.ngeom) if _in_subtree(model, int(model.geom_bodyid[i]), root_id)]
     low = _lowest_point(model, data, sphere_ids or body_geoms)
     root.pos = np.asarray(root.pos) - [0, 0, low]
-    model = spec.compile()
+    model = compile_spec(spec)
 
-    root_id = model.body(root.name).id
     internal_joints = [model.joint(j).id for j in character.joints]
     qvel = np.concatenate([model.jnt_dofadr[j] + np.arange(character.joint_dofs[n])
                            for j, n in zip(internal_joints, character.joints)]).astype(int)
@@ -217,4 +228,5 @@ def build_world(character: Character, pose: str | dict = DEFAULT_POSE, options: 
     sensors = {model.sensor(i).name[len("pos:"):]: int(model.sensor_adr[i])
                for i in range(model.nsensor) if model.sensor(i).name.startswith("pos:")}
     return World(character=character, pose=pose, options=options, model=model, spec=spec, root_body=root_id,
-                 internal_qvel=qvel, internal_qpos_joints=internal_joints, foot_spheres=feet, foot_sensor=sensors)
+                 internal_qvel=qvel, internal_qpos_joints=internal_joints, foot_spheres=feet, foot_sensor=sensors,
+                 root=root_layout(model, root_id))

@@ -29,7 +29,7 @@ from eigengait.control.balance.reference import Reference
 from eigengait.control.balance.rotations import quat_angle, quat_to_mat
 from eigengait.control.balance.virtual import VirtualGains, virtual_force, virtual_torque
 from eigengait.errors import UserInputError
-from eigengait.sim.world import GRAVITY, World
+from eigengait.sim.world import FLOOR, GRAVITY, World
 
 PUSH_DURATION = 0.1  # s
 
@@ -132,7 +132,7 @@ class Tracker:
         self.foot_bodies = {f: int(model.geom_bodyid[g[0]]) for f, g in world.foot_spheres.items()}
         self.foot_dofs = {f: [d for d in range(model.nv) if model.dof_bodyid[d] == b and d in set(self.joint_dofs)]
                           for f, b in self.foot_bodies.items()}
-        floor = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_GEOM, "floor")
+        floor = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_GEOM, FLOOR)
         self.floor = floor
         self.foot_body_set = set(self.foot_bodies.values())
 

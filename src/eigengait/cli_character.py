@@ -1,0 +1,101 @@
+"""`eigengait character inspect` and `eigengait sketch new`: bring a user's MJCF model in."""
+
+from __future__ import annotations
+
+import json
+import os
+from pathlib import Path
+from typing import Optional
+
+import typer
+import yaml
+from rich.console import Console
+from rich.table import Table
+
+from eigengait.outputs import refuse_existing
+
+console = Console()
+BODY_HELP = "Root body of the creature in a scene with several (default: the largest articulated tree)."
+STIFFNESS_HELP = "`auto`: give joints without stiffness k = m·g·r/θ_sag (10° sag under the weight they carry)."
+
+
+def print_notes(character) -> None:
+    """What loading the model changed or guessed, on stderr (stdout stays clean for --json)."""
+    for note in character.scene.notes:
+        Console(stderr=True).print(f"note: {note}", highlight=False, soft_wrap=True)
+
+
+def body_option():
+    return typer.Option(None, "--body", help=BODY_HELP)
+
+
+def stiffness_option():
+    return typer.Option(None, "--stiffness", help=STIFFNESS_HELP)
+
+
+def inspect_command(model: str = typer.Argument(..., help="Built-in name, MJCF path or character sidecar."),
+                    body: Optional[str] = body_option(), stiffness: Optional[str] = stiffness_option(),
+                    as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
+                    output: Optional[Path] = typer.Option(None, "-o", "--output",
+                                                          help="Write an editable sidecar NAME.eigengait.yaml."),
+                    force: bool = typer.Option(False, "--force", help="Overwrite an existing sidecar.")):
+    """What eigengait found or guessed in a model: root, joints, stiffness, feet, mirror pairs."""
+    from eigengait.character import load_character
+    from eigengait.character.report import describe, sidecar_yaml
+
+    refuse_existing([output], force)
+    character = load_character(model, body=body, stiffness=stiffness)
+    info = describe(character)
+    if output is not None:
+        output.write_text(sidecar_yaml(character, output))
+    if as_json:
+        print(json.dumps(info))
+        return
+    root = info["root"]
+    console.print(f"[bold]{info['character']}[/] — {info['internal_dofs']} internal DOF; root '{root['body']}' "
+                  f"({root['kind']}{': ' + ', '.join(root['joints']) if root['joints'] else ''})")
+    for note in info["notes"]:
+        console.print(f"note: {note}")
+    table = Table(title="joints")
+    for col in ("joint", "kind", "stiffness (N·m/rad)", "source"):
+        table.add_column(col)
+    for j in info["joints"]:
+        table.add_row(j["name"], j["kind"], ", ".join(f"{k:.3g}" for k in j["stiffness"]), j["stiffness_source"])
+    console.print(table)
+    feet = ", ".join(f"{n}{' (guessed)' if f['guessed'] else ''}" for n, f in info["feet"].items()) or "(none)"
+    console.print(f"feet: {feet}")
+    console.print("mirror pairs: " + (", ".join(f"{a}↔{b}" for a, b in info["mirror_pairs"].items()) or "(none)"))
+    if output is not None:
+        console.print(f"wrote {output}")
+
+
+def sketch_new_command(model: str = typer.Argument(..., help="Built-in name, MJCF path or character sidecar."),
+                       output: Path = typer.Option(..., "-o", "--output", help="Sketch file to write (.yaml)."),
+                       body: Optional[str] = body_option(), stiffness: Optional[str] = stiffness_option(),
+                       force: bool = typer.Option(False, "--force", help="Overwrite existing files.")):
+    """Write a starter sketch; for a user's MJCF (or a sidecar with --body/--stiffness), also a character sidecar
+    `NAME.eigengait.yaml` beside it that the sketch refers to."""
+    from eigengait.character import builtin_names, load_character
+    from eigengait.character.metadata import SIDECAR_SUFFIX
+    from eigengait.character.report import sidecar_yaml
+    from eigengait.control.starter import starter_sketch
+
+    character = load_character(model, body=body, stiffness=stiffness)
+    print_notes(character)
+    builtin = model in builtin_names()
+    standalone = character.reference != character.path and body is None and stiffness is None
+    sidecar = None if builtin or standalone else output.with_name(character.name + SIDECAR_SUFFIX)
+    refuse_existing([output, sidecar], force)
+    target = character.reference if standalone else sidecar
+    reference = model if builtin else os.path.relpath(target.resolve(), output.resolve().parent)
+    sketch = starter_sketch(character, reference)
+    if sidecar is not None:
+        sidecar.write_text(sidecar_yaml(character, sidecar))
+        console.print(f"wrote {sidecar}")
+    output.write_text(yaml.safe_dump(sketch, sort_keys=False, allow_unicode=True))
+    console.print(f"wrote {output}: feet {', '.join(sketch['feet'])}, period {sketch['timing']['period']} s")
+
+
+def register(app: typer.Typer, character_app: typer.Typer) -> None:
+    character_app.command("inspect")(inspect_command)
+    app.command("sketch-new", hidden=True)(sketch_new_command)

@@ -1,0 +1,71 @@
+"""Where the creature's root lives in the state: a free joint, or a planar root's slide and hinge joints.
+
+Frames: world axes, x forward, z up. A free root has position (x, y, z) and orientation quaternion in qpos, linear
+velocity (world) and angular velocity (root frame) in qvel. A planar root (e.g. slide x, slide z, hinge y) has one
+qpos/qvel entry per joint; its forward, vertical and pitch coordinates are the joints whose axis is x, z and ±y.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import mujoco
+import numpy as np
+
+AXIS_TOLERANCE = 0.99    # |cos| between a joint axis and a world axis to count as that axis
+
+
+@dataclass(frozen=True)
+class RootLayout:
+    """Addresses of the root coordinates. For a planar root, absent coordinates are None."""
+    kind: str                          # "free" or "planar"
+    translation_qvel: tuple[int, ...]  # qvel entries of the root's translation
+    forward_qpos: int | None           # root x position (m)
+    forward_qvel: int | None           # root x velocity (m/s)
+    height_qpos: int | None            # root z position (m)
+    vertical_qvel: int | None          # root z velocity (m/s)
+    quat_qpos: int | None = None       # free root: orientation quaternion (w, x, y, z)
+    pitch_qpos: int | None = None      # planar root: hinge about ±y (rad)
+    pitch_sign: float = 1.0            # +1 if that hinge's axis is +y
+
+    def lift_and_pitch(self, qpos: np.ndarray, height: float, pitch: float) -> None:
+        """Raise the root by `height` (m) and pitch it by `pitch` (rad, about world +y), in place."""
+        if self.height_qpos is not None:
+            qpos[self.height_qpos] += height
+        if self.quat_qpos is not None:
+            q, turn, out = qpos[self.quat_qpos:self.quat_qpos + 4], np.zeros(4), np.zeros(4)
+            mujoco.mju_axisAngle2Quat(turn, np.array([0.0, 1.0, 0.0]), pitch)
+            mujoco.mju_mulQuat(out, turn, q)
+            qpos[self.quat_qpos:self.quat_qpos + 4] = out
+        elif self.pitch_qpos is not None:
+            qpos[self.pitch_qpos] += self.pitch_sign * pitch
+
+    def up_z(self, qpos: np.ndarray) -> np.ndarray:
+        """World z of the root's up axis for qpos rows (…, nq): 1 upright, < 0 upside down."""
+        if self.quat_qpos is not None:
+            q = qpos[..., self.quat_qpos:self.quat_qpos + 4]
+            return 1 - 2 * (q[..., 1] ** 2 + q[..., 2] ** 2)
+        if self.pitch_qpos is not None:
+            return np.cos(qpos[..., self.pitch_qpos])
+        return np.ones(qpos.shape[:-1])
+
+
+def root_layout(model: mujoco.MjModel, root_body: int) -> RootLayout:
+    """The layout of the root joints of body `root_body`."""
+    joints = [j for j in range(model.njnt) if model.jnt_bodyid[j] == root_body]
+    if len(joints) == 1 and model.jnt_type[joints[0]] == mujoco.mjtJoint.mjJNT_FREE:
+        a, d = int(model.jnt_qposadr[joints[0]]), int(model.jnt_dofadr[joints[0]])
+        return RootLayout("free", (d, d + 1, d + 2), a, d, a + 2, d + 2, quat_qpos=a + 3)
+    found: dict[str, tuple[int, int, float]] = {}
+    translation = []
+    for j in joints:
+        axis, a, d = model.jnt_axis[j], int(model.jnt_qposadr[j]), int(model.jnt_dofadr[j])
+        slide = model.jnt_type[j] == mujoco.mjtJoint.mjJNT_SLIDE
+        if slide:
+            translation.append(d)
+        for name, world_axis in (("x", 0), ("y", 1), ("z", 2)):
+            if abs(axis[world_axis]) >= AXIS_TOLERANCE:
+                found[("slide_" if slide else "hinge_") + name] = (a, d, float(np.sign(axis[world_axis])))
+    none = (None, None, 1.0)
+    fx, fz, hy = (found.get(key, none) for key in ("slide_x", "slide_z", "hinge_y"))
+    return RootLayout("planar", tuple(translation), fx[0], fx[1], fz[0], fz[1], pitch_qpos=hy[0], pitch_sign=hy[2])

@@ -1,0 +1,148 @@
+"""Users' MJCF models (dm_control copies in shared/data/models): loading rules and their numbers."""
+
+import json
+import re
+from pathlib import Path
+
+import mujoco
+import numpy as np
+import pytest
+
+from eigengait.character import load_character
+from eigengait.character.guess import mirror_pairs
+from eigengait.character.stiffness import GRAVITY, SAG_DEG
+from eigengait.errors import UserInputError
+from eigengait.modal import compute_modes
+from eigengait.sim import build_world
+
+MODELS = Path(__file__).resolve().parents[3] / "shared" / "data" / "models" / "dm_control"   # beside the repo
+WALKER = MODELS / "suite" / "walker.xml"
+# model -> (internal DOF, rigid air modes, guessed feet)
+EXPECTED = {
+    "suite/humanoid.xml": (21, 6, {"right_foot", "left_foot"}),
+    "suite/humanoid_CMU.xml": (56, 6, {"ltoes", "rtoes"}),
+    "suite/quadruped.xml": (16, 12, {"toe_front_left", "toe_front_right", "toe_back_right", "toe_back_left"}),
+    "suite/walker.xml": (6, 3, {"right_foot", "left_foot"}),
+    "suite/cheetah.xml": (6, 3, {"bfoot", "ffoot"}),
+    "locomotion/humanoid_CMU_V2020.xml": (56, 6, {"ltoes", "rtoes"}),
+}
+
+
+@pytest.mark.parametrize("model", EXPECTED)
+def test_model_loads_with_its_modes_and_feet(model):
+    dofs, rigid, feet = EXPECTED[model]
+    character = load_character(MODELS / model, stiffness="auto")
+    assert character.internal_dofs == dofs and set(character.feet) == feet
+    air = compute_modes(character)
+    assert air.rigid_modes == rigid and air.count == dofs
+    assert np.all(np.diff(air.frequencies_hz) >= 0) and air.frequencies_hz[0] > 0
+
+
+def test_planar_root_gives_the_free_root_modes_of_a_planar_creature(tmp_path):
+    """The walker with both legs moved into the plane y = 0 has all its mass in that plane and all joints about y:
+    with a free root instead of slide x/z + hinge y, only rigid out-of-plane motion is added, so the non-rigid
+    frequencies must be the same. (With the legs at y = ±0.05 a swinging leg would yaw a free torso.)"""
+    spec = mujoco.MjSpec.from_file(str(WALKER))
+    for leg in ("left_thigh", "right_thigh"):
+        spec.body(leg).pos[1] = 0.0
+    in_plane = tmp_path / "walker_in_plane.xml"
+    in_plane.write_text(spec.to_xml())
+    torso = spec.body("torso")
+    for j in list(torso.joints):
+        spec.delete(j)
+    torso.add_freejoint()
+    free_xml = tmp_path / "walker_free.xml"
+    free_xml.write_text(spec.to_xml())
+    planar = compute_modes(load_character(in_plane, stiffness="auto"))
+    free = compute_modes(load_character(free_xml, stiffness="auto"))
+    assert (planar.rigid_modes, free.rigid_modes) == (3, 6)
+    np.testing.assert_allclose(planar.frequencies_hz, free.frequencies_hz, rtol=1e-6)
+    ground = compute_modes(load_character(WALKER, stiffness="auto"), "ground")
+    assert ground.rigid_modes == 1          # a pinned toe leaves the rotation about it, in the plane
+
+
+def test_auto_stiffness_is_the_sag_rule_of_a_point_mass_pendulum(tmp_path):
+    m, r = 2.0, 0.4
+    path = tmp_path / "pendulum.xml"
+    path.write_text('<mujoco><worldbody><body><freejoint/><geom type="box" size=".1 .1 .1" mass="50"/>'
+                    '<body pos="0 0 -.1"><joint name="hinge" axis="0 1 0"/>'
+                    f'<geom type="sphere" size=".01" pos="0 0 -{r}" mass="{m}"/></body></body></worldbody></mujoco>')
+    character = load_character(path, stiffness="auto")
+    assert character.stiffness["hinge"][0] == pytest.approx(m * GRAVITY * r / np.deg2rad(SAG_DEG))
+    assert character.stiffness_source == {"hinge": "auto"}
+
+
+def test_names_added_by_eigengait_do_not_clash_and_model_actuators_are_replaced():
+    character = load_character(MODELS / "suite" / "humanoid_CMU.xml")   # it has its own 'grid' texture
+    world = build_world(character)
+    assert world.model.nu == character.internal_dofs                      # eigengait's motors only
+    assert world.model.sensor(0).name == "eigengait:com"
+    assert "actuator" in character.scene.removed
+
+
+def test_y_up_model_is_turned_to_stand_on_its_feet():
+    character = load_character(MODELS / "locomotion" / "humanoid_CMU_V2020.xml")
+    model = build_world(character).model
+    data = mujoco.MjData(model)
+    mujoco.mj_forward(model, data)
+    assert data.xpos[model.body("head").id][2] > data.xpos[model.body("ltoes").id][2] + 1.0
+    assert character.scene.added_free_joint
+
+
+def test_mirror_pairs_from_names():
+    assert mirror_pairs(["lfemurrx", "rfemurrx", "lowerback", "left_hip", "right_hip", "knee_l", "knee_r"]) == \
+        {"lfemurrx": "rfemurrx", "left_hip": "right_hip", "knee_l": "knee_r"}
+
+
+def test_body_choice_errors_name_the_fix():
+    quadruped = MODELS / "suite" / "quadruped.xml"
+    with pytest.raises(UserInputError, match="no body 'nose'.*torso, ball"):
+        load_character(quadruped, body="nose", stiffness="auto")
+    with pytest.raises(UserInputError, match="no internal joints"):
+        load_character(quadruped, body="ball", stiffness="auto")
+    with pytest.raises(UserInputError, match="--stiffness auto"):
+        load_character(quadruped)
+
+
+@pytest.mark.parametrize("model", ["suite/humanoid.xml", "suite/quadruped.xml", "suite/cheetah.xml",
+                                   "locomotion/humanoid_CMU_V2020.xml"])
+def test_cli_inspect_and_sketch_new(tmp_path, eigengait_cli, model):
+    side = tmp_path / "c.eigengait.yaml"
+    r = eigengait_cli("character", "inspect", MODELS / model, "--stiffness", "auto", "--json", "-o", side)
+    assert r.returncode == 0, r.stderr
+    info = json.loads(r.stdout)
+    assert info["internal_dofs"] == EXPECTED[model][0] and side.exists()
+    r = eigengait_cli("sketch", "new", side, "-o", tmp_path / "s.yaml")
+    assert r.returncode == 0, r.stderr
+    assert f"character: {side.name}" in (tmp_path / "s.yaml").read_text()
+
+
+def test_root_layout_of_planar_and_free_roots():
+    walker = build_world(load_character(WALKER, stiffness="auto"))
+    root = walker.root                       # walker.xml: rootz, rootx, rooty (axis +y)
+    assert (root.kind, root.height_qpos, root.forward_qpos, root.pitch_qpos, root.pitch_sign) == \
+        ("planar", 0, 1, 2, 1.0)
+    assert root.translation_qvel == (0, 1)
+    qpos = np.zeros(walker.model.nq)
+    root.lift_and_pitch(qpos, 0.1, 0.3)
+    assert qpos[:3] == pytest.approx([0.1, 0.0, 0.3]) and root.up_z(qpos) == pytest.approx(np.cos(0.3))
+    free = build_world(load_character("humanoid")).root
+    assert (free.kind, free.translation_qvel, free.forward_qvel, free.vertical_qvel, free.quat_qpos) == \
+        ("free", (0, 1, 2), 0, 2, 3)
+    q = np.array([0, 0, 1.0, 1, 0, 0, 0])
+    free.lift_and_pitch(q, 0.1, np.pi)      # upside down about y
+    assert q[2] == pytest.approx(1.1) and free.up_z(q) == pytest.approx(-1.0)
+
+
+@pytest.mark.parametrize("xml, expected", [
+    ('<mujoco><worldbody><body><geom size=".1"/></body></worldbody></mujoco>', "the model has no joints"),
+    ('<mujoco><worldbody><body><joint type="slide"/><geom size=".1"/><body><joint name="h"/><geom size=".1"/>'
+     '</body></body></worldbody></mujoco>', "field 'the root body (unnamed)'"),
+    ('<mujoco><worldbody><body><freejoint/><geom size=".1"/><body><joint name="h"/><geom size=".1"/>'
+     '</body></body></worldbody><sensor><actuatorfrc actuator="none"/></sensor></mujoco>', "cannot compile"),
+])
+def test_unusable_models_give_one_clear_error(tmp_path, xml, expected):
+    path = tmp_path / "m.xml"
+    path.write_text(xml)
+    with pytest.raises(UserInputError, match=re.escape(expected)):
+        load_character(path, stiffness="auto")
