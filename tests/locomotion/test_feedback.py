@@ -29,11 +29,15 @@ def test_root_tilt_reads_pitch_roll_and_world_rates():
     assert pitch_rate == pytest.approx(0.7) and roll_rate == pytest.approx(0.0, abs=1e-12)
 
 
-@pytest.fixture(scope="module")
-def gait():
-    controller = load_controller(resolve("gait", "humanoid-basic-run"))
+def shipped(name):
+    controller = load_controller(resolve("gait", name))
     system = system_for(controller)
     return system, to_parameters(controller, system)
+
+
+@pytest.fixture(scope="module")
+def gait():
+    return shipped("humanoid-basic-run")
 
 
 def test_the_hips_are_the_thighs_and_their_pitch_axis_is_world_y(gait):
@@ -84,9 +88,7 @@ def drift(runner, system, p, cycles=3):
 
 @pytest.fixture(scope="module")
 def hopper():
-    controller = load_controller(resolve("gait", "kangaroo-hop"))
-    system = system_for(controller)
-    return system, to_parameters(controller, system)
+    return shipped("kangaroo-hop")
 
 
 def test_optimized_hip_feedback_reduces_cycle_to_cycle_drift(hopper):
