@@ -156,7 +156,7 @@ def gaits_command(as_json: bool = typer.Option(False, "--json", help="Print JSON
 def demo_command(
         output: Path = typer.Option(Path("out/demo"), "--output", help="Parent folder; each demo gets a new subfolder."),
         evaluations: int = typer.Option(200000, "--max-evaluations", help="Optimization budget (evaluations)."),
-        minutes: float = typer.Option(10.0, "--max-minutes", help="Optimization budget (wall-clock minutes)."),
+        minutes: float = typer.Option(8.0, "--max-minutes", help="Optimization budget (wall-clock minutes)."),
         seed: int = typer.Option(1, "--seed")):
     """The main job on the humanoid: modes -> palette -> basic-run sketch -> optimization -> playback -> video, BVH."""
     from eigengait.character import load_character
