@@ -1,5 +1,7 @@
 """Balance feedback inside the pulse controller: features, output directions, and what it does to drift."""
 
+from pathlib import Path
+
 import cma
 import mujoco
 import numpy as np
@@ -88,7 +90,10 @@ def drift(runner, system, p, cycles=3):
 
 @pytest.fixture(scope="module")
 def hopper():
-    return shipped("kangaroo-hop")
+    """An open-loop hop (no feedback gains) that drifts from cycle to cycle and falls in its fifth."""
+    controller = load_controller(Path(__file__).parent / "data" / "kangaroo_open_loop.json")
+    system = system_for(controller)
+    return system, to_parameters(controller, system)
 
 
 def test_optimized_hip_feedback_reduces_cycle_to_cycle_drift(hopper):
