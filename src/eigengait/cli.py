@@ -63,9 +63,11 @@ def character_export(name: str = typer.Argument(..., help="Built-in name, MJCF p
     from eigengait.character.relax import parse_relax_argument
     from eigengait.sim.world import build_world
 
+    from eigengait.control.files import write_atomically
+
     refuse_existing([output], force)
     world = build_world(load_character(name, body, stiffness), parse_relax_argument(relax))
-    output.write_text(world.mjcf())
+    write_atomically(output, world.mjcf())
     console.print(f"wrote {output}")
 
 
@@ -77,12 +79,14 @@ def modes_command(character: str = typer.Argument(..., help="Built-in name, MJCF
                   as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
                   save: Optional[Path] = typer.Option(None, "--save", help="Save the ModeSet (.npz)."),
                   body: Optional[str] = typer.Option(None, "--body", help=BODY_HELP),
-                  stiffness: Optional[str] = typer.Option(None, "--stiffness", help=STIFFNESS_HELP)):
+                  stiffness: Optional[str] = typer.Option(None, "--stiffness", help=STIFFNESS_HELP),
+                  force: bool = typer.Option(False, "--force", help="Overwrite an existing --save file.")):
     """Natural vibration modes about the relax pose. Mode 1 is the lowest non-rigid mode."""
     from eigengait.character import load_character
     from eigengait.character.relax import parse_relax_argument
     from eigengait.modal import compute_modes
 
+    refuse_existing([save], force)
     loaded = load_character(character, body, stiffness)
     print_notes(loaded)
     modes = compute_modes(loaded, phase, foot, parse_relax_argument(relax))
@@ -123,23 +127,30 @@ def _register_command_groups() -> None:
 _register_command_groups()
 
 
+def _is_usage_error(exc: Exception) -> bool:
+    """A command-line usage error from click or from the copy of click that typer carries (a bad option value)."""
+    import click
+    carried = tuple(k for k in typer.BadParameter.__mro__ if k.__name__ == "ClickException")
+    return isinstance(exc, (click.ClickException, *carried))
+
+
 def main() -> None:
     """Entry point: run the app, turning bad input into one message and exit status 2."""
     if sys.argv[1:3] == ["sketch", "new"]:      # `sketch new MODEL`: the starter-sketch command
         sys.argv[1:3] = ["sketch-new"]
     try:
-        app(standalone_mode=False)
+        code = app(standalone_mode=False)   # a typer.Exit inside a command comes back as the return value
     except UserInputError as err:
         Console(stderr=True).print(f"[bold red]error:[/] {err}", highlight=False, soft_wrap=True)
         sys.exit(2)
     except (typer.Exit, SystemExit) as exc:
         code = getattr(exc, "exit_code", getattr(exc, "code", 0))
         sys.exit(code or 0)
-    except Exception as exc:  # click usage errors
-        import click
-        if isinstance(exc, click.ClickException):
+    except typer.Abort:
+        sys.exit(130)
+    except Exception as exc:
+        if _is_usage_error(exc):
             exc.show()
             sys.exit(2)
-        if isinstance(exc, click.exceptions.Abort):
-            sys.exit(130)
         raise
+    sys.exit(code if isinstance(code, int) and not isinstance(code, bool) else 0)

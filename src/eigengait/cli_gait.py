@@ -55,7 +55,8 @@ def sketch_command(
 def optimize_command(
         sketch: str = typer.Argument(..., help="Sketch file or shipped preset name."),
         output: Path = typer.Option(..., "-o", "--output", help="Run folder."),
-        seed: int = typer.Option(1, "--seed"),
+        seed: Optional[int] = typer.Option(None, "--seed", help="Random seed (default 1; a resumed run keeps "
+                                                                 "its own)."),
         evaluations: Optional[int] = typer.Option(None, "--max-evaluations", help="Total simulation budget."),
         minutes: Optional[float] = typer.Option(None, "--max-minutes", help="Wall-clock budget (min)."),
         generations: int = typer.Option(1000, "--inner-generations", help="Cap per inner CMA-ES run."),
@@ -77,10 +78,11 @@ def optimize_command(
     path = resolve("sketch", sketch)
     loaded = load_sketch(path)
     tolerance = tolerance if tolerance is not None else loaded.targets.cycle_tolerance
-    settings = MomSettings(seed=seed, max_evaluations=evaluations, max_seconds=minutes * 60 if minutes else None,
+    settings = MomSettings(seed=1 if seed is None else seed, max_evaluations=evaluations,
+                           max_seconds=minutes * 60 if minutes else None,
                            inner_generations=generations, max_outer=max_outer, cycle_tolerance=tolerance,
                            popsize=popsize, method=method)
-    state = optimize_gait(loaded, output, settings, evaluator, workers, resume, sketch_source=path)
+    state = optimize_gait(loaded, output, settings, evaluator, workers, resume, sketch_source=path, seed=seed)
     best = state.best
     console.print(f"{state.finished}: {state.evaluations} evaluations, {state.generation} generations, "
                   f"{state.elapsed:.0f} s; best cost {best.cost:.4g}, cycle violation {best.violation:.3g}, "

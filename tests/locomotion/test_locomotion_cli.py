@@ -39,7 +39,7 @@ def test_optimize_resume_and_play(tmp_path, eigengait_cli):
     run = tmp_path / "run"
     first = eigengait_cli("optimize", "basic-run", "-o", run, "--max-evaluations", "40", "--seed", "2")
     assert first.returncode == 0, first.stderr
-    for name in ("sketch.yaml", "settings.json", "log.csv", "checkpoint.pkl", "best_controller.json",
+    for name in ("sketch.yaml", "settings.json", "log.csv", "checkpoint.npz", "best_controller.json",
                  "objective.png", "violation.png"):
         assert (run / name).exists(), name
     rows = (run / "log.csv").read_text().splitlines()
@@ -47,10 +47,16 @@ def test_optimize_resume_and_play(tmp_path, eigengait_cli):
     again = eigengait_cli("optimize", "basic-run", "-o", run, "--max-evaluations", "40")
     assert again.returncode == 2 and "--resume" in again.stderr
     assert (run / "best_controller.json").read_text() == before            # nothing overwritten
+    other_seed = eigengait_cli("optimize", "basic-run", "-o", run, "--max-evaluations", "80", "--resume",
+                               "--seed", "3")
+    assert other_seed.returncode == 2 and "--seed 2" in other_seed.stderr
+    other_sketch = eigengait_cli("optimize", "crouched", "-o", run, "--max-evaluations", "80", "--resume")
+    assert other_sketch.returncode == 2 and "another sketch" in other_sketch.stderr
     resumed = eigengait_cli("optimize", "basic-run", "-o", run, "--max-evaluations", "80", "--resume")
     assert resumed.returncode == 0, resumed.stderr
     assert len((run / "log.csv").read_text().splitlines()) > len(rows)
     assert json.loads((run / "settings.json").read_text())["settings"]["seed"] == 2
+    assert json.loads((run / "status.json").read_text())["finished"] is True
 
     played = eigengait_cli("play", run / "best_controller.json", "--cycles", "2", "--json")
     assert played.returncode == 0, played.stderr
@@ -78,7 +84,7 @@ def test_controller_for_another_relax_pose_is_refused(tmp_path, eigengait_cli):
 def test_corrupt_checkpoint_via_cli_leaves_files_alone(tmp_path, eigengait_cli):
     run = tmp_path / "run"
     assert eigengait_cli("optimize", "basic-run", "-o", run, "--max-evaluations", "20").returncode == 0
-    (run / "checkpoint.pkl").write_bytes(b"garbage")
+    (run / "checkpoint.npz").write_bytes(b"garbage")
     log = (run / "log.csv").read_text()
     result = eigengait_cli("optimize", "basic-run", "-o", run, "--max-evaluations", "60", "--resume")
     assert result.returncode == 2 and "corrupt" in result.stderr

@@ -10,7 +10,8 @@ from eigengait.control.library import resolve
 from eigengait.control.sketch import load_sketch
 from eigengait.optimize.evaluate import BatchEvaluator, Outcome
 from eigengait.optimize.evaluators import ProcessEvaluator, RayEvaluator
-from eigengait.optimize.mom import MethodOfMultipliers, MomSettings, MomState, load_state, save_state
+from eigengait.optimize.checkpoint import load_state, save_state
+from eigengait.optimize.mom import MomSettings, MomState, make_optimizer
 from eigengait.optimize.problem import Problem
 
 
@@ -22,7 +23,7 @@ def toy_evaluate(X):
 
 
 def run_toy(settings, state, generations=None):
-    mom = MethodOfMultipliers(toy_evaluate, settings, state)
+    mom = make_optimizer(toy_evaluate, settings, state)
     rows = []
     while (generations is None or len(rows) < generations) and (row := mom.step()) is not None:
         rows.append(row)
@@ -38,27 +39,49 @@ def test_method_of_multipliers_meets_the_cyclic_constraint():
     assert state.outer >= 1                                   # the first run (k = 0) ignores φ
 
 
-def test_runs_are_seeded_and_a_checkpoint_resumes_exactly(tmp_path):
-    settings = MomSettings(seed=5, inner_generations=30, max_evaluations=400)
+@pytest.mark.parametrize("method", ["mom", "al"])
+def test_runs_are_seeded_and_a_checkpoint_resumes_exactly(tmp_path, method):
+    settings = MomSettings(seed=5, inner_generations=30, max_evaluations=400, method=method)
     straight = MomState(x_start=np.full(4, 0.5))
     run_toy(settings, straight)
     interrupted = MomState(x_start=np.full(4, 0.5))
     run_toy(settings, interrupted, generations=17)
-    save_state(interrupted, tmp_path / "checkpoint.pkl")
-    resumed = load_state(tmp_path / "checkpoint.pkl")
+    save_state(interrupted, tmp_path / "checkpoint.npz")
+    resumed = load_state(tmp_path / "checkpoint.npz")
     run_toy(settings, resumed)
     assert [r["best_cost"] for r in resumed.log] == [r["best_cost"] for r in straight.log]
     np.testing.assert_array_equal(resumed.best_x, straight.best_x)
 
 
-def test_corrupt_checkpoint_is_reported(tmp_path):
+class _Payload:
+    """A pickle that runs code when loaded (it would create the file `marker`)."""
+
+    def __init__(self, marker):
+        self.marker = marker
+
+    def __reduce__(self):
+        return (open, (str(self.marker), "w"))
+
+
+def test_damaged_or_foreign_checkpoints_are_refused_without_running_code(tmp_path):
     from eigengait.errors import UserInputError
-    (tmp_path / "checkpoint.pkl").write_bytes(b"not a pickle")
+    (tmp_path / "checkpoint.npz").write_bytes(b"not a checkpoint")
     with pytest.raises(UserInputError, match="corrupt"):
-        load_state(tmp_path / "checkpoint.pkl")
-    (tmp_path / "other.pkl").write_bytes(pickle.dumps({"a": 1}))
+        load_state(tmp_path / "checkpoint.npz")
+    marker = tmp_path / "code-ran"
+    (tmp_path / "pickled.npz").write_bytes(pickle.dumps(_Payload(marker)))
+    with pytest.raises(UserInputError, match="corrupt"):
+        load_state(tmp_path / "pickled.npz")
+    np.savez(tmp_path / "object.npz", meta=np.array([_Payload(marker)], dtype=object))
+    with pytest.raises(UserInputError, match="corrupt"):
+        load_state(tmp_path / "object.npz")
+    assert not marker.exists()
+    np.savez(tmp_path / "other.npz", meta=np.array('{"format": "something else"}'))
     with pytest.raises(UserInputError, match="not an eigengait checkpoint"):
-        load_state(tmp_path / "other.pkl")
+        load_state(tmp_path / "other.npz")
+    np.savez(tmp_path / "partial.npz", meta=np.array('{"format": "eigengait-checkpoint-1"}'))
+    with pytest.raises(UserInputError, match="incomplete"):
+        load_state(tmp_path / "partial.npz")
 
 
 @pytest.fixture(scope="module")
@@ -121,7 +144,6 @@ def test_process_and_ray_evaluators_agree_with_threads(problem):
 
 
 def test_adaptive_augmented_lagrangian_meets_the_cyclic_constraint(tmp_path):
-    from eigengait.optimize.mom import make_optimizer
     settings = MomSettings(seed=3, inner_generations=200, cycle_tolerance=1e-3, method="al")
     state = MomState(x_start=np.full(5, 0.5))
     optimizer = make_optimizer(toy_evaluate, settings, state)
@@ -129,8 +151,8 @@ def test_adaptive_augmented_lagrangian_meets_the_cyclic_constraint(tmp_path):
     while optimizer.step() is not None:
         generations += 1
         if generations == 5:                                  # checkpoints survive the AL's own state
-            save_state(state, tmp_path / "al.pkl")
-            state = load_state(tmp_path / "al.pkl")
+            save_state(state, tmp_path / "al.npz")
+            state = load_state(tmp_path / "al.npz")
             optimizer = make_optimizer(toy_evaluate, settings, state)
     assert state.finished == "cyclic"
     np.testing.assert_allclose(state.best_x[:2], 0.7, atol=1e-3)

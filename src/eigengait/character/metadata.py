@@ -30,6 +30,7 @@ import yaml
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
 
 from eigengait.errors import UserInputError
+from eigengait.inputs import read_text
 
 FORMAT_VERSION = 1
 
@@ -97,7 +98,7 @@ def first_error(err: ValidationError) -> tuple[str, str]:
 def load_metadata(path: Path) -> CharacterMetadata:
     """Read and validate a sidecar file; raise UserInputError naming the file and field."""
     try:
-        raw = yaml.safe_load(path.read_text()) or {}
+        raw = yaml.safe_load(read_text(path)) or {}
     except yaml.YAMLError as exc:
         raise UserInputError(f"not valid YAML ({exc.__class__.__name__}: {exc})", file=path,
                              fix="check indentation and brackets") from None

@@ -7,6 +7,8 @@ it rotates each joint's child body about the joint anchor, so the new pose becom
 
 from __future__ import annotations
 
+import math
+
 import mujoco
 import numpy as np
 
@@ -28,9 +30,11 @@ def parse_relax_argument(text: str | None) -> str | dict[str, list[float]]:
         joint, _, values = item.partition("=")
         try:
             rotations[joint.strip()] = [float(v) for v in values.split(",")]
+            if not all(math.isfinite(v) and abs(v) <= 360 for v in rotations[joint.strip()]):
+                raise ValueError
         except ValueError:
             raise UserInputError(f"cannot read rotation '{item}'", field="--relax",
-                                 fix="write JOINT=rx,ry,rz in degrees, items separated by ';'") from None
+                                 fix="write JOINT=rx,ry,rz in degrees (finite, within ±360), items separated by ';'") from None
     return rotations
 
 

@@ -11,13 +11,14 @@ import yaml
 from pydantic import BaseModel, ValidationError
 
 from eigengait.errors import UserInputError
+from eigengait.inputs import read_text
 
 
 def read_mapping(path: Path) -> dict:
     """Parse a JSON or YAML file into a dict, or raise UserInputError."""
     if not path.is_file():
         raise UserInputError("file not found", file=path)
-    text = path.read_text()
+    text = read_text(path)
     try:
         data = json.loads(text) if path.suffix.lower() == ".json" else yaml.safe_load(text)
     except (json.JSONDecodeError, yaml.YAMLError) as exc:

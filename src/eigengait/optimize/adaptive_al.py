@@ -71,13 +71,14 @@ class AdaptiveAugmentedLagrangian(MethodOfMultipliers):
         lam = self.state.al.al.lam if getattr(self.state, "al", None) is not None else None
         return np.zeros(1) if lam is None else np.asarray(lam)
 
-    def generation(self) -> dict:
-        row = super().generation()
+    def tell(self, X: np.ndarray, outcomes: list) -> list[float]:
+        W = super().tell(X, outcomes)
         self.state.al.update(self.state.es)
-        return row
+        return W
 
     def end_inner_run(self) -> None:
         st = self.state
         st.sigma = max(self.s.sigma_floor, st.sigma * self.s.sigma_decay)
         st.outer += 1
         st.es = None
+        st.history = []

@@ -8,7 +8,6 @@ the tolerance, after `max_outer` inner runs, or when the evaluation/time budget 
 
 from __future__ import annotations
 
-import pickle
 import time
 from dataclasses import dataclass, field
 from typing import Callable
@@ -38,7 +37,9 @@ class MomSettings:
 
 @dataclass
 class MomState:
-    """Everything needed to resume: the CMA object, multipliers, penalty, best so far, counters."""
+    """Everything needed to resume: multipliers, penalty, best so far, counters, and the current inner run as
+    data (its start point and every generation's candidates and outcomes, from which the CMA object is rebuilt by
+    replaying them; see `optimize.checkpoint`)."""
     x_start: np.ndarray
     outer: int = 0
     sigma: float = 0.3
@@ -52,6 +53,8 @@ class MomState:
     best: Outcome | None = None
     finished: str = ""
     log: list[dict] = field(default_factory=list)
+    inner_start: np.ndarray | None = None
+    history: list[tuple[np.ndarray, list[Outcome]]] = field(default_factory=list)
 
 
 def merit(o: Outcome) -> float:
@@ -71,13 +74,12 @@ class MethodOfMultipliers:
 
     def _new_es(self) -> cma.CMAEvolutionStrategy:
         st = self.state
-        x0 = st.best_x if st.best_x is not None else st.x_start
         opts = {"bounds": [0, 1], "seed": self.s.seed + st.outer, "tolx": self.s.tol_x,
                 "maxiter": self.s.inner_generations, "verbose": -9, "verb_log": 0, "verb_disp": 0,
                 "tolfun": 0, "tolflatfitness": 1000}
         if self.s.popsize:
             opts["popsize"] = self.s.popsize
-        return cma.CMAEvolutionStrategy(np.clip(x0, 0, 1), st.sigma, opts)
+        return cma.CMAEvolutionStrategy(np.clip(st.inner_start, 0, 1), st.sigma, opts)
 
     def budget_left(self) -> bool:
         st, s = self.state, self.s
@@ -104,8 +106,8 @@ class MethodOfMultipliers:
         t0 = time.perf_counter()
         X = np.array(st.es.ask())
         outcomes = self.evaluate(X)
-        W = self.fitness(X, outcomes)
-        st.es.tell(list(X), W)
+        W = self.tell(X, outcomes)
+        st.history.append((X, outcomes))
         st.generation += 1
         st.evaluations += len(X)
         i = int(np.argmin([merit(o) for o in outcomes]))
@@ -120,6 +122,31 @@ class MethodOfMultipliers:
         st.log.append(row)
         return row
 
+    def tell(self, X: np.ndarray, outcomes: list[Outcome]) -> list[float]:
+        """Pass one generation's outcomes to CMA-ES; returns the fitness values it was given."""
+        W = self.fitness(X, outcomes)
+        self.state.es.tell(list(X), W)
+        return W
+
+    def start_inner_run(self) -> None:
+        """A new CMA-ES run from the best solution so far (or the start point)."""
+        st = self.state
+        st.inner_start = (st.best_x if st.best_x is not None else st.x_start).copy()
+        st.history = []
+        st.es = self._new_es()
+
+    def replay(self) -> None:
+        """Rebuild the CMA object of a resumed inner run by telling it the recorded generations again."""
+        st = self.state
+        st.es = self._new_es()
+        for X, outcomes in st.history:
+            asked = np.array(st.es.ask())
+            if asked.shape != X.shape or not np.array_equal(asked, X):
+                from eigengait.errors import UserInputError
+                raise UserInputError("the checkpoint does not replay to the same candidates",
+                                     fix="resume with the same eigengait and cma versions, or start a new run")
+            self.tell(X, outcomes)
+
     def end_inner_run(self) -> None:
         """Multiplier update and the next inner run's σ and k."""
         st, s = self.state, self.s
@@ -129,6 +156,7 @@ class MethodOfMultipliers:
         st.sigma = max(s.sigma_floor, st.sigma * s.sigma_decay)
         st.outer += 1
         st.es = None
+        st.history = []
 
     def step(self) -> dict | None:
         """Advance by one generation (starting or ending inner runs as needed); None when finished."""
@@ -140,11 +168,13 @@ class MethodOfMultipliers:
             return None
         if not self.budget_left():
             return None
+        if st.es is None and st.history:
+            self.replay()
         if st.es is None:
             if st.outer >= s.max_outer:
                 st.finished = "outer iteration limit"
                 return None
-            st.es = self._new_es()
+            self.start_inner_run()
         row = self.generation()
         if st.es.stop():
             self.end_inner_run()
@@ -161,23 +191,3 @@ def make_optimizer(evaluate: Callable[[np.ndarray], list[Outcome]], settings: Mo
         from eigengait.errors import UserInputError
         raise UserInputError(f"unknown method '{settings.method}'", field="--method", fix="use mom or al")
     return MethodOfMultipliers(evaluate, settings, state)
-
-
-def save_state(state: MomState, path) -> None:
-    from pathlib import Path
-    path = Path(path)
-    tmp = path.with_suffix(".tmp")
-    tmp.write_bytes(pickle.dumps(state))
-    tmp.replace(path)
-
-
-def load_state(path) -> MomState:
-    from eigengait.errors import UserInputError
-    try:
-        state = pickle.loads(open(path, "rb").read())
-    except Exception as exc:
-        raise UserInputError(f"the checkpoint is corrupt ({exc.__class__.__name__})", file=path,
-                             fix="delete the run folder's checkpoint.pkl to start over, or restore it") from None
-    if not isinstance(state, MomState):
-        raise UserInputError("not an eigengait checkpoint", file=path)
-    return state

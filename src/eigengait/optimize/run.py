@@ -4,7 +4,8 @@
 RUN/
   sketch.yaml          the sketch as validated
   settings.json        seed, optimizer settings, evaluator, versions
-  checkpoint.pkl       the whole optimizer state after the last generation (resume with --resume)
+  checkpoint.npz       the optimizer state after the last generation, as data (resume with --resume)
+  status.json          whether the run finished, and why (a killed or crashed run stays "finished": false)
   log.csv              one row per generation
   objective.png        best objective per generation     violation.png   best cycle violation per generation
   best_controller.json the best controller so far (written every generation)
@@ -28,31 +29,79 @@ from eigengait.control.files import write_atomically
 from eigengait.control.sketch import Sketch
 from eigengait.errors import UserInputError
 from eigengait.optimize.evaluators import make_evaluator
-from eigengait.optimize.mom import MomSettings, MomState, load_state, make_optimizer, save_state
+from eigengait.optimize.checkpoint import load_state, save_state
+from eigengait.optimize.mom import MomSettings, MomState, make_optimizer
 from eigengait.optimize.problem import Problem
 
 BUDGET_FIELDS = ("max_evaluations", "max_seconds", "max_outer", "inner_generations")
 
 
-def prepare_folder(folder: Path, sketch: Sketch, settings: MomSettings, evaluator: str, resume: bool):
-    """Create or reopen a run folder; refuse to overwrite an earlier run unless resuming."""
-    checkpoint = folder / "checkpoint.pkl"
+def _saved_settings(folder: Path) -> dict:
+    try:
+        saved = json.loads((folder / "settings.json").read_text(encoding="utf-8"))
+        MomSettings(**saved["settings"])
+        saved["evaluator"]
+    except (OSError, ValueError, KeyError, TypeError) as exc:
+        raise UserInputError(f"the run folder's settings.json is missing or damaged ({exc.__class__.__name__})",
+                             file=folder / "settings.json", fix="start a new run in another --output folder") from None
+    return saved
+
+
+def _check_same_run(folder: Path, sketch: Sketch, saved: dict, seed: int | None) -> None:
+    """Refuse to resume with a sketch or seed other than the run's own."""
+    if seed is not None and seed != saved["settings"]["seed"]:
+        raise UserInputError(f"the run was started with --seed {saved['settings']['seed']}, not {seed}",
+                             file=folder, field="--seed", fix="resume without --seed, or start a new run")
+    try:
+        own = yaml.safe_load((folder / "sketch.yaml").read_text(encoding="utf-8"))
+    except (OSError, yaml.YAMLError) as exc:
+        raise UserInputError(f"the run folder's sketch.yaml is missing or damaged ({exc.__class__.__name__})",
+                             file=folder / "sketch.yaml", fix="start a new run in another --output folder") from None
+    if own != sketch.model_dump(mode="json"):
+        raise UserInputError("the run was started from another sketch", file=folder,
+                             fix="resume with the run's own sketch (its sketch.yaml), or start a new run")
+
+
+def prepare_folder(folder: Path, sketch: Sketch, settings: MomSettings, evaluator: str, resume: bool,
+                   seed: int | None = None):
+    """Create or reopen a run folder; refuse to overwrite an earlier run unless resuming.
+
+    `seed` is the seed the user asked for, if any: resuming refuses one that differs from the run's."""
+    checkpoint = folder / "checkpoint.npz"
     if resume:
+        if (folder / "checkpoint.pkl").exists() and not checkpoint.exists():
+            raise UserInputError("the run folder holds a pickled checkpoint from an earlier version, which is not "
+                                 "read because a pickle can run code", file=folder,
+                                 fix="start a new run in another --output folder")
         if not checkpoint.exists():
-            raise UserInputError("nothing to resume: no checkpoint.pkl in the run folder", file=folder,
+            raise UserInputError("nothing to resume: no checkpoint.npz in the run folder", file=folder,
                                  fix="start the run without --resume")
-        saved = json.loads((folder / "settings.json").read_text())
+        saved = _saved_settings(folder)
+        _check_same_run(folder, sketch, saved, seed)
         merged = {**saved["settings"], **{k: getattr(settings, k) for k in BUDGET_FIELDS}}
         return MomSettings(**merged), saved["evaluator"], load_state(checkpoint)
-    if checkpoint.exists() or (folder / "best_controller.json").exists():
+    if any((folder / name).exists() for name in ("checkpoint.npz", "checkpoint.pkl", "best_controller.json")):
         raise UserInputError("the run folder already holds a run and was left untouched", file=folder,
                              fix="pass --resume to continue it, or choose another --output folder")
-    folder.mkdir(parents=True, exist_ok=True)
+    if folder.exists() and not folder.is_dir():
+        raise UserInputError("the output is a file, not a folder", file=folder, fix="choose a folder name")
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise UserInputError(f"cannot create the run folder ({exc.strerror})", file=folder,
+                             fix="choose a writable --output folder") from None
     write_atomically(folder / "sketch.yaml", yaml.safe_dump(sketch.model_dump(mode="json"), sort_keys=False))
     write_atomically(folder / "settings.json", json.dumps(
         {"settings": asdict(settings), "evaluator": evaluator, "eigengait": __version__,
          "mujoco": mujoco.__version__}, indent=2))
     return settings, evaluator, None
+
+
+def write_status(folder: Path, state: MomState) -> None:
+    """Record whether the run finished (and why) in status.json."""
+    write_atomically(folder / "status.json", json.dumps(
+        {"finished": bool(state.finished), "reason": state.finished or "running or interrupted",
+         "generations": state.generation, "evaluations": state.evaluations}, indent=2))
 
 
 def write_log(folder: Path, rows: list[dict]) -> None:
@@ -107,15 +156,17 @@ def write_best(folder: Path, problem: Problem, state: MomState) -> None:
 
 def optimize(sketch: Sketch, folder: Path, settings: MomSettings, evaluator: str = "threads",
              workers: int | None = None, resume: bool = False, progress: bool = True,
-             sketch_source: str | Path | None = None, x_start=None) -> MomState:
+             sketch_source: str | Path | None = None, x_start=None, seed: int | None = None) -> MomState:
     """Run (or resume) the method of multipliers from `x_start` (default: the sketch's guess); checkpoints every
-    generation."""
+    generation. `seed` is the seed the user asked for explicitly, if any; a resumed run refuses a different one."""
     problem = Problem.from_sketch(sketch, sketch_source)
-    settings, evaluator, state = prepare_folder(folder, sketch, settings, evaluator, resume)
-    if resume:
-        problem = Problem.from_sketch(Sketch.model_validate(yaml.safe_load((folder / "sketch.yaml").read_text())))
+    settings, evaluator, state = prepare_folder(folder, sketch, settings, evaluator, resume, seed)
     state = state or MomState(x_start=problem.space.initial() if x_start is None else x_start)
-    state.finished = "" if resume else state.finished
+    if state.x_start.shape != problem.space.initial().shape:
+        raise UserInputError("the checkpoint was made for another parameter space", file=folder / "checkpoint.npz",
+                             fix="start a new run in another --output folder")
+    state.finished = ""
+    write_status(folder, state)
     evaluate = make_evaluator(evaluator, problem, workers)
     mom = make_optimizer(evaluate, settings, state)
     columns = [TextColumn("[bold]optimizing[/]"), BarColumn(), TextColumn("gen {task.fields[gen]}"),
@@ -127,7 +178,7 @@ def optimize(sketch: Sketch, folder: Path, settings: MomSettings, evaluator: str
             task = bar.add_task("opt", total=total, gen=state.generation, cost="-", viol="-",
                                 completed=state.evaluations)
             while (row := mom.step()) is not None:
-                save_state(state, folder / "checkpoint.pkl")
+                save_state(state, folder / "checkpoint.npz")
                 write_log(folder, state.log)
                 write_best(folder, problem, state)
                 bar.update(task, completed=row["evaluations"], gen=row["generation"],
@@ -135,6 +186,7 @@ def optimize(sketch: Sketch, folder: Path, settings: MomSettings, evaluator: str
     finally:
         close = getattr(evaluate, "close", None)
         close and close()
-    save_state(state, folder / "checkpoint.pkl")
+    save_state(state, folder / "checkpoint.npz")
     write_plots(folder, state.log, settings.cycle_tolerance)
+    write_status(folder, state)
     return state

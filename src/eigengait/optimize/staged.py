@@ -18,12 +18,14 @@ from pathlib import Path
 import numpy as np
 
 from eigengait.control.sketch import Sketch
-from eigengait.optimize.mom import MomSettings, MomState, load_state
+from eigengait.optimize.checkpoint import load_state
+from eigengait.optimize.mom import MomSettings, MomState
 from eigengait.optimize.run import optimize
 
 OPEN_LOOP_SHARE = 0.4     # at most this share of the evaluation or time budget goes to stage 1
 CLOSED_LOOP_SIGMA = 0.1   # stage 2's first step size (normalized): near the open-loop gait, room for the gains
 STAGE_ONE = "open-loop"
+CHECKPOINT = "checkpoint.npz"
 
 
 def open_loop_sketch(sketch: Sketch) -> Sketch:
@@ -47,17 +49,20 @@ def _spent(settings: MomSettings, state: MomState) -> MomSettings:
 
 def optimize_gait(sketch: Sketch, folder: Path, settings: MomSettings, evaluator: str = "threads",
                   workers: int | None = None, resume: bool = False, progress: bool = True,
-                  sketch_source: str | Path | None = None) -> MomState:
-    """Optimize a sketch into a gait (two stages when it has feedback or a multi-cycle horizon)."""
+                  sketch_source: str | Path | None = None, seed: int | None = None) -> MomState:
+    """Optimize a sketch into a gait (two stages when it has feedback or a multi-cycle horizon). `seed`: the seed
+    the user asked for explicitly, if any (a resumed run refuses a different one)."""
     if not sketch.feedback.mechanisms and sketch.feedback.horizon_cycles == 1:
-        return optimize(sketch, folder, settings, evaluator, workers, resume, progress, sketch_source)
+        return optimize(sketch, folder, settings, evaluator, workers, resume, progress, sketch_source, seed=seed)
     stage = folder / STAGE_ONE
-    if resume and (folder / "checkpoint.pkl").exists():
-        first = load_state(stage / "checkpoint.pkl")
+    if resume and not (stage / CHECKPOINT).exists():      # nothing of stage 1 to resume: the run folder says why
+        return optimize(sketch, folder, settings, evaluator, workers, True, progress, sketch_source, seed=seed)
+    if resume and (folder / CHECKPOINT).exists():
+        first = load_state(stage / CHECKPOINT)
         return optimize(sketch, folder, replace(_spent(settings, first), sigma0=CLOSED_LOOP_SIGMA), evaluator,
-                        workers, True, progress, sketch_source)
+                        workers, True, progress, sketch_source, seed=seed)
     first = optimize(open_loop_sketch(sketch), stage, _share(settings, OPEN_LOOP_SHARE), evaluator, workers,
-                     resume and (stage / "checkpoint.pkl").exists(), progress, sketch_source)
+                     resume and (stage / CHECKPOINT).exists(), progress, sketch_source, seed=seed)
     return closed_loop_stage(sketch, folder, _spent(settings, first), first, evaluator, workers, progress,
                              sketch_source)
 

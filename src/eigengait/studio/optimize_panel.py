@@ -105,7 +105,7 @@ class OptimizePanel:
         self.feedback.info("Optimization stopped; Resume continues from the last generation.", event.client)
 
     def _on_resume(self, event: viser.GuiEvent) -> None:
-        if self.folder is None or not (self.folder / "checkpoint.pkl").is_file():
+        if self.folder is None or not (self.folder / "checkpoint.npz").is_file():
             raise UserInputError("nothing to resume yet: no generation has been checkpointed")
         self._launch(self.folder, resume=True)
         self.feedback.info(f"Resuming `{self.state.sandbox.relative(self.folder)}`.", event.client)

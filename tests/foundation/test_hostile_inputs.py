@@ -1,0 +1,121 @@
+"""Hostile input at the command line: every case exits with status 2 and one message, never a traceback.
+
+One parametrized test per kind of input (option values, character files, sketches and controllers, cloth
+scripts, output paths, run folders). Each case builds its files in a temporary folder and runs `main()` in
+process, as the `eigengait` command does.
+"""
+
+from __future__ import annotations
+
+import pickle
+import sys
+
+import pytest
+
+from eigengait.cli import main
+
+LATIN1 = "name: caf\xe9\n".encode("latin-1")
+
+
+def run_cli(capsys, monkeypatch, args) -> tuple[int, str]:
+    monkeypatch.setattr(sys, "argv", ["eigengait", *map(str, args)])
+    with pytest.raises(SystemExit) as stop:
+        main()
+    return stop.value.code, capsys.readouterr().err
+
+
+def assert_clean_refusal(code: int, err: str) -> None:
+    assert code == 2, err
+    assert "Traceback" not in err and err.strip()
+    assert len([line for line in err.lower().splitlines() if line.startswith("error")]) == 1, err
+
+
+OPTION_VALUES = {
+    "cycles-not-a-number": ["play", "basic-run", "--cycles", "abc"],
+    "port-out-of-range": ["studio", "--port", "99999"],
+    "port-zero": ["studio", "--port", "0"],
+    "host-unknown": ["studio", "--host", "nosuch.invalid"],
+    "unknown-command": ["nosuch"],
+    "unknown-character": ["modes", "no-such-creature"],
+    "unknown-phase": ["modes", "humanoid", "--phase", "sideways"],
+    "relax-nan": ["modes", "humanoid", "--relax", "left_thigh=nan,0,0"],
+    "unknown-gait": ["play", "no-such-gait"],
+    "unknown-cloth-example": ["cloth", "run", "no-such-example", "-o", "{tmp}/out"],
+    "unknown-method": ["optimize", "basic-run", "-o", "{tmp}/run", "--method", "magic"],
+}
+
+
+@pytest.mark.parametrize("args", OPTION_VALUES.values(), ids=OPTION_VALUES.keys())
+def test_bad_option_values(args, tmp_path, capsys, monkeypatch):
+    assert_clean_refusal(*run_cli(capsys, monkeypatch, [a.format(tmp=tmp_path) for a in args]))
+
+
+FILES = {
+    "mjcf-garbage": ("bad.xml", b"<mujoco><worldbody><body", ["modes", "{file}"]),
+    "mjcf-empty": ("empty.xml", b"", ["modes", "{file}"]),
+    "mjcf-missing": (None, None, ["modes", "{tmp}/missing.xml"]),
+    "sketch-not-yaml": ("s.yaml", b"{ [ unclosed", ["sketch", "{file}"]),
+    "sketch-latin1": ("s.yaml", LATIN1, ["sketch", "{file}"]),
+    "sketch-a-list": ("s.yaml", b"- 1\n- 2\n", ["sketch", "{file}"]),
+    "controller-not-json": ("c.json", b"{ not json", ["play", "{file}"]),
+    "controller-latin1": ("c.json", LATIN1, ["play", "{file}"]),
+    "controller-empty-object": ("c.json", b"{}", ["play", "{file}"]),
+    "par-garbage": ("X.PAR", b"root:x:0:0:secret\n\x00\x01", ["cloth", "run", "{file}", "-o", "{tmp}/out"]),
+    "par-empty": ("X.PAR", b"", ["cloth", "run", "{file}", "-o", "{tmp}/out"]),
+    "bvh-garbage": ("m.bvh", b"HIERARCHY\nROOT\n{", ["track", "{file}", "-o", "{tmp}/t"]),
+}
+
+
+@pytest.mark.parametrize("name, content, args", FILES.values(), ids=FILES.keys())
+def test_bad_files(name, content, args, tmp_path, capsys, monkeypatch):
+    file = tmp_path / (name or "unused")
+    if content is not None:
+        file.write_bytes(content)
+    argv = [a.format(file=file, tmp=tmp_path) for a in args]
+    assert_clean_refusal(*run_cli(capsys, monkeypatch, argv))
+
+
+def _pickled_checkpoint(run):
+    (run / "checkpoint.pkl").write_bytes(pickle.dumps({"not": "trusted"}))
+
+
+def _garbage_checkpoint(run):
+    (run / "checkpoint.npz").write_bytes(b"garbage")
+
+
+def _damaged_settings(run):
+    (run / "checkpoint.npz").write_bytes(b"garbage")
+    (run / "settings.json").write_text("{")
+
+
+def _empty_folder(run):
+    pass
+
+
+RUN_FOLDERS = {"pickled-checkpoint": _pickled_checkpoint, "garbage-checkpoint": _garbage_checkpoint,
+               "damaged-settings": _damaged_settings, "nothing-to-resume": _empty_folder}
+
+
+@pytest.mark.parametrize("damage", RUN_FOLDERS.values(), ids=RUN_FOLDERS.keys())
+def test_damaged_run_folders_on_resume(damage, tmp_path, capsys, monkeypatch):
+    run = tmp_path / "run"
+    run.mkdir()
+    damage(run)
+    before = sorted(p.name for p in run.iterdir())
+    assert_clean_refusal(*run_cli(capsys, monkeypatch, ["optimize", "basic-run", "-o", run, "--resume"]))
+    assert sorted(p.name for p in run.iterdir()) == before
+
+
+OUTPUT_PATHS = {
+    "export-below-a-file": ["character", "export", "humanoid", "-o", "{tmp}/file.txt/h.xml"],
+    "export-onto-a-folder": ["character", "export", "humanoid", "-o", "{tmp}"],
+    "optimize-into-a-file": ["optimize", "basic-run", "-o", "{tmp}/file.txt"],
+    "export-existing-without-force": ["character", "export", "humanoid", "-o", "{tmp}/file.txt"],
+}
+
+
+@pytest.mark.parametrize("args", OUTPUT_PATHS.values(), ids=OUTPUT_PATHS.keys())
+def test_bad_output_paths(args, tmp_path, capsys, monkeypatch):
+    (tmp_path / "file.txt").write_text("keep me")
+    assert_clean_refusal(*run_cli(capsys, monkeypatch, [a.format(tmp=tmp_path) for a in args]))
+    assert (tmp_path / "file.txt").read_text() == "keep me"
