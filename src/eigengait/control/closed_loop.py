@@ -138,7 +138,7 @@ class ClosedLoopRunner:
         self.datas = [mujoco.MjData(self.model) for _ in range(max(1, threads))]
         self.reader = FeatureReader(world)
         self.motors = {f: hip_motors(world, f) for f in dict.fromkeys(system.feet)}
-        self.standing_com = float(world.new_data().subtree_com[world.root_body][2])
+        self.standing_com = world.standing_com_height
         self.chunk = max(1, int(round(FEEDBACK_DT / self.model.opt.timestep)))
         self.steps_simulated = 0
 
@@ -155,7 +155,7 @@ class ClosedLoopRunner:
         N = int(steps.max())
         plans = [FeedbackPlan(system, p, self.motors) for p in params]
         state = np.stack([system.initial_state(p) for p in params])
-        sensors_now = np.stack([self._initial_sensors(p) for p in params])
+        sensors_now = np.stack([system.initial_sensors(p) for p in params])
         nstate = state.shape[1]
         states = np.zeros((P, N, nstate))
         sensors = np.zeros((P, N, model.nsensordata))
@@ -208,10 +208,3 @@ class ClosedLoopRunner:
         if plan.record(t, features) or not plan.enabled:
             return 0.0
         return plan.G[k] @ (features - plan.reference(t % plan.period))
-
-    def _initial_sensors(self, p: GaitParameters) -> np.ndarray:
-        data = self.datas[0]
-        data.qpos[:], data.qvel[:] = p.qpos0, p.qvel0
-        data.ctrl[:] = 0
-        mujoco.mj_forward(self.model, data)
-        return data.sensordata.copy()

@@ -39,7 +39,6 @@ FEATURES = ("dx", "dy", "vx", "vy", "pitch", "roll", "pitch_rate", "roll_rate")
 MIRROR_SIGNS = np.array([1.0, -1.0, 1.0, -1.0, 1.0, -1.0, 1.0, -1.0])
 HIP_GAINS = ("swing_pitch_dx", "swing_pitch_vx", "swing_roll_dy", "swing_roll_vy",
              "stance_pitch_pitch", "stance_pitch_rate", "stance_roll_roll", "stance_roll_rate")
-MECHANISMS = ("hip", "modal")
 
 
 @dataclass
@@ -76,7 +75,7 @@ class FeatureReader:
         self.root = world.root
         self.com, self.comvel = world.com_sensor, world.comvel_sensor
         self.toe = {f: world.foot_sensor[p.toe] for f, p in world.character.feet.items()}
-        h = float(world.new_data().subtree_com[world.root_body][2])
+        h = world.standing_com_height
         self.scale = np.array([h, h, np.sqrt(GRAVITY * h), np.sqrt(GRAVITY * h), 1, 1,
                                np.sqrt(GRAVITY / h), np.sqrt(GRAVITY / h)])
 

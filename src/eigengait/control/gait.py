@@ -90,11 +90,19 @@ class GaitSystem:
         full[:, :self.world.nmotor] = u
         return full
 
-    def initial_state(self, p: GaitParameters) -> np.ndarray:
-        """MuJoCo full physics state vector of (q₀, q̇₀)."""
+    def _initial_data(self, p: GaitParameters) -> mujoco.MjData:
         data = mujoco.MjData(self.world.model)
         data.qpos[:], data.qvel[:] = p.qpos0, p.qvel0
         mujoco.mj_forward(self.world.model, data)
+        return data
+
+    def initial_sensors(self, p: GaitParameters) -> np.ndarray:
+        """The world's sensor readings (COM, COM velocity, feet) at (q₀, q̇₀)."""
+        return self._initial_data(p).sensordata.copy()
+
+    def initial_state(self, p: GaitParameters) -> np.ndarray:
+        """MuJoCo full physics state vector of (q₀, q̇₀)."""
+        data = self._initial_data(p)
         state = np.empty(mujoco.mj_stateSize(self.world.model, mujoco.mjtState.mjSTATE_FULLPHYSICS))
         mujoco.mj_getState(self.world.model, data, state, mujoco.mjtState.mjSTATE_FULLPHYSICS)
         return state

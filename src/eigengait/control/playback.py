@@ -10,7 +10,6 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-import mujoco
 import numpy as np
 
 from eigengait.control.closed_loop import PUSH_SECONDS, BatchRun, ClosedLoopRunner, Push, cycle_errors
@@ -111,9 +110,8 @@ def _result(system: GaitSystem, p: GaitParameters, run: BatchRun, completed: int
     duration = end * dt
     distance = float(sensors[-1, 0] - system.initial_com(p)[0])
     # frame k shows time k / fps: frame 0 is the initial state, frame k the state after step round(k/(fps dt))
-    first = _initial_row(system, p)
-    states = np.vstack([first[0], states])
-    sensors = np.vstack([first[1], sensors])
+    states = np.vstack([system.initial_state(p), states])
+    sensors = np.vstack([system.initial_sensors(p), sensors])
     frames = np.round(np.arange(int(duration * fps) + 1) / fps / dt).astype(int)
     frames = frames[frames <= end]
     recording = GaitRecording(
@@ -131,15 +129,6 @@ def _result(system: GaitSystem, p: GaitParameters, run: BatchRun, completed: int
                           cost_of_transport=work / (mass * GRAVITY * distance) if distance > 1e-6 else float("inf"),
                           cycle_violation=violation, snapped=snap, quality=quality, pushes=tuple(pushes),
                           pushes_survived=_pushes_survived(pushes, run) if pushes else None)
-
-
-def _initial_row(system: GaitSystem, p: GaitParameters) -> tuple[np.ndarray, np.ndarray]:
-    """The MuJoCo state and sensor rows at t = 0."""
-    model = system.world.model
-    data = mujoco.MjData(model)
-    data.qpos[:], data.qvel[:] = p.qpos0, p.qvel0
-    mujoco.mj_forward(model, data)
-    return system.initial_state(p)[None], data.sensordata.copy()[None]
 
 
 def _violation(system: GaitSystem, p: GaitParameters, run: BatchRun, completed: int) -> float:

@@ -83,8 +83,7 @@ class ParameterSpace:
         mechanisms = sketch.feedback.mechanisms
         world = self.system.world
         if "hip" in mechanisms:
-            h = float(world.new_data().subtree_com[world.root_body][2])
-            bound = HIP_GAIN_RANGE * world.mass() * GRAVITY * h
+            bound = HIP_GAIN_RANGE * world.mass() * GRAVITY * world.standing_com_height
             self.entries += [Entry(f"fb/hip/{g}", -bound, bound, 0.0) for g in HIP_GAINS]
         self.modal_feedback_modes: dict[str, list[int]] = {}
         if "modal" in mechanisms:

@@ -85,6 +85,11 @@ class World:
     def mass(self) -> float:
         return float(self.model.body_subtreemass[self.root_body])
 
+    @property
+    def standing_com_height(self) -> float:
+        """Height (m) of the whole creature's COM standing at the relax pose."""
+        return float(self.new_data().subtree_com[self.root_body][2])
+
     def set_stance_foot(self, foot: str | None) -> None:
         """Thesis filtering: only `foot`'s spheres collide (None: all feet). Needs contact='feet'."""
         for name, geoms in self.foot_spheres.items():
