@@ -61,8 +61,8 @@ def optimize_gait(sketch: Sketch, folder: Path, settings: MomSettings, evaluator
         first = load_state(stage / CHECKPOINT)
         return optimize(sketch, folder, replace(_spent(settings, first), sigma0=CLOSED_LOOP_SIGMA), evaluator,
                         workers, True, progress, sketch_source, seed=seed)
-    first = optimize(open_loop_sketch(sketch), stage, _share(settings, OPEN_LOOP_SHARE), evaluator, workers,
-                     resume and (stage / CHECKPOINT).exists(), progress, sketch_source, seed=seed)
+    first = optimize(open_loop_sketch(sketch), stage, _share(settings, OPEN_LOOP_SHARE), evaluator, workers, resume,
+                     progress, sketch_source, seed=seed)
     return closed_loop_stage(sketch, folder, _spent(settings, first), first, evaluator, workers, progress,
                              sketch_source)
 
