@@ -69,6 +69,14 @@ class CompiledExplicit:
         return x, v
 
 
+
+def friction_drag(model: ClothModel, force: np.ndarray, v: np.ndarray, h: float) -> np.ndarray:
+    """Per-point drag coefficient (kg/s) of the friction term, treated implicitly in a step of h seconds: the
+    friction force's magnitude over the speed it acts on, floored so a resting point is not divided by zero."""
+    speed = np.linalg.norm(v, axis=1)
+    magnitude = np.linalg.norm(force, axis=1)
+    return model.friction * magnitude / np.maximum(np.maximum(speed, h * magnitude / model.mass), 1e-300)
+
 class CompiledBackwardEuler:
     """Matrix-free backward Euler: per-spring Jacobian blocks and warm-started Jacobi-PCG, all compiled."""
 
@@ -87,9 +95,7 @@ class CompiledBackwardEuler:
     def __call__(self, x: np.ndarray, v: np.ndarray, t: float, h: float):
         m = self.model
         force = m.applied_forces(x)
-        speed = np.linalg.norm(v, axis=1)
-        magnitude = np.linalg.norm(force, axis=1)
-        drag = m.friction * magnitude / np.maximum(np.maximum(speed, h * magnitude / m.mass), 1e-300)
+        drag = friction_drag(m, force, v, h)
         kernels.spring_blocks(x, m.springs, m.spring_rest, m.spring_k, True, self._blocks)
         kernels.jacobian_times(v, m.springs, self._blocks, m.bend, self._bend_quarter, self._kv)
         rhs = h * (force - drag[:, None] * v) + (h * h) * self._kv
@@ -119,9 +125,7 @@ class BackwardEuler:
     def __call__(self, x: np.ndarray, v: np.ndarray, t: float, h: float):
         m = self.model
         force = m.applied_forces(x)
-        speed = np.linalg.norm(v, axis=1)
-        magnitude = np.linalg.norm(force, axis=1)
-        drag = m.friction * magnitude / np.maximum(np.maximum(speed, h * magnitude / m.mass), 1e-300)
+        drag = friction_drag(m, force, v, h)
         K = self.assembler.matrix(x, clamp=True)
         diagonal = np.repeat(m.mass + h * drag, 3)
         A = sp.diags(diagonal) - (h * h) * K
