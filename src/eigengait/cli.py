@@ -6,7 +6,6 @@ Command groups living beside their package register themselves through a `regist
 
 from __future__ import annotations
 
-import json
 import sys
 from pathlib import Path
 from typing import Optional
@@ -16,6 +15,7 @@ from rich.console import Console
 from rich.table import Table
 
 from eigengait.cli_character import BODY_HELP, STIFFNESS_HELP, print_notes
+from eigengait import json_text
 from eigengait.errors import UserInputError
 from eigengait.outputs import refuse_existing
 
@@ -40,7 +40,7 @@ def characters_command(as_json: bool = typer.Option(False, "--json", help="Print
                      "dofs": character.internal_dofs, "mass_kg": round(world.mass(), 2),
                      "feet": list(character.feet)})
     if as_json:
-        print(json.dumps(rows))
+        print(json_text.dumps(rows))
         return
     table = Table(title="Built-in characters")
     for col in ("name", "bodies", "joints", "internal DOF", "mass (kg)", "feet"):
@@ -93,7 +93,7 @@ def modes_command(character: str = typer.Argument(..., help="Built-in name, MJCF
     if save:
         modes.save(save)
     if as_json:
-        print(json.dumps(modes.summary()))
+        print(json_text.dumps(modes.summary()))
         return
     title = f"{modes.character} — {modes.phase} phase" + (f", {modes.foot} toe pinned" if modes.foot else "")
     table = Table(title=title, caption=f"{modes.dofs} internal DOF; {modes.rigid_modes} rigid-body modes dropped")

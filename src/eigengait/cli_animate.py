@@ -17,6 +17,7 @@ from rich.table import Table
 
 from eigengait.cli_media import BVH_UNITS_OPTION, CAMERA_OPTION, SPEED_OPTION, MediaOptions
 from eigengait.errors import UserInputError
+from eigengait.inputs import check_range
 from eigengait.outputs import refuse_existing
 from eigengait.motion.modal_mix import DEFAULT_MAX_ROTATION_DEG
 
@@ -59,6 +60,7 @@ def palette_command(
     from eigengait.render.palette import write_palette
 
     _require_suffix(output, (".png",), "--output")
+    check_range(angle, "--angle", 0.1, 180, "degrees")
     refuse_existing([output], force)
     world, modes = _world_and_modes(character, phase, foot, relax)
     image = write_palette(world, modes, output, count, columns, tile, angle)
@@ -97,6 +99,9 @@ def animate_command(
     _require_suffix(video, (".mp4", ".gif"), "--video")
     _require_suffix(bvh, (".bvh",), "--bvh")
     MediaOptions(video, bvh, fps, speed, camera, bvh_units).check()
+    check_range(angle, "--angle", 0.1, 180, "degrees")
+    check_range(seconds, "--seconds", 0.01, 3600, "s")
+    check_range(base_hz, "--base-hz", 0.01, 100, "Hz")
     refuse_existing([video, bvh], force)
     terms = parse_mix(mix)
     world, modes = _world_and_modes(character, phase, foot, relax)

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 import os
 from pathlib import Path
 from typing import Optional
@@ -12,6 +11,7 @@ import yaml
 from rich.console import Console
 from rich.table import Table
 
+from eigengait import json_text
 from eigengait.outputs import refuse_existing
 
 console = Console()
@@ -49,7 +49,7 @@ def inspect_command(model: str = typer.Argument(..., help="Built-in name, MJCF p
     if output is not None:
         output.write_text(sidecar_yaml(character, output))
     if as_json:
-        print(json.dumps(info))
+        print(json_text.dumps(info))
         return
     root = info["root"]
     console.print(f"[bold]{info['character']}[/] — {info['internal_dofs']} internal DOF; root '{root['body']}' "

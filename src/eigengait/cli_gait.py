@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 import time
 from datetime import datetime
 from pathlib import Path
@@ -14,6 +13,8 @@ from rich.table import Table
 
 from eigengait.cli_media import (BVH_UNITS_OPTION, CAMERA_OPTION, FPS_OPTION, SPEED_OPTION, MediaOptions,
                                  status_console, write_media)
+from eigengait import json_text
+from eigengait.inputs import check_range
 from eigengait.errors import UserInputError
 from eigengait.outputs import refuse_existing
 
@@ -44,7 +45,7 @@ def sketch_command(
                "realtime_factor": round(seconds / max(result.wall_seconds, 1e-9), 1),
                "max_joint_rotation_deg": round(result.max_joint_rotation_deg, 2)}
     if as_json:
-        print(json.dumps(summary))
+        print(json_text.dumps(summary))
     else:
         console.print(f"simulated {seconds:.1f} s of '{path.name}' with gravity off in {result.wall_seconds:.2f} s "
                       f"({summary['realtime_factor']}× real time); largest joint rotation "
@@ -75,6 +76,11 @@ def optimize_command(
     from eigengait.optimize.mom import MomSettings
     from eigengait.optimize.staged import optimize_gait
 
+    for value, option, low in ((evaluations, "--max-evaluations", 1), (minutes, "--max-minutes", 0.01),
+                               (generations, "--inner-generations", 1), (max_outer, "--max-outer", 1),
+                               (tolerance, "--cycle-tolerance", 1e-6), (popsize, "--popsize", 2),
+                               (workers, "--workers", 1)):
+        check_range(value, option, low)
     path = resolve("sketch", sketch)
     loaded = load_sketch(path)
     tolerance = tolerance if tolerance is not None else loaded.targets.cycle_tolerance
@@ -119,10 +125,10 @@ def play_command(
     path = resolve("gait", controller)
     c = load_controller(path)
     system = system_for(c)
-    result = play(system, to_parameters(c, system, path), cycles, snap=snap, pushes=pushes)
+    result = play(system, to_parameters(c, system, path), cycles, snap=snap, pushes=pushes, source=path)
     summary = {"controller": str(path), "character": c.character, **result.summary()}
     if as_json:
-        print(json.dumps(summary))
+        print(json_text.dumps(summary))
     else:
         table = Table(title=f"{path.name} on {c.character}")
         table.add_column("metric")
@@ -144,7 +150,7 @@ def gaits_command(as_json: bool = typer.Option(False, "--json", help="Print JSON
         rows.append({"name": name, "character": c.character, "feet": c.feet, "period_s": round(c.period, 3),
                      **{k: c.metrics[k] for k in ("mean_speed_mps", "cycle_violation") if k in c.metrics}})
     if as_json:
-        print(json.dumps(rows))
+        print(json_text.dumps(rows))
         return
     table = Table(title="Shipped gaits")
     for col in ("name", "character", "period (s)", "speed (m/s)", "cycle violation"):
@@ -198,8 +204,8 @@ def demo_command(
     c = load_controller(folder / "optimization" / "best_controller.json")
     system = system_for(c)
     result = play(system, to_parameters(c, system), cycles=20)
-    (folder / "playback.json").write_text(json.dumps(result.summary(), indent=2))
-    console.print(f"[3/4] playback: {json.dumps(result.summary())}")
+    (folder / "playback.json").write_text(json_text.dumps(result.summary(), indent=2))
+    console.print(f"[3/4] playback: {json_text.dumps(result.summary())}")
     write_media(system.world, result.qpos, result.fps, MediaOptions(folder / "gait.mp4", folder / "gait.bvh"),
                 console)
     console.print(f"[4/4] done in {time.perf_counter() - t0:.0f} s. Outputs in {folder}")

@@ -2,13 +2,13 @@
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 import typer
 
 from eigengait.cli_media import (BVH_UNITS_OPTION, CAMERA_OPTION, FPS_OPTION, SPEED_OPTION, MediaOptions,
                                  status_console, write_media)
+from eigengait import json_text
 from eigengait.outputs import refuse_existing
 
 PUSH_HELP = "Push the torso sideways: FORCE@TIME in N and s (e.g. 150@1.0), held for 0.1 s along +y."
@@ -46,7 +46,7 @@ def register(app: typer.Typer) -> None:
         world, reference, result = run_track(clip, character, robustness, push, mapping, start_frame, tolerance)
         write_media(world, result.qpos, 1.0 / result.frame_time, media, status_console(as_json))
         if as_json:
-            typer.echo(json.dumps(result.summary()))
+            typer.echo(json_text.dumps(result.summary()))
             return
         state = f"fell at {result.fall_time_s:.2f} s" if result.fell else "did not fall"
         typer.echo(f"tracked {result.duration_s:.2f} s of {reference.duration:.2f} s ({state}); "

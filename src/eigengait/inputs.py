@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 from eigengait.errors import UserInputError
@@ -17,3 +18,13 @@ def read_text(path: Path) -> str:
         return data.decode("utf-8")
     except UnicodeDecodeError:
         return data.decode("latin-1")
+
+
+def check_range(value: float | None, option: str, low: float, high: float = math.inf, unit: str = "") -> None:
+    """One clear error unless `value` (None: not given) is finite and within [low, high]."""
+    if value is None:
+        return
+    if not (math.isfinite(value) and low <= value <= high):
+        span = f"at least {low:g}" if high == math.inf else f"between {low:g} and {high:g}"
+        raise UserInputError(f"{option} {value} is out of range", field=option,
+                             fix=f"use a finite value {span}{(' ' + unit) if unit else ''}")

@@ -4,8 +4,9 @@ The horizon is cut into chunks of `FEEDBACK_DT`; each chunk is one `mujoco.rollo
 standing. At each chunk boundary the features of every candidate are read from its last state (NumPy, whole
 batch), recorded as the reference during the first cycle, and turned into feedback torques afterwards (see
 `feedback.py`). Sideways pushes are generalized forces on the root's y translation. A candidate falls when its
-COM drops below half the standing height, its root turns upside down, or its state stops being finite; it is
-not simulated further.
+COM drops below half the standing height, its root turns upside down, or it blows up (`sim/stepping.py`: a
+non-finite or runaway state, or a torque MuJoCo would refuse; recorded as `blow_up`); it is not simulated
+further.
 """
 
 from __future__ import annotations
@@ -20,6 +21,7 @@ from eigengait.control.feedback import (FEEDBACK_DT, MIRROR_SIGNS, FeatureReader
                                         hip_torque, state_roles)
 from eigengait.control.gait import GaitParameters, GaitSystem
 from eigengait.sim.root import RootLayout
+from eigengait.sim.stepping import first_blow_up
 
 PUSH_SECONDS = 0.1   # s, duration of every push
 
@@ -40,6 +42,7 @@ class BatchRun:
     fell: np.ndarray         # bool per candidate
     steps: np.ndarray        # steps asked for per candidate
     fell_time: np.ndarray    # s, when each fallen candidate fell (nan if it did not)
+    blow_up: list = None     # per candidate: (time s, dof) of a blow-up, or None
 
 
 def fallen(states: np.ndarray, sensors: np.ndarray, root: RootLayout, nq: int, standing_com: float) -> np.ndarray:
@@ -140,6 +143,7 @@ class ClosedLoopRunner:
         self.motors = {f: hip_motors(world, f) for f in dict.fromkeys(system.feet)}
         self.standing_com = world.standing_com_height
         self.chunk = max(1, int(round(FEEDBACK_DT / self.model.opt.timestep)))
+        self.motor_dofs = np.asarray(world.internal_qvel)
         self.steps_simulated = 0
 
     def close(self) -> None:
@@ -162,6 +166,7 @@ class ClosedLoopRunner:
         torques = np.zeros((P, N, n_motor))
         ended, fell, alive = steps.copy(), np.zeros(P, bool), np.ones(P, bool)
         fell_time = np.full(P, np.nan)
+        blow_up: list = [None] * P
         spec = mujoco.mjtState.mjSTATE_CTRL | (mujoco.mjtState.mjSTATE_QFRC_APPLIED if pushes else 0)
         width = nu + (nv if pushes else 0)
         limit = system.torque_limit
@@ -180,10 +185,14 @@ class ClosedLoopRunner:
                 u = ff[i][a:upto].copy()
                 u[:, :n_motor] = np.clip(u[:, :n_motor] + tau_fb, -limit, limit)
                 control[k, :upto - a, :nu] = u
+            idx, control = self._drop_bad_controls(idx, control, a, blow_up, fell, alive, ended, fell_time)
+            if idx.size == 0:
+                break
             for push in pushes:
                 on = (np.arange(a, b) * dt >= push.time) & (np.arange(a, b) * dt < push.time + PUSH_SECONDS)
                 control[:, on, nu + 1] = push.force
-            s, d = rollout.rollout(model, self.datas, state[idx], control, control_spec=spec,
+            state_before = state[idx]
+            s, d = rollout.rollout(model, self.datas, state_before, control, control_spec=spec,
                                    persistent_pool=persistent)
             self.steps_simulated += idx.size * (b - a)
             states[idx, a:b], sensors[idx, a:b] = s, d
@@ -192,6 +201,11 @@ class ClosedLoopRunner:
             bad = fallen(s, d, system.world.root, nq, self.standing_com)
             for k, i in enumerate(idx):
                 upto = min(b, steps[i]) - a
+                health = first_blow_up(s[k, :upto, 1 + nq:1 + nq + nv], np.zeros((upto, 0)), self.motor_dofs,
+                                       np.concatenate([[state_before[k, 0]], s[k, :upto, 0]]), dt)
+                if health is not None:
+                    blow_up[i] = ((a + health[0] + 1) * dt, health[1])
+                    bad[k, health[0]] = True
                 hit = np.flatnonzero(bad[k, :upto])
                 if hit.size:
                     fell[i], alive[i] = True, False
@@ -200,7 +214,20 @@ class ClosedLoopRunner:
                 elif steps[i] <= b:
                     alive[i] = False
         return BatchRun(states=states, sensors=sensors, torques=torques, ended=ended, fell=fell, steps=steps,
-                        fell_time=fell_time)
+                        fell_time=fell_time, blow_up=blow_up)
+
+    def _drop_bad_controls(self, idx, control, a, blow_up, fell, alive, ended, fell_time):
+        """Candidates whose next torques are not finite or beyond what MuJoCo accepts blow up before stepping."""
+        n_motor, dt = self.system.world.nmotor, self.model.opt.timestep
+        keep = np.ones(idx.size, bool)
+        for k, i in enumerate(idx):
+            health = first_blow_up(np.zeros((control.shape[1], 0)), control[k, :, :n_motor], self.motor_dofs)
+            if health is not None:
+                keep[k], fell[i], alive[i] = False, True, False
+                ended[i] = a + health[0]
+                fell_time[i] = ended[i] * dt
+                blow_up[i] = (fell_time[i], health[1])
+        return idx[keep], control[keep]
 
     def _feedback(self, plan: FeedbackPlan, t: float, state: np.ndarray, sensors: np.ndarray) -> np.ndarray:
         k = plan.state_index(t)

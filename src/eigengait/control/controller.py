@@ -8,7 +8,7 @@ lowest mode frequencies, so a controller applied to another character or relax p
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Literal
+from typing import Annotated, Literal
 
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, field_validator
@@ -18,6 +18,8 @@ from eigengait.control.feedback import FEATURES, HIP_GAINS, FeedbackGains
 from eigengait.control.files import dump, read_mapping, validate
 from eigengait.control.gait import GaitParameters, GaitSystem
 from eigengait.errors import UserInputError
+from eigengait.json_text import finite
+from eigengait.sim.stepping import MAX_CONTROL, MAX_SPEED
 
 FORMAT_VERSION = 1
 FINGERPRINT_MODES = 6
@@ -25,7 +27,7 @@ FINGERPRINT_MODES = 6
 
 class FeedbackFile(BaseModel):
     """Balance-feedback gains (N·m per normalized feature unit, see control/feedback.py); empty: open loop."""
-    model_config = ConfigDict(extra="forbid")
+    model_config = ConfigDict(extra="forbid", allow_inf_nan=False)
     hip: dict[Literal[HIP_GAINS], float] | None = None
     modal: dict[Literal["air", "ground"], dict[int, list[float]]] = Field(default_factory=dict)
 
@@ -59,7 +61,8 @@ class FeedbackFile(BaseModel):
 
 
 class ControllerFile(BaseModel):
-    model_config = ConfigDict(extra="forbid")
+    """Every number finite; torques and initial speeds within what the simulation can take."""
+    model_config = ConfigDict(extra="forbid", allow_inf_nan=False)
     eigengait_controller: int = FORMAT_VERSION
     name: str = ""
     character: str
@@ -67,14 +70,14 @@ class ControllerFile(BaseModel):
     feet: list[str]
     symmetric: bool
     basis: Literal["modal", "canonical"] = "modal"
-    torque_limit: float = Field(gt=0)
+    torque_limit: float = Field(gt=0, le=MAX_CONTROL)
     period: float = Field(gt=0)
     air_ratio: float = Field(ge=0, le=1)
     pulse_air: float = Field(gt=0)
     pulse_ground: float = Field(gt=0)
     activations: dict[str, dict[str, dict[int, float]]]     # foot -> phase -> mode number -> ψ (N·m)
     initial_qpos: list[float]
-    initial_qvel: list[float]
+    initial_qvel: list[Annotated[float, Field(ge=-MAX_SPEED, le=MAX_SPEED)]]
     air_frequencies_hz: list[float]                          # fingerprint of the character at its relax pose
     feedback: FeedbackFile = Field(default_factory=lambda: FeedbackFile())
     metrics: dict[str, float | bool | int] = Field(default_factory=dict)
@@ -92,7 +95,7 @@ def to_file(system: GaitSystem, p: GaitParameters, name: str = "", metrics: dict
                           initial_qvel=[float(v) for v in p.qvel0],
                           air_frequencies_hz=[float(f) for f in system.air_modes.frequencies_hz[:FINGERPRINT_MODES]],
                           feedback=FeedbackFile.of(p.feedback),
-                          metrics=metrics or {})
+                          metrics={k: v for k, v in finite(metrics or {}).items() if v is not None})
 
 
 def _is_builtin(system: GaitSystem) -> bool:

@@ -10,6 +10,7 @@ from pathlib import Path
 import yaml
 from pydantic import BaseModel, ValidationError
 
+from eigengait import json_text
 from eigengait.errors import UserInputError
 from eigengait.inputs import read_text
 
@@ -49,5 +50,5 @@ def write_atomically(path: Path, text: str) -> None:
 
 def dump(model: BaseModel, path: Path) -> None:
     data = model.model_dump(mode="json")
-    text = json.dumps(data, indent=2) if path.suffix.lower() == ".json" else yaml.safe_dump(data, sort_keys=False)
+    text = json_text.dumps(data, indent=2) if path.suffix.lower() == ".json" else yaml.safe_dump(data, sort_keys=False)
     write_atomically(path, text)

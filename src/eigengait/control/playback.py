@@ -16,6 +16,7 @@ from eigengait.control.closed_loop import PUSH_SECONDS, BatchRun, ClosedLoopRunn
 from eigengait.control.gait import GaitParameters, GaitSystem
 from eigengait.control.gait_metrics import GaitRecording, gait_metrics
 from eigengait.errors import UserInputError
+from eigengait.sim.stepping import raise_blow_up
 from eigengait.sim.world import GRAVITY
 
 MAX_PUSH_N = 1e5   # N: beyond this a 0.1 s push launches any creature
@@ -66,7 +67,9 @@ def parse_pushes(text: str) -> tuple[Push, ...]:
 
 
 def play(system: GaitSystem, p: GaitParameters, cycles: int = 4, snap: bool = False, fps: float = 60.0,
-         pushes: tuple[Push, ...] = ()) -> PlaybackResult:
+         pushes: tuple[Push, ...] = (), source: str | None = None) -> PlaybackResult:
+    """Play `cycles` cycles; a blow-up raises `SimulationBlowUp` naming the time, the body and `source` (the
+    controller file)."""
     runner = ClosedLoopRunner(system)
     if snap:
         run, completed = _play_snapped(runner, p, cycles)
@@ -74,18 +77,21 @@ def play(system: GaitSystem, p: GaitParameters, cycles: int = 4, snap: bool = Fa
         run = runner.run([p], cycles, pushes, persistent=False)
         completed = int(run.ended[0] // int(round(p.period / runner.model.opt.timestep)))
         completed = cycles if not run.fell[0] else min(completed, cycles - 1)
+    if run.blow_up[0] is not None:
+        raise_blow_up(system.world, *run.blow_up[0], file=source)
     return _result(system, p, run, completed, snap, fps, pushes)
 
 
 def _play_snapped(runner: ClosedLoopRunner, p: GaitParameters, cycles: int) -> tuple[BatchRun, int]:
     """Cycle by cycle from (q₀, q̇₀), open loop, keeping the root's forward position: the thesis's reset."""
-    parts, completed = [], 0
+    parts, completed, blow_up = [], 0, None
     forward = runner.system.world.root.forward_qpos
     start = p
     for _ in range(cycles):
         run = runner.run([start], 1, persistent=False)
         parts.append(run)
         if run.fell[0]:
+            blow_up = run.blow_up[0]
             break
         completed += 1
         qpos0 = p.qpos0.copy()
@@ -96,7 +102,7 @@ def _play_snapped(runner: ClosedLoopRunner, p: GaitParameters, cycles: int) -> t
     ended = sum(int(r.ended[0]) for r in parts)
     return BatchRun(states=cat("states"), sensors=cat("sensors"), torques=cat("torques"), ended=np.array([ended]),
                     fell=np.array([parts[-1].fell[0]]), steps=np.array([ended]),
-                    fell_time=np.array([np.nan])), completed
+                    fell_time=np.array([np.nan]), blow_up=[blow_up]), completed
 
 
 def _result(system: GaitSystem, p: GaitParameters, run: BatchRun, completed: int, snap: bool, fps: float,
@@ -165,5 +171,7 @@ def push_robustness(system: GaitSystem, p: GaitParameters, impulse_per_kg: float
     for k in range(phases):
         push = Push(time=start + k * p.period / phases, force=force)
         run = runner.run([p], cycle + cycles_after, (push,), persistent=False)
+        if run.blow_up[0] is not None:
+            raise_blow_up(system.world, *run.blow_up[0])
         survived.append(not bool(run.fell[0]))
     return survived

@@ -4,7 +4,8 @@ Every candidate is simulated for `cycles` consecutive cycles (`control/closed_lo
 for the whole batch in NumPy between chunks; fallen candidates are dropped early). The hard cyclic constraint φ
 holds at every cycle end: the state at the end of cycle k against the state at its start (root x excluded), and
 for symmetric gaits also the mirrored state at T/2 of the first cycle against (q₀, q̇₀), the thesis's choice. A
-fallen candidate's soft penalty grows with the share of the horizon it did not survive, so falls still rank.
+fallen candidate's soft penalty grows with the share of the horizon it did not survive, so falls still rank; a
+candidate that blows up gets the worst fall's penalty and finite values only.
 """
 
 from __future__ import annotations
@@ -86,6 +87,10 @@ class BatchEvaluator:
 
     # ------------------------------------------------------------------ objective of one candidate
     def _outcome(self, p: GaitParameters, run: BatchRun, i: int) -> Outcome:
+        if run.blow_up[i] is not None:
+            return Outcome(cost=2 * terms.SOFT_WEIGHT * FALL_PENALTY, fell=True, mean_velocity=np.zeros(3),
+                           cycle=np.full(self.constraint_size, FALLEN_CYCLE_ERROR), energy=0.0,
+                           soft={"fall": 2 * FALL_PENALTY})
         tg, nq, nv = self.targets, self.nq, self.nv
         end = int(run.ended[i])
         states, sensors, torques = run.states[i, :end], run.sensors[i, :end], run.torques[i, :end]
