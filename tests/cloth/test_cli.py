@@ -30,7 +30,7 @@ def test_every_example_runs_briefly(name, tmp_path):
 
 def test_run_renders_pngs_and_video(tmp_path):
     result = runner.invoke(app, ["run", "tablecloth", "-o", str(tmp_path), "--duration", "1",
-                                 "--integrator", "implicit", "--time-step", "0.01"])
+                                 "--integrator", "implicit", "--time-step", "0.01", "--video-fps", "4"])
     assert result.exit_code == 0, result.output
     assert (tmp_path / "toalha_2.OBT").exists() and (tmp_path / "obj" / "toalha_2.obj").exists()
     assert len(list((tmp_path / "png").glob("*.png"))) == 3

@@ -5,9 +5,11 @@ from __future__ import annotations
 import re
 import sys
 import warnings
+from contextlib import ExitStack
 from pathlib import Path
 from typing import Optional
 
+import numpy as np
 import typer
 from rich.console import Console
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeRemainingColumn
@@ -17,10 +19,11 @@ from eigengait.cloth.integrators import INTEGRATORS
 from eigengait.cloth.library import EXAMPLES, resolve_script
 from eigengait.cloth.model import script_model
 from eigengait.cloth.obt import read_obt
-from eigengait.cloth.output import staged_output, write_frame
+from eigengait.cloth.output import staged_file, staged_output, write_frame, write_manifest
 from eigengait.cloth.par import read_par
 from eigengait.cloth.strain import DEFAULT_BOUND
 from eigengait.errors import UserInputError
+from eigengait.outputs import check_output
 
 app = typer.Typer(help="Deformable surfaces (FLEX3D, Nedel 1993): run .PAR scripts, examples, vibration modes.",
                   no_args_is_help=True, add_completion=False)
@@ -54,7 +57,7 @@ def examples() -> None:
 
 @app.command("run")
 def run(script: str = typer.Argument(..., help="a .PAR file or a shipped example name (see 'examples')"),
-        output: Path = typer.Option(..., "-o", "--output", help="folder for the frames"),
+        output: Path = typer.Option(..., "-o", "--output", help="folder for the frame set (new, empty, or --force)"),
         integrator: str = typer.Option("euler", help=f"one of: {', '.join(INTEGRATORS)}"),
         video: Optional[Path] = typer.Option(None, help="MP4 path (default: DIR/<script>.mp4)"),
         duration: Optional[float] = typer.Option(None, help="simulate this many seconds instead of DURACAO"),
@@ -68,58 +71,105 @@ def run(script: str = typer.Argument(..., help="a .PAR file or a shipped example
         floor: Optional[float] = typer.Option(None, help="floor plane at this height (m, world z; PISO in scripts)"),
         dissertation: bool = typer.Option(False, "--dissertation",
                                           help="FLEX3D as published: no strain limit, swept hits only"),
-        video_fps: float = typer.Option(10.0, help="frames per second of the video")) -> None:
-    """Simulate a script and write <NAME>_<frame>.OBT, obj/<NAME>_<frame>.obj, png/ frames and a video."""
-    from eigengait.cloth.render import CAMERAS, render_run
-    from eigengait.cloth.simulate import run_frames
+        video_fps: float = typer.Option(30.0, help="video frames per second of simulated time (real-time playback)"),
+        force: bool = typer.Option(False, "--force", help="replace an earlier run's frame set in DIR")) -> None:
+    """Simulate a script and write <NAME>_<frame>.OBT, obj/<NAME>_<frame>.obj, png/ frames, a real-time video,
+    a contact sheet and run.json."""
+    from eigengait.cloth.simulate import frame_steps, run_samples, video_steps
 
     try:
         path = resolve_script(script)
         parsed = read_par(path)
         obstacles = [read_obt(p) for p in parsed.obstacles]
         model = script_model(parsed, obstacles, gravity=not no_gravity)
-        if duration is not None and duration <= 0:
-            raise UserInputError("--duration must be positive.", field="--duration")
-        if not 0.0 <= restitution <= 1.0:
-            raise UserInputError("--restitution must be between 0 and 1.", field="--restitution")
-        if strain_limit < 0.0:
-            raise UserInputError("--strain-limit must not be negative.", field="--strain-limit")
-        if thickness is not None and thickness <= 0.0:
-            raise UserInputError("--thickness must be positive.", field="--thickness")
-        if integrator not in INTEGRATORS:
-            raise UserInputError(f"unknown integrator '{integrator}'.", field="--integrator",
-                                 fix=f"use one of: {', '.join(INTEGRATORS)}.")
+        _check_options(duration, restitution, strain_limit, thickness, integrator, video_fps)
         h = time_step or parsed.time_step
         step_field = f"line {parsed.lines.get('DELTA_T', '?')}: DELTA_t" if time_step is None else "--time-step"
         total = duration or parsed.duration
-        count = int(total * parsed.frames_per_second + 1e-9) + 1
-        positions = []
-        with staged_output(output) as staging, warnings.catch_warnings(record=True) as caught:
+        floor = floor if floor is not None else parsed.floor
+        frames = frame_steps(h, total, parsed.frames_per_second, str(path), step_field)
+        shots = None if no_render else video_steps(h, total, video_fps)
+        target = None if no_render else (video or output / f"{path.stem}.mp4")
+        if target is not None and not _inside(target, output):
+            check_output(target, force)
+        with ExitStack() as stack:
+            staging = stack.enter_context(staged_output(output, force))
+            caught = stack.enter_context(warnings.catch_warnings(record=True))
             warnings.simplefilter("always")
-            frames = run_frames(model, time_step=h, duration=total, frames_per_second=parsed.frames_per_second,
-                                integrator=integrator, source=str(path), step_field=step_field,
-                                self_collision=self_collision or parsed.self_collision, restitution=restitution,
-                                strain_limit=strain_limit or None, thickness=thickness,
-                                floor=floor if floor is not None else parsed.floor, dissertation=dissertation)
-            with _progress() as progress:
-                task = progress.add_task(f"simulating {path.name} ({integrator})", total=count)
-                for frame in frames:
-                    _warn(caught), caught.clear()
-                    write_frame(model, frame.positions, frame.index, staging)
-                    positions.append((frame.time, frame.positions))
-                    progress.advance(task)
-                if not no_render:
-                    (staging / "png").mkdir()
-                    target = video or output / f"{path.stem}.mp4"
-                    staged_video = staging / target.name if target.parent.resolve() == output.resolve() else None
-                    render_task = progress.add_task("rendering", total=len(positions))
-                    render_run(model, positions, staging / "png", staged_video or target,
-                               camera=CAMERAS.get(path.stem, (20, -60)), title=path.stem, fps=video_fps,
-                               on_frame=lambda: progress.advance(render_task))
+            steps = frames if shots is None else np.union1d(frames, shots)
+            samples = run_samples(model, steps, time_step=h, integrator=integrator, source=str(path),
+                                  step_field=step_field,
+                                  self_collision=self_collision or parsed.self_collision, restitution=restitution,
+                                  strain_limit=strain_limit or None, thickness=thickness, floor=floor,
+                                  dissertation=dissertation)
+            states = _simulate(model, samples, steps, frames, staging, f"simulating {path.name} ({integrator})",
+                               caught)
+            summary = {"script": str(path), "integrator": integrator, "time_step_s": h, "duration_s": total,
+                       "floor_m": floor, "frames": {"count": len(frames), "per_second": parsed.frames_per_second},
+                       "video": None}
+            if target is not None:
+                staged = (staging / target.resolve().relative_to(output.resolve()) if _inside(target, output)
+                          else stack.enter_context(staged_file(target)))
+                _render(model, states, frames, shots, staging, staged, path.stem, video_fps, floor)
+                summary["video"] = {"path": str(target), "fps": video_fps, "frames": len(shots),
+                                    "duration_s": len(shots) / video_fps, "sheet": f"{path.stem}_sheet.png"}
+            write_manifest(staging, summary)
     except UserInputError as error:
         raise _fail(error) from None
-    console.print(f"wrote {count} frames of {len(model.surfaces)} surface(s) to {output}"
-                  + ("" if no_render else f" and the video {video or output / f'{path.stem}.mp4'}"))
+    console.print(f"wrote {len(frames)} frames ({parsed.frames_per_second:g} per simulated second, {total:g} s) of "
+                  f"{len(model.surfaces)} surface(s) to {output}" + ("" if target is None else
+                  f" and the video {target}: {len(shots)} frames at {video_fps:g} fps, "
+                  f"{len(shots) / video_fps:.2f} s (real time)"))
+
+
+def _check_options(duration, restitution, strain_limit, thickness, integrator, video_fps) -> None:
+    """Raise :class:`UserInputError` for an impossible ``run`` option."""
+    if duration is not None and duration <= 0:
+        raise UserInputError("--duration must be positive.", field="--duration")
+    if not 0.0 <= restitution <= 1.0:
+        raise UserInputError("--restitution must be between 0 and 1.", field="--restitution")
+    if strain_limit < 0.0:
+        raise UserInputError("--strain-limit must not be negative.", field="--strain-limit")
+    if thickness is not None and thickness <= 0.0:
+        raise UserInputError("--thickness must be positive.", field="--thickness")
+    if video_fps <= 0.0:
+        raise UserInputError("--video-fps must be positive.", field="--video-fps")
+    if integrator not in INTEGRATORS:
+        raise UserInputError(f"unknown integrator '{integrator}'.", field="--integrator",
+                             fix=f"use one of: {', '.join(INTEGRATORS)}.")
+
+
+def _inside(path: Path, folder: Path) -> bool:
+    return path.resolve().is_relative_to(folder.resolve())
+
+
+def _simulate(model, samples, steps, frames, staging: Path, label: str, caught) -> dict:
+    """Write the script's frames (step counts ``frames``) into ``staging`` as they come; return every sample as
+    {step: (time s, positions (N, 3) m)}."""
+    index = {int(step): k for k, step in enumerate(frames)}
+    states = {}
+    with _progress() as progress:
+        task = progress.add_task(label, total=len(steps))
+        for sample, step in zip(samples, steps.tolist()):
+            _warn(caught), caught.clear()
+            if step in index:
+                write_frame(model, sample.positions, index[step], staging)
+            states[step] = (sample.time, sample.positions)
+            progress.advance(task)
+    return states
+
+
+def _render(model, states: dict, frames, shots, staging: Path, video: Path, name: str, fps: float, floor) -> None:
+    """PNGs of the script's frames, the video of ``shots`` at ``fps`` and the contact sheet, into ``staging``."""
+    from eigengait.cloth.render import CAMERAS, render_run
+
+    (staging / "png").mkdir()
+    video.parent.mkdir(parents=True, exist_ok=True)
+    with _progress() as progress:
+        task = progress.add_task("rendering", total=len(set(frames.tolist()) | set(shots.tolist())))
+        render_run(model, states, frames.tolist(), shots.tolist(), staging / "png", video, fps=fps,
+                   camera=CAMERAS.get(name, (20, -60)), title=name, floor=floor,
+                   sheet=staging / f"{name}_sheet.png", on_frame=lambda: progress.advance(task))
 
 
 _SIZE = re.compile(r"^(\d+)x(\d+)$")

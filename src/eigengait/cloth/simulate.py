@@ -202,28 +202,49 @@ def rest_on_floor(x: np.ndarray, v: np.ndarray, movable: np.ndarray, level: floa
     return int(below.sum())
 
 
-def run_frames(model: ClothModel, *, time_step: float, duration: float, frames_per_second: float,
-               integrator: str = "euler", source: str = "<script>", step_field: str = "DELTA_T",
-               warn: bool = True, **options) -> Iterator[Frame]:
-    """Yield frames 0 … floor(duration·fps), frame k at t = k/fps s.
+def frame_steps(time_step: float, duration: float, frames_per_second: float, source: str = "<script>",
+                step_field: str = "DELTA_T") -> np.ndarray:
+    """Step counts of the script's frames 0 … floor(duration·fps): frame k after k·round(1/(fps·h)) steps of h s.
 
     Raises:
-        SimulationBlowUp: positions became NaN/inf or ran away (> 10⁶ m); names the time and the step.
+        UserInputError: h is longer than one frame.
     """
     steps_per_frame = round(1.0 / (frames_per_second * time_step))
     if steps_per_frame < 1:
         raise UserInputError(f"DELTA_t = {time_step:g} s is longer than one frame (1/{frames_per_second:g} s).",
                              file=source, field=step_field, fix="make DELTA_t at most 1/QUADROS_SEG.")
+    return steps_per_frame * np.arange(int(np.floor(duration * frames_per_second + 1e-9)) + 1)
+
+
+def video_steps(time_step: float, duration: float, fps: float) -> np.ndarray:
+    """Step count nearest t = j/fps s for the video frames j = 0 … round(duration·fps) (repeats when h > 1/fps)."""
+    count = int(round(duration * fps)) + 1
+    return np.rint(np.arange(count) / (fps * time_step)).astype(int)
+
+
+def run_samples(model: ClothModel, steps: np.ndarray, *, time_step: float, integrator: str = "euler",
+                source: str = "<script>", step_field: str = "DELTA_T", warn: bool = True,
+                **options) -> Iterator[Frame]:
+    """Yield the state after each of the increasing step counts ``steps`` (h = ``time_step`` s), numbered from 0.
+
+    Raises:
+        SimulationBlowUp: positions became NaN/inf or ran away (> 10⁶ m); names the time and the step.
+    """
     if warn:
-        check_step(model, integrator, time_step, duration)
+        check_step(model, integrator, time_step, int(steps[-1]) * time_step)
     sim = Simulation(model, time_step, integrator, **options)
-    count = int(np.floor(duration * frames_per_second + 1e-9))
-    yield Frame(0, 0.0, sim.x.copy(), sim.v.copy())
-    for index in range(1, count + 1):
-        sim.advance(steps_per_frame)
+    for index, step in enumerate(steps):
+        sim.advance(int(step) - sim.steps)
         if not np.isfinite(sim.x).all() or np.abs(sim.x).max() > 1e6:
             raise SimulationBlowUp(
                 f"the simulation diverged before t = {sim.t:.3f} s (positions became NaN or ran away) with the "
                 f"'{integrator}' integrator at DELTA_t = {time_step:g} s.", file=source, field=step_field,
                 fix="use a smaller DELTA_t, more ATRITO, or --integrator implicit.")
         yield Frame(index, sim.t, sim.x.copy(), sim.v.copy())
+
+
+def run_frames(model: ClothModel, *, time_step: float, duration: float, frames_per_second: float,
+               source: str = "<script>", step_field: str = "DELTA_T", **options) -> Iterator[Frame]:
+    """Yield the script's frames 0 … floor(duration·fps), frame k at t ≈ k/fps s (see :func:`frame_steps`)."""
+    steps = frame_steps(time_step, duration, frames_per_second, source, step_field)
+    yield from run_samples(model, steps, time_step=time_step, source=source, step_field=step_field, **options)
