@@ -42,12 +42,29 @@ OPTION_VALUES = {
     "unknown-gait": ["play", "no-such-gait"],
     "unknown-cloth-example": ["cloth", "run", "no-such-example", "-o", "{tmp}/out"],
     "unknown-method": ["optimize", "basic-run", "-o", "{tmp}/run", "--method", "magic"],
+    "evaluations-zero": ["optimize", "basic-run", "-o", "{tmp}/run", "--max-evaluations", "0"],
+    "minutes-negative": ["optimize", "basic-run", "-o", "{tmp}/run", "--max-minutes", "-1"],
+    "workers-negative": ["optimize", "basic-run", "-o", "{tmp}/run", "--workers", "-2"],
+    "tolerance-nan": ["optimize", "basic-run", "-o", "{tmp}/run", "--cycle-tolerance", "nan"],
+    "palette-angle-nan": ["palette", "humanoid", "--angle", "nan", "-o", "{tmp}/p.png"],
+    "animate-seconds-nan": ["animate", "humanoid", "--mix", "2:1", "--seconds", "nan", "--bvh", "{tmp}/a.bvh"],
+    "cloth-duration-nan": ["cloth", "run", "curtain", "-o", "{tmp}/out", "--duration", "nan"],
+    "cloth-restitution-nan": ["cloth", "run", "curtain", "-o", "{tmp}/out", "--restitution", "nan"],
 }
 
 
 @pytest.mark.parametrize("args", OPTION_VALUES.values(), ids=OPTION_VALUES.keys())
 def test_bad_option_values(args, tmp_path, capsys, monkeypatch):
     assert_clean_refusal(*run_cli(capsys, monkeypatch, [a.format(tmp=tmp_path) for a in args]))
+    assert not (tmp_path / "run").exists()              # refused before any work started
+
+
+def test_a_script_error_never_echoes_another_files_lines(tmp_path, capsys, monkeypatch):
+    secret = tmp_path / "secret.txt"
+    secret.write_text("root:x:0:0:root:/root:/bin/bash\n")
+    code, err = run_cli(capsys, monkeypatch, ["cloth", "run", secret, "-o", tmp_path / "out"])
+    assert_clean_refusal(code, err)
+    assert "root:" not in err and "/bin/bash" not in err
 
 
 FILES = {

@@ -23,6 +23,7 @@ from eigengait.cloth.output import staged_file, staged_output, write_frame, writ
 from eigengait.cloth.par import read_par
 from eigengait.cloth.strain import DEFAULT_BOUND
 from eigengait.errors import UserInputError
+from eigengait.inputs import check_range
 from eigengait.outputs import check_output
 
 app = typer.Typer(help="Deformable surfaces (FLEX3D, Nedel 1993): run .PAR scripts, examples, vibration modes.",
@@ -124,16 +125,11 @@ def run(script: str = typer.Argument(..., help="a .PAR file or a shipped example
 
 def _check_options(duration, restitution, strain_limit, thickness, integrator, video_fps) -> None:
     """Raise :class:`UserInputError` for an impossible ``run`` option."""
-    if duration is not None and duration <= 0:
-        raise UserInputError("--duration must be positive.", field="--duration")
-    if not 0.0 <= restitution <= 1.0:
-        raise UserInputError("--restitution must be between 0 and 1.", field="--restitution")
-    if strain_limit < 0.0:
-        raise UserInputError("--strain-limit must not be negative.", field="--strain-limit")
-    if thickness is not None and thickness <= 0.0:
-        raise UserInputError("--thickness must be positive.", field="--thickness")
-    if video_fps <= 0.0:
-        raise UserInputError("--video-fps must be positive.", field="--video-fps")
+    check_range(duration, "--duration", 1e-6, 1e6, "s")
+    check_range(restitution, "--restitution", 0.0, 1.0)
+    check_range(strain_limit, "--strain-limit", 0.0)
+    check_range(thickness, "--thickness", 1e-9, unit="m")
+    check_range(video_fps, "--video-fps", 1e-3, 1000, "frames/s")
     if integrator not in INTEGRATORS:
         raise UserInputError(f"unknown integrator '{integrator}'.", field="--integrator",
                              fix=f"use one of: {', '.join(INTEGRATORS)}.")

@@ -44,6 +44,14 @@ def zup_to_yup(vector) -> np.ndarray:
     return np.stack([v[..., 0], v[..., 2], -v[..., 1]], axis=-1)
 
 
+_WORD = re.compile(r"[A-Za-z0-9_.+-]{1,32}")
+
+
+def shown(text: str) -> str:
+    """A token as it may appear in an error: a short word or number, never a line of some other file."""
+    return text if _WORD.fullmatch(text) else "(not a FLEX3D word)"
+
+
 @dataclass(frozen=True)
 class Translation:
     """Kinematic motion of a surface's fixed points: ``step`` metres per frame (z-up) from ``start`` to ``end`` s."""
@@ -162,7 +170,7 @@ class _Reader:
 
     def error(self, message: str, token: _Token | None = None, fix: str | None = None) -> UserInputError:
         token = token or (self.tokens[min(self.pos, len(self.tokens) - 1)] if self.tokens else _Token("", 1))
-        return UserInputError(message, file=self.path, field=f"line {token.line}: {token.text}", fix=fix)
+        return UserInputError(message, file=self.path, field=f"line {token.line}: {shown(token.text)}", fix=fix)
 
     def peek(self) -> _Token | None:
         return self.tokens[self.pos] if self.pos < len(self.tokens) else None
@@ -182,9 +190,9 @@ class _Reader:
             value = kind(token.text)
         except ValueError:
             raise self.error(f"{keyword.text} expects {'an integer' if kind is int else 'a number'}, "
-                             f"got '{token.text}'.", token) from None
+                             f"got '{shown(token.text)}'.", token) from None
         if not np.isfinite(value):
-            raise self.error(f"{keyword.text} must be finite, got '{token.text}'.", token)
+            raise self.error(f"{keyword.text} must be finite, got '{shown(token.text)}'.", token)
         return value
 
     def numbers(self, keyword: _Token, count: int, kind=float) -> list:
@@ -229,7 +237,7 @@ def parse_par(text: str, path: str | Path = "<script>") -> Script:
         elif key == "SUPERFICIE":
             surfaces.append(_parse_surface(reader, token, len(surfaces)))
         else:
-            raise reader.error(f"unknown keyword '{token.text}'.", token,
+            raise reader.error(f"unknown keyword '{shown(token.text)}'.", token,
                                fix="check the spelling against the FLEX3D grammar (docs/cloth.md).")
     for key in _REQUIRED_GLOBALS:
         if key not in values:
@@ -291,7 +299,7 @@ def _parse_surface(reader: _Reader, opener: _Token, index: int) -> SurfaceSpec:
                                    fix="put MALHA (<m> <n>) first in the surface block.")
             _parse_constraints(reader, fields, spec_fixed, translations, targets, attachments)
         else:
-            raise reader.error(f"unknown keyword '{token.text}' inside SUPERFICIE.", token,
+            raise reader.error(f"unknown keyword '{shown(token.text)}' inside SUPERFICIE.", token,
                                fix="check the spelling against the FLEX3D grammar (docs/cloth.md).")
     for key in ("MALHA", "DENSIDADE", "MASSA", "CONST_ELASTICIDADE"):
         if key not in fields:
@@ -391,7 +399,7 @@ def _parse_constraints(reader: _Reader, fields: dict, fixed: list, translations:
                                    fix="start each motion with its own TRANSLACAO line.")
             pending[key] = reader.number(token)
         else:
-            raise reader.error(f"unknown keyword '{token.text}' inside RESTRICOES.", token,
+            raise reader.error(f"unknown keyword '{shown(token.text)}' inside RESTRICOES.", token,
                                fix="only PONTOS_FIXOS, PONTOS_ALVO, PONTOS_PRESOS, TRANSLACAO, INI_TRANSL and "
                                    "FIM_TRANSL belong here.")
 

@@ -34,6 +34,11 @@ class MomSettings:
     max_seconds: float | None = None
     method: str = "mom"                  # "mom" (the thesis's) or "al" (pycma's adaptive augmented Lagrangian)
 
+    def __post_init__(self):
+        if self.method not in ("mom", "al"):
+            from eigengait.errors import UserInputError
+            raise UserInputError(f"unknown method '{self.method}'", field="--method", fix="use mom or al")
+
 
 @dataclass
 class MomState:
@@ -187,7 +192,4 @@ def make_optimizer(evaluate: Callable[[np.ndarray], list[Outcome]], settings: Mo
     if settings.method == "al":
         from eigengait.optimize.adaptive_al import AdaptiveAugmentedLagrangian
         return AdaptiveAugmentedLagrangian(evaluate, settings, state)
-    if settings.method != "mom":
-        from eigengait.errors import UserInputError
-        raise UserInputError(f"unknown method '{settings.method}'", field="--method", fix="use mom or al")
     return MethodOfMultipliers(evaluate, settings, state)

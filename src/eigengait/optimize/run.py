@@ -41,7 +41,7 @@ def _saved_settings(folder: Path) -> dict:
         saved = json.loads((folder / "settings.json").read_text(encoding="utf-8"))
         MomSettings(**saved["settings"])
         saved["evaluator"]
-    except (OSError, ValueError, KeyError, TypeError) as exc:
+    except (OSError, ValueError, KeyError, TypeError, UserInputError) as exc:
         raise UserInputError(f"the run folder's settings.json is missing or damaged ({exc.__class__.__name__})",
                              file=folder / "settings.json", fix="start a new run in another --output folder") from None
     return saved
