@@ -18,6 +18,7 @@ from eigengait.control.playback import PlaybackResult, play
 from eigengait.errors import UserInputError
 from eigengait.sim.world import World
 from eigengait.studio.feedback import Feedback
+from eigengait.studio.model_files import confine_character
 from eigengait.studio.sandbox import Sandbox
 from eigengait.studio.stage import Stage
 
@@ -62,9 +63,8 @@ class PlayPanel:
         """Load a controller, play it with gravity and show it on the stage with the camera following."""
         path = self._controller_path(str(text))
         controller = load_controller(path)
-        if controller.character not in builtin_names() and not self.sandbox.contains(controller.character):
-            raise UserInputError("the controller's character is outside the studio folder and was refused",
-                                 file=path, field="character", fix="keep the character's MJCF in the studio folder")
+        if controller.character not in builtin_names():
+            confine_character(self.sandbox, Path(controller.character))
         system = system_for(controller)
         result = play(system, to_parameters(controller, system, path), int(self.cycles.value), snap=self.snap.value)
         if len(result.qpos) == 0:
