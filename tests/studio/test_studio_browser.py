@@ -46,7 +46,7 @@ def screenshot(page, artifacts, name: str):
 
 
 def status_text(page) -> str:
-    return page.get_by_text(re.compile(r"^(Ready\.|Refused:|Loaded|Saved|Wrote|Playing|Optimiz|Resuming)")).first.inner_text()
+    return page.get_by_text(re.compile(r"^(Ready\.|Refused:|Loaded|Saved|Kept|Wrote|Playing|Optimiz|Resuming)")).first.inner_text()
 
 
 def copy_color(studio, phase: str, mode: int) -> np.ndarray:
@@ -186,6 +186,27 @@ def test_a_page_from_another_origin_cannot_open_the_websocket(studio, browser, p
         assert foreign.evaluate(OPEN_WEBSOCKET, target) == "refused"
     finally:
         context.close()
+
+
+def test_saving_over_an_existing_file_asks_first(studio, page):
+    name = row(page, "save sketch as").locator("input")
+    name.fill("asked.sketch.yaml")
+    name.press("Tab")
+    wait_until(lambda: studio.character_panel.save_name.value == "asked.sketch.yaml", what="the file name")
+    path = studio.sandbox.root / "asked.sketch.yaml"
+    page.get_by_role("button", name="Save sketch").click()
+    wait_until(path.is_file, what="the first save")
+    first = path.read_text()
+    choose(page, gui_label(studio, "air", 6), "excluded")
+    wait_until(lambda: studio.state.status("air", 6) == "excluded", what="air 6 excluded")
+    page.get_by_role("button", name="Save sketch").click()
+    page.get_by_role("button", name="Keep the file").click()
+    wait_until(lambda: status_text(page).startswith("Kept"), what="the file to be kept")
+    assert path.read_text() == first
+    page.get_by_role("button", name="Save sketch").click()
+    page.get_by_role("button", name="Overwrite").click()
+    wait_until(lambda: path.read_text() != first, what="the file to be replaced")
+    assert studio.state.status("air", 6) == "excluded"
 
 
 def test_optimization_runs_in_the_background_and_its_plot_advances(studio, page, artifacts):

@@ -89,21 +89,31 @@ class PlayPanel:
 
     def _on_bvh(self, event: viser.GuiEvent) -> None:
         from eigengait.motion.bvh_export import write_trajectory_bvh
-        result = self._played()
+        result, world = self._played(), self.world
         path = self.sandbox.resolve(self.bvh_name.value, (".bvh",))
-        write_trajectory_bvh(self.world, result.qpos, result.fps, path, fps=EXPORT_FPS)
-        self.feedback.info(f"Wrote `{self.sandbox.relative(path)}`.", event.client)
+
+        def export() -> None:
+            write_trajectory_bvh(world, result.qpos, result.fps, path, fps=EXPORT_FPS)
+            self.feedback.info(f"Wrote `{self.sandbox.relative(path)}`.", event.client)
+        self.feedback.write_asking(event.client, path, self.sandbox.relative(path), export)
 
     def _on_video(self, event: viser.GuiEvent) -> None:
         from eigengait.render.video import render_video
-        result = self._played()
+        result, world = self._played(), self.world
         path = self.sandbox.resolve(self.video_name.value, (".mp4", ".gif"))
-        self.feedback.info(f"Rendering `{self.sandbox.relative(path)}` …", event.client)
-        render_video(self.world, result.qpos, result.fps, path, fps=EXPORT_FPS)
-        self.feedback.info(f"Wrote `{self.sandbox.relative(path)}`.", event.client)
+
+        def export() -> None:
+            self.feedback.info(f"Rendering `{self.sandbox.relative(path)}` …", event.client)
+            render_video(world, result.qpos, result.fps, path, fps=EXPORT_FPS)
+            self.feedback.info(f"Wrote `{self.sandbox.relative(path)}`.", event.client)
+        self.feedback.write_asking(event.client, path, self.sandbox.relative(path), export)
 
     def _on_save(self, event: viser.GuiEvent) -> None:
         self._played()
+        controller = self.controller
         path = self.sandbox.resolve(self.copy_name.value, (".json",))
-        save_controller(self.controller, path)
-        self.feedback.info(f"Saved the controller to `{self.sandbox.relative(path)}`.", event.client)
+
+        def save() -> None:
+            save_controller(controller, path)
+            self.feedback.info(f"Saved the controller to `{self.sandbox.relative(path)}`.", event.client)
+        self.feedback.write_asking(event.client, path, self.sandbox.relative(path), save)
