@@ -1,6 +1,8 @@
 """The studio in a real headless Chromium: palette, marking modes, live sketch, sandbox, optimization, playback."""
 
+import http.server
 import re
+import threading
 import time
 
 import numpy as np
@@ -44,7 +46,7 @@ def screenshot(page, artifacts, name: str):
 
 
 def status_text(page) -> str:
-    return page.get_by_text(re.compile(r"^(Ready\.|Refused:|Loaded|Saved|Wrote|Playing|Optimiz|Resuming)")).first.inner_text()
+    return page.get_by_text(re.compile(r"^(Ready\.|Refused:|Loaded|Saved|Kept|Wrote|Playing|Optimiz|Resuming)")).first.inner_text()
 
 
 def copy_color(studio, phase: str, mode: int) -> np.ndarray:
@@ -132,6 +134,79 @@ def test_paths_outside_the_studio_folder_are_refused(studio, page, outside):
     wait_until(lambda: "outside the studio folder" in status_text(page), what="a refusal in the page")
     assert status_text(page).startswith("Refused:")
     assert studio.state.sketch.character == character_before
+
+
+def test_without_the_token_the_studio_refuses_the_page(studio, browser):
+    stranger = browser.new_page()
+    try:
+        response = stranger.goto(studio.url.split("?")[0])
+        assert response.status == 403 and "Forbidden" in stranger.content()
+        assert stranger.goto(studio.url.replace("token=", "token=x")).status == 403
+    finally:
+        stranger.close()
+
+
+OPEN_WEBSOCKET = """([url, protocol]) => new Promise(done => {
+    const ws = new WebSocket(url, [protocol]);
+    ws.onopen = () => { ws.close(); done("open"); };
+    ws.onerror = () => done("refused");
+})"""
+
+
+@pytest.fixture
+def elsewhere():
+    """Another site on this machine: an empty page at http://127.0.0.1:PORT/."""
+    class Blank(http.server.BaseHTTPRequestHandler):
+        def do_GET(self):
+            self.send_response(200)
+            self.send_header("Content-Type", "text/html")
+            self.end_headers()
+            self.wfile.write(b"<html><body>elsewhere</body></html>")
+
+        def log_message(self, *args):
+            pass
+    server = http.server.ThreadingHTTPServer(("127.0.0.1", 0), Blank)
+    threading.Thread(target=server.serve_forever, daemon=True).start()
+    yield f"http://127.0.0.1:{server.server_address[1]}/"
+    server.shutdown()
+
+
+def test_a_page_from_another_origin_cannot_open_the_websocket(studio, browser, page, elsewhere):
+    """The browser holds the token's cookie, sent along to the same site: only the Origin check stands in the way."""
+    import viser
+    port = studio.server.get_port()
+    target = [f"ws://127.0.0.1:{port}", f"viser-v{viser.__version__}"]
+    assert page.evaluate(OPEN_WEBSOCKET, target) == "open"
+    context = browser.new_context()
+    try:
+        context.add_cookies([{"name": studio.gate.cookie, "value": studio.gate.token, "url": f"http://127.0.0.1:{port}/",
+                              "httpOnly": True, "sameSite": "Strict"}])
+        foreign = context.new_page()
+        foreign.goto(elsewhere)
+        assert foreign.evaluate(OPEN_WEBSOCKET, target) == "refused"
+    finally:
+        context.close()
+
+
+def test_saving_over_an_existing_file_asks_first(studio, page):
+    name = row(page, "save sketch as").locator("input")
+    name.fill("asked.sketch.yaml")
+    name.press("Tab")
+    wait_until(lambda: studio.character_panel.save_name.value == "asked.sketch.yaml", what="the file name")
+    path = studio.sandbox.root / "asked.sketch.yaml"
+    page.get_by_role("button", name="Save sketch").click()
+    wait_until(path.is_file, what="the first save")
+    first = path.read_text()
+    choose(page, gui_label(studio, "air", 6), "excluded")
+    wait_until(lambda: studio.state.status("air", 6) == "excluded", what="air 6 excluded")
+    page.get_by_role("button", name="Save sketch").click()
+    page.get_by_role("button", name="Keep the file").click()
+    wait_until(lambda: status_text(page).startswith("Kept"), what="the file to be kept")
+    assert path.read_text() == first
+    page.get_by_role("button", name="Save sketch").click()
+    page.get_by_role("button", name="Overwrite").click()
+    wait_until(lambda: path.read_text() != first, what="the file to be replaced")
+    assert studio.state.status("air", 6) == "excluded"
 
 
 def test_optimization_runs_in_the_background_and_its_plot_advances(studio, page, artifacts):

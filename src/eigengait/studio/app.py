@@ -1,11 +1,14 @@
 """The eigengait studio: a viser server with the palette, the live sketch, optimization and playback.
 
 One `Studio` holds one shared state; every browser tab sees and edits the same sketch (viser GUI handles are
-server-wide). An animation thread pushes the palette's and the stage's frames at ANIMATION_FPS.
+server-wide). An animation thread pushes the palette's and the stage's frames at ANIMATION_FPS. Only the studio's
+own page, opened with the printed address and its token, gets through (`access.py`).
 """
 
 from __future__ import annotations
 
+import contextlib
+import io
 import os
 import threading
 import time
@@ -13,8 +16,10 @@ from pathlib import Path
 
 import viser
 
+from eigengait.studio.access import AccessGate, guarded_serving
 from eigengait.studio.character_panel import CharacterPanel
 from eigengait.studio.feedback import Feedback
+from eigengait.studio.listen import check_listen_address, port_taken
 from eigengait.studio.optimize_panel import OptimizePanel
 from eigengait.studio.palette_view import PaletteView
 from eigengait.studio.play_panel import PlayPanel
@@ -35,7 +40,8 @@ class Studio:
         os.environ.setdefault("MUJOCO_GL", "egl")
         self.sandbox = Sandbox(root)
         self.state = StudioState(self.sandbox)
-        self.server = viser.ViserServer(host=host, port=port, label="eigengait studio", verbose=False)
+        self.gate = AccessGate(host, port)
+        self.server = start_server(self.gate, host, port)
         self.server.scene.set_up_direction("+z")
         self.server.scene.configure_environment_map(None)        # plain lights: far cheaper without a GPU
         self.server.scene.configure_default_lights(True, cast_shadow=False)
@@ -61,7 +67,10 @@ class Studio:
 
     @property
     def url(self) -> str:
-        return f"http://{self.server.get_host()}:{self.server.get_port()}"
+        """The address to open: the studio's page with its access token."""
+        host = "127.0.0.1" if self.gate.all_interfaces else self.server.get_host()
+        host = f"[{host}]" if ":" in host else host
+        return f"http://{host}:{self.server.get_port()}/?token={self.gate.token}"
 
     def _frame_camera(self, client: viser.ClientHandle) -> None:
         with client.atomic():
@@ -87,8 +96,23 @@ class Studio:
         self.server.stop()
 
 
+def start_server(gate: AccessGate, host: str, port: int) -> viser.ViserServer:
+    """A viser server on exactly `port` whose every HTTP request and WebSocket handshake passes the gate first
+    (viser's own banner, which gives the address without the token, is not shown)."""
+    with guarded_serving(gate) as ports, contextlib.redirect_stdout(io.StringIO()):
+        server = viser.ViserServer(host=host, port=port, label="eigengait studio", verbose=False)
+    if ports and server.get_port() == port:
+        return server
+    server.stop()
+    if not ports:
+        raise RuntimeError("viser did not start its server through websockets.asyncio.server.serve: the studio "
+                           "cannot check who connects, so it does not run")
+    raise port_taken(host, port)        # taken since the check: viser moved on to another port
+
+
 def main(target: str | None = None, host: str = "127.0.0.1", port: int = 8080, root: str | Path = ".") -> None:
     """Run the studio until interrupted, serving files from `root` only."""
+    check_listen_address(host, port)
     studio = Studio(root, target, host, port)
     print(f"eigengait studio: {studio.url}  (folder {studio.sandbox.root}; Ctrl+C to stop)", flush=True)
     try:

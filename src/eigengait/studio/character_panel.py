@@ -7,7 +7,7 @@ import viser
 from eigengait.character import builtin_names
 from eigengait.control.library import preset_names
 from eigengait.studio.feedback import Feedback
-from eigengait.studio.state import AUTOSAVE_NAME, StudioState
+from eigengait.studio.state import AUTOSAVE_NAME, SKETCH_SUFFIXES, StudioState
 
 CUSTOM_POSE = "(rotations below)"
 
@@ -61,8 +61,13 @@ class CharacterPanel:
         self.feedback.info("Relax pose rotations applied: modes recomputed.", event.client)
 
     def _on_save(self, event: viser.GuiEvent) -> None:
-        path = self.state.save_sketch(self.save_name.value)
-        self.feedback.info(f"Saved the sketch to `{self.state.sandbox.relative(path)}`.", event.client)
+        name, sandbox = self.save_name.value, self.state.sandbox
+        path = sandbox.resolve(name, SKETCH_SUFFIXES)
+
+        def save() -> None:
+            self.state.save_sketch(name)
+            self.feedback.info(f"Saved the sketch to `{sandbox.relative(path)}`.", event.client)
+        self.feedback.write_asking(event.client, path, sandbox.relative(path), save)
 
     def sync(self) -> None:
         sketch, system = self.state.sketch, self.state.problem.system

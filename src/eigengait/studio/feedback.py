@@ -1,6 +1,7 @@
 """Messages to the animator: a status line every tab sees, plus a notification in the tab that acted.
 
-`guarded` wraps GUI callbacks so bad input (UserInputError) becomes a red message instead of a server error.
+`guarded` wraps GUI callbacks so bad input (UserInputError) becomes a red message instead of a server error;
+`write_asking` asks the tab before a save or export replaces an existing file.
 """
 
 from __future__ import annotations
@@ -8,6 +9,7 @@ from __future__ import annotations
 import functools
 import traceback
 from collections.abc import Callable
+from pathlib import Path
 
 import viser
 
@@ -42,3 +44,23 @@ class Feedback:
                 traceback.print_exc()
                 self.error(f"unexpected error: {exc.__class__.__name__}: {exc}", event.client)
         return run
+
+    def write_asking(self, client: viser.ClientHandle, path: Path, shown: str, write: Callable[[], None]) -> None:
+        """Write a new file at once; an existing one only after the tab confirms in a dialog."""
+        if not path.exists():
+            write()
+            return
+        with client.gui.add_modal("Replace the file?") as modal:
+            client.gui.add_markdown(f"`{shown}` already exists in the studio folder.")
+            replace = client.gui.add_button("Overwrite", color="red")
+            keep = client.gui.add_button("Keep the file")
+
+        def on_replace(event: viser.GuiEvent) -> None:
+            modal.close()
+            write()
+
+        def on_keep(event: viser.GuiEvent) -> None:
+            modal.close()
+            self.info(f"Kept `{shown}`: nothing was written.", client)
+        replace.on_click(self.guarded(on_replace))
+        keep.on_click(self.guarded(on_keep))

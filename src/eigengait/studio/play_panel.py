@@ -18,6 +18,7 @@ from eigengait.control.playback import PlaybackResult, play
 from eigengait.errors import UserInputError
 from eigengait.sim.world import World
 from eigengait.studio.feedback import Feedback
+from eigengait.studio.model_files import confine_character
 from eigengait.studio.sandbox import Sandbox
 from eigengait.studio.stage import Stage
 
@@ -62,9 +63,8 @@ class PlayPanel:
         """Load a controller, play it with gravity and show it on the stage with the camera following."""
         path = self._controller_path(str(text))
         controller = load_controller(path)
-        if controller.character not in builtin_names() and not self.sandbox.contains(controller.character):
-            raise UserInputError("the controller's character is outside the studio folder and was refused",
-                                 file=path, field="character", fix="keep the character's MJCF in the studio folder")
+        if controller.character not in builtin_names():
+            confine_character(self.sandbox, Path(controller.character))
         system = system_for(controller)
         result = play(system, to_parameters(controller, system, path), int(self.cycles.value), snap=self.snap.value)
         if len(result.qpos) == 0:
@@ -89,21 +89,31 @@ class PlayPanel:
 
     def _on_bvh(self, event: viser.GuiEvent) -> None:
         from eigengait.motion.bvh_export import write_trajectory_bvh
-        result = self._played()
+        result, world = self._played(), self.world
         path = self.sandbox.resolve(self.bvh_name.value, (".bvh",))
-        write_trajectory_bvh(self.world, result.qpos, result.fps, path, fps=EXPORT_FPS)
-        self.feedback.info(f"Wrote `{self.sandbox.relative(path)}`.", event.client)
+
+        def export() -> None:
+            write_trajectory_bvh(world, result.qpos, result.fps, path, fps=EXPORT_FPS)
+            self.feedback.info(f"Wrote `{self.sandbox.relative(path)}`.", event.client)
+        self.feedback.write_asking(event.client, path, self.sandbox.relative(path), export)
 
     def _on_video(self, event: viser.GuiEvent) -> None:
         from eigengait.render.video import render_video
-        result = self._played()
+        result, world = self._played(), self.world
         path = self.sandbox.resolve(self.video_name.value, (".mp4", ".gif"))
-        self.feedback.info(f"Rendering `{self.sandbox.relative(path)}` …", event.client)
-        render_video(self.world, result.qpos, result.fps, path, fps=EXPORT_FPS)
-        self.feedback.info(f"Wrote `{self.sandbox.relative(path)}`.", event.client)
+
+        def export() -> None:
+            self.feedback.info(f"Rendering `{self.sandbox.relative(path)}` …", event.client)
+            render_video(world, result.qpos, result.fps, path, fps=EXPORT_FPS)
+            self.feedback.info(f"Wrote `{self.sandbox.relative(path)}`.", event.client)
+        self.feedback.write_asking(event.client, path, self.sandbox.relative(path), export)
 
     def _on_save(self, event: viser.GuiEvent) -> None:
         self._played()
+        controller = self.controller
         path = self.sandbox.resolve(self.copy_name.value, (".json",))
-        save_controller(self.controller, path)
-        self.feedback.info(f"Saved the controller to `{self.sandbox.relative(path)}`.", event.client)
+
+        def save() -> None:
+            save_controller(controller, path)
+            self.feedback.info(f"Saved the controller to `{self.sandbox.relative(path)}`.", event.client)
+        self.feedback.write_asking(event.client, path, self.sandbox.relative(path), save)

@@ -21,6 +21,7 @@ from eigengait.control.sketch import Sketch, load_sketch
 from eigengait.errors import UserInputError
 from eigengait.modal.modeset import ModeSet
 from eigengait.optimize.problem import Problem
+from eigengait.studio.model_files import confine_character
 from eigengait.studio.sandbox import Sandbox
 
 AUTOSAVE_NAME = "studio-autosave.sketch.yaml"
@@ -62,13 +63,16 @@ class StudioState:
             self.load_character("humanoid")
 
     def character_reference(self, text: str) -> str:
-        """A built-in name as is, or the absolute path of an MJCF file inside the studio folder."""
+        """A built-in name as is, or the absolute path of an MJCF file inside the studio folder that reads no file
+        outside it."""
         text = text.strip()
         if text in builtin_names():
             return text
         if Path(text).is_absolute() and self.sandbox.contains(text):
             text = self.sandbox.relative(Path(text))
-        return str(self.sandbox.resolve(text, (".xml",), must_exist=True))
+        path = self.sandbox.resolve(text, (".xml",), must_exist=True)
+        confine_character(self.sandbox, path)
+        return str(path)
 
     def load_character(self, text: str) -> None:
         """A fresh sketch for a character: lowest modes allowed, the rest excluded, no priority yet."""
