@@ -12,7 +12,8 @@ from mujoco import rollout
 
 from eigengait.control.gait import GaitParameters
 from eigengait.control.sketch import Sketch
-from eigengait.optimize.problem import Problem
+from eigengait.control.binding import bind_sketch
+from eigengait.control.gait import GaitSystem
 from eigengait.sim.world import World
 
 SKETCH_FPS = 30.0
@@ -27,9 +28,8 @@ class SketchRun:
     max_joint_rotation_deg: float
 
 
-def sketch_parameters(problem: Problem) -> GaitParameters:
+def sketch_parameters(sk: Sketch, system: GaitSystem) -> GaitParameters:
     """The sketch's own controller: its timing, priority ψ only, relax pose at rest."""
-    sk, system = problem.sketch, problem.system
     activations = {}
     for foot in system.active_feet:
         for phase in ("air", "ground"):
@@ -44,11 +44,11 @@ def sketch_parameters(problem: Problem) -> GaitParameters:
 
 
 def simulate_sketch(sketch: Sketch, seconds: float, source: str | Path | None = None,
-                    problem: Problem | None = None) -> SketchRun:
-    problem = problem or Problem.from_sketch(sketch, source, gravity=False)
-    system = problem.system
+                    system: GaitSystem | None = None) -> SketchRun:
+    """`seconds` of the sketch with gravity off; `system` (gravity off, bound to the sketch) saves a modal analysis."""
+    system = system or bind_sketch(sketch, source, gravity=False)
     model = system.world.model
-    p = sketch_parameters(problem)
+    p = sketch_parameters(sketch, system)
     u = system.controls(p, span=seconds)
     start = time.perf_counter()
     states, _ = rollout.rollout(model, mujoco.MjData(model), system.initial_state(p)[None], u[None])

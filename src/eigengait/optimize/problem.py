@@ -1,13 +1,13 @@
-"""A sketch bound to its character: the gait system and the parameter space to optimize."""
+"""A sketch bound to its character (`control.binding`) plus the parameter space to optimize."""
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
 
-from eigengait.character import load_character
+from eigengait.control.binding import bind_sketch
 from eigengait.control.gait import GaitSystem
-from eigengait.control.sketch import Sketch, check_modes
+from eigengait.control.sketch import Sketch
 from eigengait.optimize.parameters import ParameterSpace
 
 
@@ -19,10 +19,5 @@ class Problem:
 
     @classmethod
     def from_sketch(cls, sketch: Sketch, source: str | Path | None = None, gravity: bool = True) -> "Problem":
-        from eigengait.sim.world import WorldOptions
-        character = load_character(sketch.character)
-        feet = sketch.feet or character.meta.gait_order
-        system = GaitSystem(character, sketch.relax_pose, feet, sketch.symmetric, sketch.basis, sketch.torque_limit,
-                            WorldOptions(gravity=gravity))
-        check_modes(sketch, {"air": system.mode_count("air"), "ground": system.mode_count("ground")}, source)
+        system = bind_sketch(sketch, source, gravity)
         return cls(sketch=sketch, system=system, space=ParameterSpace(system, sketch))

@@ -70,7 +70,7 @@ class CharacterPanel:
         self.feedback.write_asking(event.client, path, sandbox.relative(path), save)
 
     def sync(self) -> None:
-        sketch, system = self.state.sketch, self.state.problem.system
+        sketch, system = self.state.sketch, self.state.system
         self.syncing = True
         try:
             names = self.state.relax_pose_names()

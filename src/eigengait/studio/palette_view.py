@@ -62,7 +62,7 @@ class PaletteView:
     # ---- scene ---------------------------------------------------------------------------------------------
     def rebuild(self) -> None:
         """Recompute every mode's loop and lay the palette out again (character or relax pose changed)."""
-        world = self.state.problem.system.world
+        world = self.state.system.world
         figure = Figure.of(world)
         low, high = figure.extent(world.model.qpos0[None])
         anchor = (low + high) / 2

@@ -77,10 +77,9 @@ class SketchView:
     def _simulate(self) -> None:
         with self.state.lock:
             edited = self.edited_at
-            sketch, problem = self.state.sketch, self.state.problem
-            problem.sketch = sketch
+            sketch, system = self.state.sketch, self.state.system
             seconds = SKETCH_CYCLES * sketch.timing.period
-            run = simulate_sketch(sketch, seconds, problem=problem)
+            run = simulate_sketch(sketch, seconds, system=system)
         self.stage.show("sketch", run.world, run.qpos, run.fps)
         self.latency_s = time.perf_counter() - edited
         priority = {ph: len(sketch.phase(ph).priority) for ph in ("air", "ground")}

@@ -15,12 +15,13 @@ from pathlib import Path
 
 from eigengait.character import builtin_names, load_character
 from eigengait.character.relax import parse_relax_argument
+from eigengait.control.binding import mode_counts, sketch_system
 from eigengait.control.files import dump
+from eigengait.control.gait import GaitSystem
 from eigengait.control.library import preset_names, resolve
-from eigengait.control.sketch import Sketch, load_sketch
+from eigengait.control.sketch import Sketch, check_modes, load_sketch
 from eigengait.errors import UserInputError
 from eigengait.modal.modeset import ModeSet
-from eigengait.optimize.problem import Problem
 from eigengait.studio.model_files import confine_character
 from eigengait.studio.sandbox import Sandbox
 
@@ -36,7 +37,7 @@ class StudioState:
         self.sandbox = sandbox
         self.lock = threading.RLock()
         self.sketch: Sketch | None = None
-        self.problem: Problem | None = None      # the sketch's system with gravity off: modes and sketch simulation
+        self.system: GaitSystem | None = None    # the sketch's system with gravity off: modes and sketch simulation
         self._listeners: dict[str, list[Callable[[], None]]] = {"model": [], "sketch": []}
 
     @property
@@ -103,22 +104,23 @@ class StudioState:
 
     def _install(self, sketch: Sketch, clip: bool) -> None:
         """Bind a sketch to its character (recomputing modes) and make it current; nothing changes on error."""
+        system = sketch_system(sketch, gravity=False)
         if clip:
-            sketch = _clipped(sketch, Problem.from_sketch(_without_modes(sketch), gravity=False))
-        problem = Problem.from_sketch(sketch, gravity=False)
+            sketch = _clipped(sketch, system)
+        check_modes(sketch, mode_counts(system))
         with self.lock:
-            self.sketch, self.problem = sketch, problem
+            self.sketch, self.system = sketch, system
             self.autosave()
         self._notify("model", "sketch")
 
     # ---- reading -------------------------------------------------------------------------------------------
     def modes(self, phase: str) -> ModeSet:
         """The palette's modes: air, or ground with the first stance foot's toe pinned."""
-        system = self.problem.system
+        system = self.system
         return system.air_modes if phase == "air" else system.ground_modes[system.feet[0]]
 
     def relax_pose_names(self) -> list[str]:
-        return ["default", *self.problem.system.character.meta.relax_poses]
+        return ["default", *self.system.character.meta.relax_poses]
 
     def status(self, phase: str, mode: int) -> str:
         p = self.sketch.phase(phase)
@@ -188,15 +190,11 @@ def write_sketch(sketch: Sketch, path: Path) -> None:
     dump(sketch, path)
 
 
-def _without_modes(sketch: Sketch) -> Sketch:
-    return sketch.model_copy(update={"air": type(sketch.air)(), "ground": type(sketch.ground)()})
-
-
-def _clipped(sketch: Sketch, problem: Problem) -> Sketch:
+def _clipped(sketch: Sketch, system: GaitSystem) -> Sketch:
     """The sketch with mode numbers the character does not have dropped."""
     data = sketch.model_dump()
     for phase in ("air", "ground"):
-        count = problem.system.mode_count(phase)
+        count = system.mode_count(phase)
         p = data[phase]
         p["priority"] = {m: v for m, v in p["priority"].items() if m <= count}
         p["allowed"] = None if p["allowed"] is None else [m for m in p["allowed"] if m <= count]
