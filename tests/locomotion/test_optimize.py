@@ -11,7 +11,8 @@ from eigengait.control.sketch import load_sketch
 from eigengait.optimize.evaluate import BatchEvaluator, Outcome
 from eigengait.optimize.evaluators import ProcessEvaluator, RayEvaluator
 from eigengait.optimize.checkpoint import load_state, save_state
-from eigengait.optimize.mom import MomSettings, MomState, make_optimizer
+from eigengait.optimize.methods import make_optimizer
+from eigengait.optimize.mom import MomSettings, MomState
 from eigengait.optimize.problem import Problem
 
 

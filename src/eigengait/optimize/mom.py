@@ -184,12 +184,3 @@ class MethodOfMultipliers:
         if st.es.stop():
             self.end_inner_run()
         return row
-
-
-def make_optimizer(evaluate: Callable[[np.ndarray], list[Outcome]], settings: MomSettings,
-                   state: MomState) -> "MethodOfMultipliers":
-    """The constrained optimizer named by `settings.method`."""
-    if settings.method == "al":
-        from eigengait.optimize.adaptive_al import AdaptiveAugmentedLagrangian
-        return AdaptiveAugmentedLagrangian(evaluate, settings, state)
-    return MethodOfMultipliers(evaluate, settings, state)

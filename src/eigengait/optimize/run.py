@@ -30,7 +30,8 @@ from eigengait.control.sketch import Sketch
 from eigengait.errors import UserInputError
 from eigengait.optimize.evaluators import make_evaluator
 from eigengait.optimize.checkpoint import load_state, save_state
-from eigengait.optimize.mom import MomSettings, MomState, make_optimizer
+from eigengait.optimize.methods import make_optimizer
+from eigengait.optimize.mom import MomSettings, MomState
 from eigengait.optimize.problem import Problem
 
 BUDGET_FIELDS = ("max_evaluations", "max_seconds", "max_outer", "inner_generations")
