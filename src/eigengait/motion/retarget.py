@@ -4,8 +4,8 @@ Method. For each mapped pair (BVH joint b → MJCF joint driving body k) the bod
 
     W_k(t) = Rw_b(t) · A_k · B_k⁰,
 
-where Rw_b(t) = C·G_b(t)·Cᵀ is the BVH joint's global rotation in world axes (C maps file axes to world axes:
-y-up/+Z-forward/+X-left files become z-up/+x-forward/+y-left), B_k⁰ is the body's world orientation in the
+where Rw_b(t) = C·G_b(t)·Cᵀ is the BVH joint's global rotation in world axes (C maps file axes to world axes,
+from the mapping file or detected by `conventions`: y-up/+Z-forward/+X-left CMU files become z-up/+x-forward/+y-left), B_k⁰ is the body's world orientation in the
 character's relax pose, and A_k is the rest offset between the skeletons: the smallest rotation taking the body's
 rest bone direction onto the BVH joint's bone direction in the BVH rest pose (all channel rotations zero). Bone
 directions point from a joint to the mean of its nearest mapped descendants (else its first child, End Site or
