@@ -31,24 +31,53 @@ def register(app: typer.Typer) -> None:
         start_frame: int = typer.Option(1, "--start-frame", help="First clip frame used (CMU frame 0 is a T-pose)."),
         tolerance: float = typer.Option(0.0, "--tolerance",
                                         help="Switch balance off while the compensated fraction is below this."),
+        kinematic: bool = typer.Option(False, "--kinematic",
+                                       help="No physics: play the retargeted reference and report its foot skate, "
+                                            "floor penetration and ground clearance (--video/--bvh show it)."),
+        clean_feet: bool = typer.Option(True, "--clean-feet/--raw-feet",
+                                        help="Remove stance-foot skate from the reference by leg IK before use "
+                                             "(default) or keep the retargeted feet as they are."),
         video: Path = typer.Option(None, "--video", help="Write the simulated motion to this .mp4 or .gif."),
-        bvh: Path = typer.Option(None, "--bvh", help="Write the simulated motion as BVH."),
+        bvh: Path = typer.Option(None, "--bvh", help="Write the simulated motion as BVH (root motion included; "
+                                                     "lengths in --bvh-units)."),
         fps: float = FPS_OPTION, speed: float = SPEED_OPTION, camera: str = CAMERA_OPTION,
         bvh_units: str = BVH_UNITS_OPTION,
         force: bool = typer.Option(False, "--force", help="Overwrite existing outputs."),
         as_json: bool = typer.Option(False, "--json", help="Print the result as JSON."),
     ) -> None:
         """Track a motion-capture clip in physics with the balance controller."""
-        from eigengait.motion.tracking import run_track
+        from eigengait.motion.tracking import kinematic_summary, reference_poses, run_track
 
         media = MediaOptions(video=video, bvh=bvh, fps=fps, speed=speed, camera=camera, bvh_units=bvh_units).check()
         refuse_existing([video, bvh], force)
-        world, reference, result = run_track(clip, character, robustness, push, mapping, start_frame, tolerance)
+        units = {"bvh_units": bvh_units} if bvh else {}
+        if kinematic:
+            ref = reference_poses(clip, character, mapping, start_frame, clean_feet)
+            write_media(ref["world"], ref["qpos"], 1.0 / ref["frame_time"], media, status_console(as_json))
+            _print_kinematic({**kinematic_summary(ref, clean_feet), **units}, as_json)
+            return
+        world, reference, result = run_track(clip, character, robustness, push, mapping, start_frame, tolerance,
+                                             clean_feet)
         write_media(world, result.qpos, 1.0 / result.frame_time, media, status_console(as_json))
         if as_json:
-            typer.echo(json_text.dumps(result.summary()))
+            typer.echo(json_text.dumps({**result.summary(), **units}))
             return
         state = f"fell at {result.fall_time_s:.2f} s" if result.fell else "did not fall"
         typer.echo(f"tracked {result.duration_s:.2f} s of {reference.duration:.2f} s ({state}); "
                    f"joint RMS error {result.joint_rms_deg:.1f}°, COM error {result.com_error_m:.3f} m, "
-                   f"mean artificial torque {result.artificial_torque:.1f} N·m (robustness {robustness}).")
+                   f"mean artificial torque {result.artificial_torque:.1f} N·m, foot skate "
+                   f"{result.foot_skate_m:.3f} m per stance (robustness {robustness}).")
+
+
+def _print_kinematic(report: dict, as_json: bool) -> None:
+    if as_json:
+        typer.echo(json_text.dumps(report))
+        return
+    source = report["source"]
+    axes = (f"{source['unit']} ({source['metres_per_unit']:g} m), up {source['up_axis']}, facing "
+            f"{source['forward_axis']}" if source else "axes from the mapping file or the CMU convention")
+    clearance = report["ground_clearance_m"]
+    typer.echo(f"reference {report['duration_s']:.2f} s, {axes}; foot skate {report['foot_skate_m']:.3f} m per "
+               f"stance ({report['stances']} stances; {report['raw']['foot_skate_m']:.3f} m before cleanup), floor "
+               f"penetration {report['floor_penetration_m']:.3f} m, ground clearance "
+               f"{'n/a' if clearance is None else f'{clearance:.3f} m'}.")

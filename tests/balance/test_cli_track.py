@@ -11,6 +11,7 @@ from typer.testing import CliRunner
 from eigengait.cli_track import register
 
 WALK = str(Path(__file__).resolve().parents[3] / "shared" / "data" / "mocap" / "cmu_02_01_walk.bvh")
+RUN = str(Path(__file__).resolve().parents[3] / "shared" / "data" / "mocap" / "cmu_16_36_run_daz.bvh")
 MAIN = ("import sys, typer; from eigengait.cli_track import register; from eigengait.errors import UserInputError\n"
         "app = typer.Typer(); register(app); app.command('noop')(lambda: None)\n"
         "try:\n    app(standalone_mode=False)\n"
@@ -30,11 +31,27 @@ def test_json_reports_the_required_fields(tmp_path):
     short = tmp_path / "short.bvh"
     frames = lines[header + 3:header + 3 + 40]
     short.write_text("\n".join(lines[:header + 1] + ["Frames: 40", "Frame Time: .0083333"] + frames) + "\n")
-    result = CliRunner().invoke(_app(), ["track", str(short), "--robustness", "1", "--json"])
+    out_bvh = tmp_path / "out.bvh"
+    result = CliRunner().invoke(_app(), ["track", str(short), "--robustness", "1", "--json", "--bvh", str(out_bvh),
+                                         "--bvh-units", "cm"])
+    assert result.exit_code == 0, result.output
+    out = json.loads(result.stdout)          # status lines ("BVH: …") go to standard error
+    assert {"duration_s", "fell", "joint_rms_deg", "com_error_m", "artificial_torque"} <= set(out)
+    assert out["duration_s"] > 0.25 and out["fell"] is False and out["fall_time_s"] is None
+    assert 0.0 <= out["foot_skate_m"] < 0.5 and out["bvh_units"] == "cm"
+    assert out_bvh.read_text().startswith("HIERARCHY")
+
+
+def test_kinematic_json_reports_the_reference_feet_and_the_source_conventions():
+    result = CliRunner().invoke(_app(), ["track", RUN, "--kinematic", "--json"])
     assert result.exit_code == 0, result.output
     out = json.loads(result.output)
-    assert {"duration_s", "fell", "joint_rms_deg", "com_error_m", "artificial_torque"} <= set(out)
-    assert out["duration_s"] > 0.25 and out["fell"] is False
+    assert out["kinematic"] is True and out["feet_cleaned"] is True
+    assert out["source"]["unit"] == "cm" and out["source"]["up_axis"] == "+y"
+    assert out["raw"]["foot_skate_m"] > 0.05 > out["foot_skate_m"]
+    assert out["stances"] >= 1 and out["floor_penetration_m"] < 0.005
+    raw = json.loads(CliRunner().invoke(_app(), ["track", RUN, "--kinematic", "--raw-feet", "--json"]).output)
+    assert raw["feet_cleaned"] is False and raw["foot_skate_m"] == out["raw"]["foot_skate_m"]
 
 
 def _run(*args):

@@ -4,8 +4,8 @@ Method. For each mapped pair (BVH joint b → MJCF joint driving body k) the bod
 
     W_k(t) = Rw_b(t) · A_k · B_k⁰,
 
-where Rw_b(t) = C·G_b(t)·Cᵀ is the BVH joint's global rotation in world axes (C maps file axes to world axes:
-y-up/+Z-forward/+X-left files become z-up/+x-forward/+y-left), B_k⁰ is the body's world orientation in the
+where Rw_b(t) = C·G_b(t)·Cᵀ is the BVH joint's global rotation in world axes (C maps file axes to world axes,
+from the mapping file or detected by `conventions`: y-up/+Z-forward/+X-left CMU files become z-up/+x-forward/+y-left), B_k⁰ is the body's world orientation in the
 character's relax pose, and A_k is the rest offset between the skeletons: the smallest rotation taking the body's
 rest bone direction onto the BVH joint's bone direction in the BVH rest pose (all channel rotations zero). Bone
 directions point from a joint to the mean of its nearest mapped descendants (else its first child, End Site or
@@ -22,7 +22,7 @@ foot point (smoothed), which also removes slow drift of the capture floor.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 
 import mujoco
@@ -33,45 +33,38 @@ from pydantic import BaseModel, ConfigDict, ValidationError, field_validator
 from eigengait.control.balance.rotations import mat_to_quat, min_arc, quat_log, quat_to_mat
 from eigengait.errors import UserInputError
 from eigengait.motion.bvh import BvhClip, end_site_positions, global_transforms
+from eigengait.motion.conventions import detect_conventions
+from eigengait.motion.skeleton_names import LEG_ROLES, find_roles
 from eigengait.sim.world import World
 
 # World axis ← file axis, as signed file axis names (CMU convention: up +Y, forward +Z, left +X).
 CMU_AXES = {"x": "+z", "y": "+x", "z": "+y"}
 
-MOTIONBUILDER_HUMANOID = {
-    "Hips": "root", "Spine1": "torso", "Head": "head",
-    "LeftArm": "left_upper_arm", "LeftForeArm": "left_forearm",
-    "RightArm": "right_upper_arm", "RightForeArm": "right_forearm",
-    "LeftUpLeg": "left_thigh", "LeftFoot": "left_shin", "RightUpLeg": "right_thigh", "RightFoot": "right_shin",
+# Character joint driven by each body-part role of `skeleton_names` (the walker has ankles: its shin follows the
+# mocap lower leg and its foot body the mocap foot; the ankleless humanoid's shin follows the mocap foot).
+_UPPER = {"root": "root", "torso": "torso", "head": "head",
+          **{f"{s}_{p}": f"{s}_{p}" for s in ("left", "right") for p in ("upper_arm", "forearm", "thigh")}}
+CHARACTER_ROLES = {
+    "walker": {**_UPPER, **{f"{s}_{p}": f"{s}_{p}" for s in ("left", "right") for p in ("shin", "foot")}},
+    "humanoid": {**_UPPER, "left_foot": "left_shin", "right_foot": "right_shin"},
 }
-DAZ_HUMANOID = {
-    "hip": "root", "chest": "torso", "head": "head",
-    "lShldr": "left_upper_arm", "lForeArm": "left_forearm", "rShldr": "right_upper_arm", "rForeArm": "right_forearm",
-    "lThigh": "left_thigh", "lFoot": "left_shin", "rThigh": "right_thigh", "rFoot": "right_shin",
-}
-# The walker has ankles: the shin follows the mocap lower leg and the foot body the mocap foot.
-MOTIONBUILDER_WALKER = {**{k: v for k, v in MOTIONBUILDER_HUMANOID.items() if not k.endswith("Foot")},
-                        "LeftLeg": "left_shin", "LeftFoot": "left_foot", "RightLeg": "right_shin",
-                        "RightFoot": "right_foot"}
-DAZ_WALKER = {**{k: v for k, v in DAZ_HUMANOID.items() if not k.endswith("Foot")},
-              "lShin": "left_shin", "lFoot": "left_foot", "rShin": "right_shin", "rFoot": "right_foot"}
-BUILTIN_MAPPINGS = {"humanoid": {"motionbuilder": MOTIONBUILDER_HUMANOID, "daz": DAZ_HUMANOID},
-                    "walker": {"motionbuilder": MOTIONBUILDER_WALKER, "daz": DAZ_WALKER}}
 
 
 class MappingFile(BaseModel):
     """A mapping file (YAML): ``joints`` maps BVH joint names to MJCF joint names; the BVH root maps to the
-    MJCF free joint; ``axes`` gives each world axis as a signed file axis (default: the CMU convention)."""
+    MJCF free joint; ``axes`` gives each world axis as a signed file axis (default: detected, see
+    `conventions`)."""
 
     model_config = ConfigDict(extra="forbid")
     eigengait_mapping: int = 1
     joints: dict[str, str]
-    axes: dict[str, str] = dict(CMU_AXES)
+    axes: dict[str, str] | None = None
 
     @field_validator("axes")
     @classmethod
-    def _axes_are_a_rotation(cls, axes: dict[str, str]) -> dict[str, str]:
-        axis_matrix(axes)
+    def _axes_are_a_rotation(cls, axes: dict[str, str] | None) -> dict[str, str] | None:
+        if axes is not None:
+            axis_matrix(axes)
         return axes
 
 
@@ -93,10 +86,11 @@ def axis_matrix(axes: dict[str, str]) -> np.ndarray:
 
 @dataclass
 class Mapping:
-    """BVH joint → MJCF joint (the BVH root → the MJCF free joint), and the file-to-world axis rotation."""
+    """BVH joint → MJCF joint (the BVH root → the MJCF free joint), and the file-to-world axis rotation
+    (None: detected from the clip by `clip_axes`)."""
 
     joints: dict[str, str]
-    axes: np.ndarray = field(default_factory=lambda: axis_matrix(CMU_AXES))
+    axes: np.ndarray | None = None
 
 
 def load_mapping(path: str | Path) -> Mapping:
@@ -117,20 +111,32 @@ def load_mapping(path: str | Path) -> Mapping:
         raise UserInputError(err["msg"], file=path, field=where,
                              fix="write 'joints: {BVH_JOINT: MJCF_JOINT, ...}' and optionally "
                                  "'axes: {x: +z, y: +x, z: +y}'.") from None
-    return Mapping(joints=dict(parsed.joints), axes=axis_matrix(parsed.axes))
+    return Mapping(joints=dict(parsed.joints), axes=None if parsed.axes is None else axis_matrix(parsed.axes))
 
 
 def builtin_mapping(character_name: str, clip: BvhClip) -> Mapping:
-    """The built-in mapping whose BVH joints all exist in the clip (MotionBuilder- or Daz-friendly CMU)."""
-    names = {j.name for j in clip.joints}
-    for joints in BUILTIN_MAPPINGS.get(character_name, {}).values():
-        if set(joints) <= names:
-            return Mapping(joints=dict(joints))
-    families = ", ".join(BUILTIN_MAPPINGS.get(character_name, {})) or "none"
-    raise UserInputError(f"the clip's skeleton (root '{clip.joints[0].name}') matches no built-in mapping for "
-                         f"character '{character_name}' (known skeleton families: {families}).",
-                         field="BVH joints", fix="pass a mapping file (--mapping map.yaml) naming, for each MJCF "
-                                                  "joint, the BVH joint that drives it.")
+    """The built-in character's mapping from the clip's joint names (`skeleton_names`); legs and root required."""
+    roles = find_roles(clip)
+    wanted = CHARACTER_ROLES.get(character_name, {})
+    missing = [r for r in wanted if (r in LEG_ROLES or r.endswith("_shin")) and r not in roles]
+    if not wanted or missing:
+        known = ", ".join(CHARACTER_ROLES)
+        raise UserInputError(f"the clip's skeleton (root '{clip.joints[0].name}') matches no built-in mapping for "
+                             f"character '{character_name}' (built-in mappings: {known}; missing "
+                             f"{', '.join(missing) or 'all'}).",
+                             field="BVH joints", fix="pass a mapping file (--mapping map.yaml) naming, for each MJCF "
+                                                      "joint, the BVH joint that drives it.")
+    return Mapping(joints={roles[r]: joint for r, joint in wanted.items() if r in roles})
+
+
+def clip_axes(mapping: Mapping, clip: BvhClip, start_frame: int = 1) -> np.ndarray:
+    """The mapping's axes, else the detected ones, else (legs not found by name) the CMU convention."""
+    if mapping.axes is not None:
+        return mapping.axes
+    roles = find_roles(clip)
+    if not set(LEG_ROLES) <= set(roles):
+        return axis_matrix(CMU_AXES)
+    return detect_conventions(clip, roles, start_frame).axes
 
 
 @dataclass
@@ -248,7 +254,7 @@ def retarget(clip: BvhClip, world: World, mapping: Mapping, start_frame: int = 1
     mujoco.mj_kinematics(model, data)
     rest_world = data.xmat.reshape(-1, 3, 3).copy()
     body_of = {b: int(model.jnt_bodyid[j]) for b, j in pairs.items()}
-    axes = mapping.axes
+    axes = clip_axes(mapping, clip, start_frame)
 
     rot, pos = global_transforms(clip)
     rot, pos = rot[start_frame:], pos[start_frame:]

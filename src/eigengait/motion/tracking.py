@@ -1,4 +1,5 @@
-"""Track a motion-capture clip in physics: load, retarget, replay as reference, run the balance controller.
+"""Track a motion-capture clip in physics: load, retarget, clean the feet, replay as reference, run the balance
+controller; or check the retargeted reference without physics (foot skate, floor penetration, ground clearance).
 
 Shared by `eigengait track` and the studio's tracking panel.
 """
@@ -27,28 +28,66 @@ def parse_push(text: str):
     return Push(force=(0.0, value, 0.0), time_s=at)
 
 
-def run_track(clip_path: Path, character: str, robustness: float, push: str | None, mapping: Path | None,
-              start_frame: int, tolerance: float) -> tuple[object, object, object]:
-    """Load, retarget, replay and track; returns (world, reference, result)."""
+def _check_range(value: float, option: str, fix: str) -> None:
+    if not 0.0 <= value <= 1.0:
+        raise UserInputError(f"{option.lstrip('-')} {value} is out of range.", field=option, fix=fix)
+
+
+def reference_poses(clip_path: Path, character: str, mapping: Path | None, start_frame: int,
+                    clean: bool = True) -> dict:
+    """Load and retarget a clip, then clean its feet (unless `clean` is False).
+
+    Returns world, poses (F, nq), frame_time (s), scale (m per file unit), conventions (or None when the skeleton's
+    legs are not found by name), raw and final foot reports (`foot_metrics`)."""
     from eigengait.character import load_character
-    from eigengait.control.balance.reference import kinematic_replay
-    from eigengait.control.balance.tracker import TrackerSettings, track
     from eigengait.motion.bvh import read_bvh
+    from eigengait.motion.conventions import detect_conventions
+    from eigengait.motion.foot_cleanup import clean_feet
+    from eigengait.motion.foot_metrics import foot_report
     from eigengait.motion.retarget import builtin_mapping, load_mapping, retarget
+    from eigengait.motion.skeleton_names import LEG_ROLES, find_roles
+    from eigengait.motion.soles import sole_points
     from eigengait.sim.world import build_world
 
-    if not 0.0 <= robustness <= 1.0:
-        raise UserInputError(f"robustness {robustness} is out of range.", field="--robustness",
-                             fix="use a value between 0 (physically correct) and 1 (fully compensated).")
-    if not 0.0 <= tolerance <= 1.0:
-        raise UserInputError(f"tolerance {tolerance} is out of range.", field="--tolerance",
-                             fix="use a value between 0 (never switch balance off) and 1.")
-    push_spec = parse_push(push) if push else None
     clip = read_bvh(clip_path)
     char = load_character(character)
     world = build_world(char)
     chosen = load_mapping(mapping) if mapping else builtin_mapping(char.name, clip)
-    poses = retarget(clip, world, chosen, start_frame=start_frame)
-    reference = kinematic_replay(world, poses.qpos, poses.frame_time)
+    retargeted = retarget(clip, world, chosen, start_frame=start_frame)
+    roles = find_roles(clip)
+    conventions = detect_conventions(clip, roles, start_frame) if set(LEG_ROLES) <= set(roles) else None
+    raw = foot_report(sole_points(world, retargeted.qpos), retargeted.frame_time)
+    qpos = clean_feet(world, retargeted.qpos, retargeted.frame_time).qpos if clean else retargeted.qpos
+    final = foot_report(sole_points(world, qpos), retargeted.frame_time) if clean else raw
+    return {"world": world, "qpos": qpos, "frame_time": retargeted.frame_time, "scale": retargeted.scale,
+            "conventions": conventions, "raw": raw, "final": final}
+
+
+def kinematic_summary(ref: dict, clean: bool) -> dict:
+    """JSON-ready report of a retargeted reference played without physics (`reference_poses` output)."""
+    conventions = ref["conventions"]
+    return {"kinematic": True, "frames": len(ref["qpos"]),
+            "duration_s": round((len(ref["qpos"]) - 1) * ref["frame_time"], 4),
+            "frame_time_s": ref["frame_time"], "retarget_scale_m_per_unit": round(ref["scale"], 6),
+            "source": conventions.summary() if conventions else None, "feet_cleaned": clean,
+            **ref["final"].summary(), "raw": ref["raw"].summary()}
+
+
+def run_track(clip_path: Path, character: str, robustness: float, push: str | None, mapping: Path | None,
+              start_frame: int, tolerance: float, clean: bool = True) -> tuple[object, object, object]:
+    """Load, retarget, clean the feet (unless `clean` is False), replay and track; returns (world, reference,
+    result); result.foot_skate_m is the simulated motion's skate (m, mean per stance, `foot_metrics`)."""
+    from eigengait.control.balance.reference import kinematic_replay
+    from eigengait.control.balance.tracker import TrackerSettings, track
+    from eigengait.motion.foot_metrics import foot_report
+    from eigengait.motion.soles import sole_points
+
+    _check_range(robustness, "--robustness", "use a value between 0 (physically correct) and 1 (fully compensated).")
+    _check_range(tolerance, "--tolerance", "use a value between 0 (never switch balance off) and 1.")
+    push_spec = parse_push(push) if push else None
+    ref = reference_poses(clip_path, character, mapping, start_frame, clean)
+    world = ref["world"]
+    reference = kinematic_replay(world, ref["qpos"], ref["frame_time"])
     result = track(world, reference, robustness, TrackerSettings(tolerance=tolerance), push=push_spec)
+    result.foot_skate_m = foot_report(sole_points(world, result.qpos), result.frame_time).foot_skate_m
     return world, reference, result

@@ -70,7 +70,8 @@ class TrackerSettings:
 
 @dataclass
 class TrackingResult:
-    """Outcome of a tracking run; errors are RMS over control steps, torques mean magnitudes (N·m)."""
+    """Outcome of a tracking run; errors are RMS over control steps, torques mean magnitudes (N·m); foot skate of
+    the simulated motion (m, mean per stance) when the caller measured it."""
 
     duration_s: float
     fell: bool
@@ -82,9 +83,12 @@ class TrackingResult:
     robustness: float
     qpos: np.ndarray = field(repr=False)   # (T, nq) recorded at the reference frame rate
     frame_time: float = 0.0
+    foot_skate_m: float | None = None
 
     def summary(self) -> dict:
+        skate = None if self.foot_skate_m is None else round(self.foot_skate_m, 4)
         return {"duration_s": round(self.duration_s, 4), "fell": self.fell, "fall_time_s": self.fall_time_s,
+                "foot_skate_m": skate,
                 "joint_rms_deg": round(self.joint_rms_deg, 3), "com_error_m": round(self.com_error_m, 4),
                 "artificial_torque": round(self.artificial_torque, 3),
                 "artificial_torque_max": round(self.artificial_torque_max, 3), "robustness": self.robustness}

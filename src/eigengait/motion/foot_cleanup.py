@@ -1,0 +1,132 @@
+"""Remove stance-foot skate and floor penetration from a retargeted pose sequence before it becomes the reference.
+
+1. Stances per foot: runs of at least MIN_STANCE_S in which the foot's lowest sole point (`soles`) is within
+   STANCE_M of the floor (looser than the 2 cm of the skate measure, so a hovering stance foot is still found) and
+   the horizontal speed of its sole centre, smoothed over SPEED_SMOOTHING_S, is below STANCE_SPEED (a sliding
+   stance foot is still found; a swing foot passing low over the floor moves faster).
+2. Each stance is held from its start to its end, grown by up to EXTEND_S on each side while the foot stays
+   within STANCE_M (touch-down and lift-off). Over the hold, the foot's slip is the cumulative horizontal
+   displacement of its touching sole points (those within TOUCH_M of its lowest one); the correction keeps the
+   touching part where it is at mid-stance: horizontal −(slip(t) − slip(mid)); vertically the lowest sole point
+   is put on the floor (−low(t)) in the still part, fading to no vertical change at the hold's ends.
+3. After and before a hold the horizontal correction fades linearly to zero over BLEND_S (at most half the gap to
+   the next hold). A swing foot lower than CLEARANCE_M is lifted to it, the lift growing over LIFT_S from the
+   hold's edge, so a foot skimming the floor is not taken for a sliding stance.
+4. Each corrected frame: damped least-squares IK (`leg_ik`) moves the hip, knee and ankle so that the foot body
+   reaches its reference pose shifted by the correction, orientation kept; root and upper body are unchanged.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import mujoco
+import numpy as np
+
+from eigengait.motion.foot_metrics import runs
+from eigengait.motion.leg_ik import leg_dofs, solve_leg
+from eigengait.motion.soles import sole_points
+from eigengait.sim.world import World
+
+STANCE_M = 0.05
+TOUCH_M = 0.02
+STANCE_SPEED = 0.8      # m/s
+SPEED_SMOOTHING_S = 0.05
+MIN_STANCE_S = 0.1
+EXTEND_S = 0.1
+BLEND_S = 0.1
+CLEARANCE_M = 0.05
+LIFT_S = 0.05
+
+
+@dataclass(frozen=True)
+class CleanedFeet:
+    """Cleaned poses (F, nq), stance frame ranges per foot, largest IK position miss (m)."""
+
+    qpos: np.ndarray
+    stances: dict[str, list[tuple[int, int]]]
+    ik_error_m: float
+
+
+def _slip(points: np.ndarray, start: int, end: int) -> np.ndarray:
+    """Cumulative horizontal displacement (end − start, 2) of the touching sole points over a stance."""
+    slip = np.zeros((end - start, 2))
+    for i in range(start, end - 1):
+        low = min(points[i, :, 2].min(), points[i + 1, :, 2].min())
+        touching = (points[i, :, 2] <= low + TOUCH_M) & (points[i + 1, :, 2] <= low + TOUCH_M)
+        step = (points[i + 1, touching, :2] - points[i, touching, :2]).mean(axis=0)
+        slip[i - start + 1] = slip[i - start] + step
+    return slip
+
+
+def _holds(low: np.ndarray, speed: np.ndarray, frame_time: float) -> list[tuple[int, int, int, int]]:
+    """(hold start, core start, core end, hold end) per stance: the still core grown while the foot stays low."""
+    cores = runs((low <= STANCE_M) & (speed <= STANCE_SPEED), frame_time, MIN_STANCE_S)
+    grow, out = int(round(EXTEND_S / frame_time)), []
+    for k, (a, b) in enumerate(cores):
+        first = out[-1][3] if out else 0
+        last = cores[k + 1][0] if k + 1 < len(cores) else len(low)
+        start, end = a, b
+        while start > max(first, a - grow) and low[start - 1] <= STANCE_M:
+            start -= 1
+        while end < min(last, b + grow) and low[end] <= STANCE_M:
+            end += 1
+        out.append((start, a, b, end))
+    return out
+
+
+def _ramp(n: int) -> np.ndarray:
+    """n weights falling linearly from just below 1 to just above 0."""
+    return 1.0 - np.arange(1, n + 1) / (n + 1)
+
+
+def foot_corrections(points: np.ndarray, frame_time: float) -> tuple[np.ndarray, list[tuple[int, int]]]:
+    """Per-frame correction (F, 3) of one foot (m, world) and its stances (holds), from its sole points (F, k, 3)."""
+    low = points[..., 2].min(axis=1)
+    n, width = len(points), max(1, int(round(SPEED_SMOOTHING_S / frame_time)))
+    speed = np.linalg.norm(np.gradient(points.mean(axis=1)[:, :2], frame_time, axis=0), axis=1)
+    speed = np.convolve(np.pad(speed, (width // 2, width - 1 - width // 2), mode="edge"), np.ones(width) / width,
+                        mode="valid")
+    holds = _holds(low, speed, frame_time)
+    correction = np.zeros((n, 3))
+    held = np.zeros(n, bool)
+    blend = max(1, int(round(BLEND_S / frame_time)))
+    for k, (start, a, b, end) in enumerate(holds):
+        slip = _slip(points, start, end)
+        correction[start:end, :2] = -(slip - slip[(a + b) // 2 - start])
+        weight = np.concatenate([_ramp(a - start)[::-1], np.ones(b - a), _ramp(end - b)])
+        correction[start:end, 2] = -low[start:end] * weight
+        held[start:end] = True
+        before = min(blend, (start - holds[k - 1][3]) // 2 if k else start)
+        after = min(blend, (holds[k + 1][0] - end) // 2 if k + 1 < len(holds) else n - end)
+        correction[start - before:start, :2] += correction[start, :2] * _ramp(before)[::-1, None]
+        correction[end:end + after, :2] += correction[end - 1, :2] * _ramp(after)[:, None]
+    lift = int(round(LIFT_S / frame_time))
+    gap = np.full(n, lift, float)
+    for start, _, _, end in holds:
+        gap = np.minimum(gap, np.abs(np.arange(n) - np.clip(np.arange(n), start, end - 1)))
+    swing = ~held & (low < CLEARANCE_M)
+    correction[swing, 2] += (CLEARANCE_M - low[swing]) * np.minimum(gap[swing] / max(lift, 1), 1.0)
+    return correction, [(start, end) for start, _, _, end in holds]
+
+
+def clean_feet(world: World, qpos: np.ndarray, frame_time: float) -> CleanedFeet:
+    """Skate-free copy of poses qpos (F, nq) at frame_time (s); see the module doc."""
+    model = world.model
+    data = mujoco.MjData(model)
+    soles = sole_points(world, qpos)
+    feet = {f: int(model.geom_bodyid[g[0]]) for f, g in world.foot_spheres.items()}
+    plan = {f: foot_corrections(soles[f], frame_time) for f in feet}
+    out, worst = qpos.copy(), 0.0
+    chains = {f: leg_dofs(model, body, world.root_body) for f, body in feet.items()}
+    for i in range(len(qpos)):
+        moving = [f for f in feet if np.any(plan[f][0][i])]
+        if not moving:
+            continue
+        data.qpos[:] = qpos[i]
+        mujoco.mj_kinematics(model, data)
+        targets = {f: (data.xpos[feet[f]] + plan[f][0][i], data.xmat[feet[f]].reshape(3, 3).copy()) for f in moving}
+        for f in moving:
+            worst = max(worst, solve_leg(model, data, feet[f], chains[f], *targets[f]))
+        out[i] = data.qpos
+    return CleanedFeet(qpos=out, stances={f: plan[f][1] for f in feet}, ik_error_m=worst)
