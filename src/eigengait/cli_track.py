@@ -34,9 +34,10 @@ def register(app: typer.Typer) -> None:
         kinematic: bool = typer.Option(False, "--kinematic",
                                        help="No physics: play the retargeted reference and report its foot skate, "
                                             "floor penetration and ground clearance (--video/--bvh show it)."),
-        clean_feet: bool = typer.Option(True, "--clean-feet/--raw-feet",
-                                        help="Remove stance-foot skate from the reference by leg IK before use "
-                                             "(default) or keep the retargeted feet as they are."),
+        clean_feet: bool = typer.Option(False, "--clean-feet/--raw-feet",
+                                        help="Remove stance-foot skate from the reference by leg IK before use, or "
+                                             "keep the retargeted feet (default: measured, the cleanup does not "
+                                             "yet lengthen tracking; docs/balance.md)."),
         video: Path = typer.Option(None, "--video", help="Write the simulated motion to this .mp4 or .gif."),
         bvh: Path = typer.Option(None, "--bvh", help="Write the simulated motion as BVH (root motion included; "
                                                      "lengths in --bvh-units)."),

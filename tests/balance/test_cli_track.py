@@ -43,14 +43,14 @@ def test_json_reports_the_required_fields(tmp_path):
 
 
 def test_kinematic_json_reports_the_reference_feet_and_the_source_conventions():
-    result = CliRunner().invoke(_app(), ["track", RUN, "--kinematic", "--json"])
+    result = CliRunner().invoke(_app(), ["track", RUN, "--kinematic", "--clean-feet", "--json"])
     assert result.exit_code == 0, result.output
     out = json.loads(result.output)
     assert out["kinematic"] is True and out["feet_cleaned"] is True
     assert out["source"]["unit"] == "cm" and out["source"]["up_axis"] == "+y"
     assert out["raw"]["foot_skate_m"] > 0.05 > out["foot_skate_m"]
     assert out["stances"] >= 1 and out["floor_penetration_m"] < 0.005
-    raw = json.loads(CliRunner().invoke(_app(), ["track", RUN, "--kinematic", "--raw-feet", "--json"]).output)
+    raw = json.loads(CliRunner().invoke(_app(), ["track", RUN, "--kinematic", "--json"]).output)
     assert raw["feet_cleaned"] is False and raw["foot_skate_m"] == out["raw"]["foot_skate_m"]
 
 
