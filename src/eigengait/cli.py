@@ -17,7 +17,7 @@ from rich.table import Table
 from eigengait.cli_character import BODY_HELP, STIFFNESS_HELP, print_notes
 from eigengait import json_text
 from eigengait.errors import UserInputError
-from eigengait.outputs import refuse_existing
+from eigengait.outputs import keep_mujoco_log_out_of_the_folder, refuse_existing, require_suffix, write_atomically
 
 app = typer.Typer(add_completion=False, no_args_is_help=True,
                   help="Physics-based character animation from natural vibration modes.")
@@ -63,8 +63,6 @@ def character_export(name: str = typer.Argument(..., help="Built-in name, MJCF p
     from eigengait.character.relax import parse_relax_argument
     from eigengait.sim.world import build_world
 
-    from eigengait.control.files import write_atomically
-
     refuse_existing([output], force)
     world = build_world(load_character(name, body, stiffness), parse_relax_argument(relax))
     write_atomically(output, world.mjcf())
@@ -86,6 +84,7 @@ def modes_command(character: str = typer.Argument(..., help="Built-in name, MJCF
     from eigengait.character.relax import parse_relax_argument
     from eigengait.modal import compute_modes
 
+    require_suffix(save, (".npz",), "--save")
     refuse_existing([save], force)
     loaded = load_character(character, body, stiffness)
     print_notes(loaded)
@@ -136,6 +135,7 @@ def _is_usage_error(exc: Exception) -> bool:
 
 def main() -> None:
     """Entry point: run the app, turning bad input into one message and exit status 2."""
+    keep_mujoco_log_out_of_the_folder()
     if sys.argv[1:3] == ["sketch", "new"]:      # `sketch new MODEL`: the starter-sketch command
         sys.argv[1:3] = ["sketch-new"]
     try:

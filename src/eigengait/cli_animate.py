@@ -18,7 +18,7 @@ from rich.table import Table
 from eigengait.cli_media import BVH_UNITS_OPTION, CAMERA_OPTION, SPEED_OPTION, MediaOptions
 from eigengait.errors import UserInputError
 from eigengait.inputs import check_range
-from eigengait.outputs import refuse_existing
+from eigengait.outputs import refuse_existing, require_suffix
 from eigengait.motion.modal_mix import DEFAULT_MAX_ROTATION_DEG
 
 console = Console()
@@ -27,12 +27,6 @@ MIX_HELP = ("Modes to mix: MODE:AMPLITUDE or MODE:AMPLITUDE@PHASE_DEGREES, comma
             "MODE is the mode number (1 = lowest frequency); AMPLITUDE is relative to the equal-energy default "
             "(1 = every mode the same energy, the widest mode turning a joint --angle degrees); PHASE is the "
             "phase of the sine in degrees (default 0).")
-
-
-def _require_suffix(path: Path | None, suffixes: tuple[str, ...], option: str) -> None:
-    if path is not None and path.suffix.lower() not in suffixes:
-        raise UserInputError(f"cannot write '{path.suffix or 'no extension'}' files", file=path, field=option,
-                             fix=f"name the file with one of: {', '.join(suffixes)}")
 
 
 def _world_and_modes(character: str, phase: str, foot: Optional[str], relax: Optional[str]):
@@ -59,7 +53,7 @@ def palette_command(
     """Palette image: one tile per mode, its −A and +A extremes over the relax pose, with frequencies."""
     from eigengait.render.palette import write_palette
 
-    _require_suffix(output, (".png",), "--output")
+    require_suffix(output, (".png",), "--output")
     check_range(angle, "--angle", 0.1, 180, "degrees")
     refuse_existing([output], force)
     world, modes = _world_and_modes(character, phase, foot, relax)
@@ -96,8 +90,8 @@ def animate_command(
 
     if video is None and bvh is None:
         raise UserInputError("nothing to write", field="--video/--bvh", fix="give --video out.mp4 and/or --bvh out.bvh")
-    _require_suffix(video, (".mp4", ".gif"), "--video")
-    _require_suffix(bvh, (".bvh",), "--bvh")
+    require_suffix(video, (".mp4", ".gif"), "--video")
+    require_suffix(bvh, (".bvh",), "--bvh")
     MediaOptions(video, bvh, fps, speed, camera, bvh_units).check()
     check_range(angle, "--angle", 0.1, 180, "degrees")
     check_range(seconds, "--seconds", 0.01, 3600, "s")

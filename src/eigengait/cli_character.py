@@ -12,7 +12,7 @@ from rich.console import Console
 from rich.table import Table
 
 from eigengait import json_text
-from eigengait.outputs import refuse_existing
+from eigengait.outputs import refuse_existing, write_atomically
 
 console = Console()
 BODY_HELP = "Root body of the creature in a scene with several (default: the largest articulated tree)."
@@ -47,7 +47,7 @@ def inspect_command(model: str = typer.Argument(..., help="Built-in name, MJCF p
     character = load_character(model, body=body, stiffness=stiffness)
     info = describe(character)
     if output is not None:
-        output.write_text(sidecar_yaml(character, output))
+        write_atomically(output, sidecar_yaml(character, output))
     if as_json:
         print(json_text.dumps(info))
         return
@@ -90,9 +90,9 @@ def sketch_new_command(model: str = typer.Argument(..., help="Built-in name, MJC
     reference = model if builtin else os.path.relpath(target.resolve(), output.resolve().parent)
     sketch = starter_sketch(character, reference)
     if sidecar is not None:
-        sidecar.write_text(sidecar_yaml(character, sidecar))
+        write_atomically(sidecar, sidecar_yaml(character, sidecar))
         console.print(f"wrote {sidecar}")
-    output.write_text(yaml.safe_dump(sketch, sort_keys=False, allow_unicode=True))
+    write_atomically(output, yaml.safe_dump(sketch, sort_keys=False, allow_unicode=True))
     console.print(f"wrote {output}: feet {', '.join(sketch['feet'])}, period {sketch['timing']['period']} s")
 
 

@@ -16,7 +16,7 @@ from eigengait.cli_media import (BVH_UNITS_OPTION, CAMERA_OPTION, FPS_OPTION, SP
 from eigengait import json_text
 from eigengait.inputs import check_range
 from eigengait.errors import UserInputError
-from eigengait.outputs import refuse_existing
+from eigengait.outputs import check_folder, refuse_existing, write_atomically
 
 console = Console()
 DEMO_KINEMATIC_MIX = "2:1.4,15:0.8@90"   # stride + both knees a quarter period later (Kry et al. 2009 style)
@@ -69,7 +69,8 @@ def optimize_command(
                                                             "adaptive augmented Lagrangian)"),
         evaluator: str = typer.Option("threads", "--evaluator", help="threads | processes | ray"),
         workers: Optional[int] = typer.Option(None, "--workers", help="Threads/processes/actors (default: cores)."),
-        resume: bool = typer.Option(False, "--resume", help="Continue the run in --output.")):
+        resume: bool = typer.Option(False, "--resume", help="Continue the run in --output."),
+        force: bool = typer.Option(False, "--force", help="Start over: delete an earlier run's files in --output.")):
     """Optimize a sketch into a cyclic, physically simulated gait (method of multipliers + CMA-ES)."""
     from eigengait.control.library import resolve
     from eigengait.control.sketch import load_sketch
@@ -81,6 +82,9 @@ def optimize_command(
                                (tolerance, "--cycle-tolerance", 1e-6), (popsize, "--popsize", 2),
                                (workers, "--workers", 1)):
         check_range(value, option, low)
+    if force and resume:
+        raise UserInputError("--force and --resume do not go together", field="--force",
+                             fix="--resume continues the run in --output; --force starts it over")
     path = resolve("sketch", sketch)
     loaded = load_sketch(path)
     tolerance = tolerance if tolerance is not None else loaded.targets.cycle_tolerance
@@ -88,12 +92,27 @@ def optimize_command(
                            max_seconds=minutes * 60 if minutes else None,
                            inner_generations=generations, max_outer=max_outer, cycle_tolerance=tolerance,
                            popsize=popsize, method=method)
+    if not resume:
+        _start_run(output, force)
     state = optimize_gait(loaded, output, settings, evaluator, workers, resume, sketch_source=path, seed=seed)
     best = state.best
     console.print(f"{state.finished}: {state.evaluations} evaluations, {state.generation} generations, "
                   f"{state.elapsed:.0f} s; best cost {best.cost:.4g}, cycle violation {best.violation:.3g}, "
                   f"speed {best.mean_velocity[0]:.2f} m/s")
     console.print(f"run folder: {output} (best_controller.json, log.csv, objective.png, violation.png)")
+
+
+def _start_run(folder: Path, force: bool) -> None:
+    """Before a new run: refuse an earlier run in the folder or its stage-1 folder, or with `force` delete its files."""
+    from eigengait.optimize.run import clear_run, refuse_earlier_run
+    from eigengait.optimize.staged import STAGE_ONE
+
+    check_folder(folder)
+    for run in (folder, folder / STAGE_ONE):
+        if force:
+            clear_run(run)
+        else:
+            refuse_earlier_run(run)
 
 
 def play_command(
@@ -178,8 +197,7 @@ def demo_command(
     from eigengait.render.palette import write_palette
     from eigengait.sim import WorldOptions, build_world
 
-    folder = output / datetime.now().strftime("run-%Y%m%d-%H%M%S")
-    folder.mkdir(parents=True, exist_ok=False)
+    folder = _new_folder(output, datetime.now().strftime("run-%Y%m%d-%H%M%S"))
     t0 = time.perf_counter()
     character = load_character("humanoid")
     world = build_world(character, options=WorldOptions(gravity=False))
@@ -204,11 +222,24 @@ def demo_command(
     c = load_controller(folder / "optimization" / "best_controller.json")
     system = system_for(c)
     result = play(system, to_parameters(c, system), cycles=20)
-    (folder / "playback.json").write_text(json_text.dumps(result.summary(), indent=2))
+    write_atomically(folder / "playback.json", json_text.dumps(result.summary(), indent=2))
     console.print(f"[3/4] playback: {json_text.dumps(result.summary())}")
     write_media(system.world, result.qpos, result.fps, MediaOptions(folder / "gait.mp4", folder / "gait.bvh"),
                 console)
     console.print(f"[4/4] done in {time.perf_counter() - t0:.0f} s. Outputs in {folder}")
+
+
+def _new_folder(parent: Path, name: str) -> Path:
+    """A new, empty subfolder `name` of `parent` (`name-2`, `name-3`, ... if taken)."""
+    check_folder(parent)
+    for attempt in range(1, 100):
+        folder = parent / (name if attempt == 1 else f"{name}-{attempt}")
+        try:
+            folder.mkdir()
+            return folder
+        except FileExistsError:
+            continue
+    raise UserInputError("cannot find a free name for the demo's folder", file=parent, fix="choose another --output")
 
 
 def register(app: typer.Typer) -> None:

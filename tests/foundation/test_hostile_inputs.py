@@ -128,11 +128,87 @@ OUTPUT_PATHS = {
     "export-onto-a-folder": ["character", "export", "humanoid", "-o", "{tmp}"],
     "optimize-into-a-file": ["optimize", "basic-run", "-o", "{tmp}/file.txt"],
     "export-existing-without-force": ["character", "export", "humanoid", "-o", "{tmp}/file.txt"],
+    "export-unwritable": ["character", "export", "humanoid", "-o", "/proc/eigengait-h.xml"],
+    "palette-unwritable": ["palette", "humanoid", "-o", "/proc/eigengait-p.png"],
+    "optimize-unwritable": ["optimize", "basic-run", "-o", "/proc/eigengait-run"],
+    "save-below-a-file": ["modes", "humanoid", "--save", "{tmp}/file.txt/m.npz"],
+    "save-without-npz": ["modes", "humanoid", "--save", "{tmp}/old"],
+    "video-onto-a-folder-with-force": ["play", "dog-trot", "--video", "{tmp}/folder.mp4", "--force"],
+    "demo-into-a-file": ["demo", "--output", "{tmp}/file.txt"],
+    "force-and-resume": ["optimize", "basic-run", "-o", "{tmp}/run", "--force", "--resume"],
 }
+KEPT = ("file.txt", "old.npz", "old.png", "old.mp4", "old.gif", "old.bvh", "old.yaml")
+
+
+def _outputs_to_keep(tmp_path):
+    for name in KEPT:
+        (tmp_path / name).write_text("keep me")
+    (tmp_path / "folder.mp4").mkdir()
+
+
+def _assert_kept(tmp_path):
+    assert all((tmp_path / name).read_text() == "keep me" for name in KEPT)
+    assert not list(tmp_path.glob(".*.part.*")), "a temporary file was left behind"
 
 
 @pytest.mark.parametrize("args", OUTPUT_PATHS.values(), ids=OUTPUT_PATHS.keys())
 def test_bad_output_paths(args, tmp_path, capsys, monkeypatch):
-    (tmp_path / "file.txt").write_text("keep me")
+    _outputs_to_keep(tmp_path)
     assert_clean_refusal(*run_cli(capsys, monkeypatch, [a.format(tmp=tmp_path) for a in args]))
-    assert (tmp_path / "file.txt").read_text() == "keep me"
+    _assert_kept(tmp_path)
+
+
+EXISTING_OUTPUTS = {
+    "modes-save": ["modes", "humanoid", "--save", "{tmp}/old.npz"],
+    "palette": ["palette", "humanoid", "-o", "{tmp}/old.png"],
+    "animate-video": ["animate", "humanoid", "--mix", "1:1", "--video", "{tmp}/old.gif"],
+    "animate-bvh": ["animate", "humanoid", "--mix", "1:1", "--bvh", "{tmp}/old.bvh"],
+    "sketch-video": ["sketch", "basic-run", "--video", "{tmp}/old.mp4"],
+    "play-video": ["play", "dog-trot", "--video", "{tmp}/old.mp4"],
+    "play-bvh": ["play", "dog-trot", "--bvh", "{tmp}/old.bvh"],
+    "track-video": ["track", "{tmp}/old.bvh", "--video", "{tmp}/old.mp4"],
+    "track-bvh": ["track", "{tmp}/old.bvh", "--bvh", "{tmp}/old.bvh"],
+    "character-export": ["character", "export", "humanoid", "-o", "{tmp}/file.txt"],
+    "character-inspect": ["character", "inspect", "humanoid", "-o", "{tmp}/old.yaml"],
+    "sketch-new": ["sketch", "new", "humanoid", "-o", "{tmp}/old.yaml"],
+}
+
+
+@pytest.mark.parametrize("args", EXISTING_OUTPUTS.values(), ids=EXISTING_OUTPUTS.keys())
+def test_existing_outputs_need_force(args, tmp_path, capsys, monkeypatch):
+    _outputs_to_keep(tmp_path)
+    code, err = run_cli(capsys, monkeypatch, [a.format(tmp=tmp_path) for a in args])
+    assert_clean_refusal(code, err)
+    assert "exists" in err and "--force" in err, err
+    _assert_kept(tmp_path)
+
+
+def _unfinished_run(run):
+    (run / "checkpoint.npz").write_bytes(b"state")
+    (run / "status.json").write_text('{"finished": false}')
+
+
+def _finished_run(run):
+    (run / "best_controller.json").write_text("{}")
+    (run / "status.json").write_text('{"finished": true}')
+
+
+def _unfinished_first_stage(run):
+    (run / "open-loop").mkdir()
+    _unfinished_run(run / "open-loop")
+
+
+EARLIER_RUNS = {"unfinished": (_unfinished_run, "--resume"), "finished": (_finished_run, "--force"),
+                "unfinished-first-stage": (_unfinished_first_stage, "--resume")}
+
+
+@pytest.mark.parametrize("earlier, fix", EARLIER_RUNS.values(), ids=EARLIER_RUNS.keys())
+def test_a_new_run_over_an_earlier_one_is_refused(earlier, fix, tmp_path, capsys, monkeypatch):
+    run = tmp_path / "run"
+    run.mkdir()
+    earlier(run)
+    before = {p: p.read_bytes() for p in run.rglob("*") if p.is_file()}
+    code, err = run_cli(capsys, monkeypatch, ["optimize", "basic-run", "-o", run])
+    assert_clean_refusal(code, err)
+    assert fix in err and "--force" in err, err
+    assert {p: p.read_bytes() for p in run.rglob("*") if p.is_file()} == before

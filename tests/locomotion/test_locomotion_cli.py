@@ -45,7 +45,7 @@ def test_optimize_resume_and_play(tmp_path, eigengait_cli):
     rows = (run / "log.csv").read_text().splitlines()
     before = (run / "best_controller.json").read_text()
     again = eigengait_cli("optimize", "basic-run", "-o", run, "--max-evaluations", "40")
-    assert again.returncode == 2 and "--resume" in again.stderr
+    assert again.returncode == 2 and "--resume" in again.stderr and "--force" in again.stderr
     assert (run / "best_controller.json").read_text() == before            # nothing overwritten
     other_seed = eigengait_cli("optimize", "basic-run", "-o", run, "--max-evaluations", "80", "--resume",
                                "--seed", "3")
@@ -57,6 +57,10 @@ def test_optimize_resume_and_play(tmp_path, eigengait_cli):
     assert len((run / "log.csv").read_text().splitlines()) > len(rows)
     assert json.loads((run / "settings.json").read_text())["settings"]["seed"] == 2
     assert json.loads((run / "status.json").read_text())["finished"] is True
+    restarted = eigengait_cli("optimize", "basic-run", "-o", run, "--max-evaluations", "20", "--force")
+    assert restarted.returncode == 0, restarted.stderr
+    assert json.loads((run / "settings.json").read_text())["settings"]["seed"] == 1
+    assert not list(run.rglob(".*.part.*"))
 
     played = eigengait_cli("play", run / "best_controller.json", "--cycles", "2", "--json")
     assert played.returncode == 0, played.stderr

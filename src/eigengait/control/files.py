@@ -3,8 +3,6 @@
 from __future__ import annotations
 
 import json
-import os
-import tempfile
 from pathlib import Path
 
 import yaml
@@ -13,6 +11,7 @@ from pydantic import BaseModel, ValidationError
 from eigengait import json_text
 from eigengait.errors import UserInputError
 from eigengait.inputs import read_text
+from eigengait.outputs import write_atomically
 
 
 def read_mapping(path: Path) -> dict:
@@ -37,15 +36,6 @@ def validate(model: type[BaseModel], data: dict, path: Path | str, fix: str) -> 
         e = err.errors()[0]
         field = ".".join(str(p) for p in e["loc"]) or "(top level)"
         raise UserInputError(e["msg"], file=path, field=field, fix=fix) from None
-
-
-def write_atomically(path: Path, text: str) -> None:
-    """Write through a temporary file and rename, so an interrupted write never leaves a half file."""
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    with os.fdopen(fd, "w") as f:
-        f.write(text)
-    os.replace(tmp, path)
 
 
 def dump(model: BaseModel, path: Path) -> None:

@@ -15,6 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from eigengait.errors import UserInputError
+from eigengait.outputs import replacing
 
 FORMAT_VERSION = 1
 
@@ -43,9 +44,11 @@ class ModeSet:
                 "frequencies_hz": [round(float(f), 6) for f in self.frequencies_hz]}
 
     def save(self, path: str | Path) -> None:
+        """Write the mode set as .npz (through a temporary file and a rename)."""
         meta = {k: v for k, v in asdict(self).items() if not isinstance(v, np.ndarray)}
-        np.savez(Path(path), meta=json.dumps({"eigengait_modeset": FORMAT_VERSION, **meta}),
-                 frequencies_hz=self.frequencies_hz, shapes=self.shapes, torque_basis=self.torque_basis)
+        with replacing(path) as temporary, open(temporary, "wb") as f:
+            np.savez(f, meta=json.dumps({"eigengait_modeset": FORMAT_VERSION, **meta}),
+                     frequencies_hz=self.frequencies_hz, shapes=self.shapes, torque_basis=self.torque_basis)
 
     @classmethod
     def load(cls, path: str | Path) -> "ModeSet":

@@ -14,6 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from eigengait.errors import UserInputError
+from eigengait.outputs import write_atomically
 
 ROTATION_CHANNELS = ("Xrotation", "Yrotation", "Zrotation")
 POSITION_CHANNELS = ("Xposition", "Yposition", "Zposition")
@@ -262,7 +263,7 @@ def write_bvh(clip: BvhClip, path: str | Path) -> None:
         emit(root, 0)
     out += ["MOTION", f"Frames: {clip.n_frames}", f"Frame Time: {clip.frame_time:.10g}"]
     out += [_fmt(row) for row in clip.frames]
-    Path(path).write_text("\n".join(out) + "\n", encoding="utf-8")
+    write_atomically(path, "\n".join(out) + "\n")
 
 
 # ------------------------------------------------------------------------------------- forward kinematics

@@ -17,6 +17,7 @@ import numpy as np
 from eigengait.errors import UserInputError
 from eigengait.optimize.evaluate import Outcome
 from eigengait.optimize.mom import MomState
+from eigengait.outputs import replacing
 
 FORMAT = "eigengait-checkpoint-1"
 SCALARS = ("outer", "sigma", "k", "generation", "evaluations", "elapsed", "finished", "log")
@@ -43,10 +44,8 @@ def save_state(state: MomState, path: Path | str) -> None:
             arrays[name] = np.asarray(getattr(state, name), dtype=float)
     if best is not None:
         arrays["best_cycle"], arrays["best_mean_velocity"] = best.cycle, best.mean_velocity
-    tmp = path.with_name(path.name + ".tmp")
-    with open(tmp, "wb") as f:
+    with replacing(path) as temporary, open(temporary, "wb") as f:
         np.savez(f, meta=np.array(json.dumps(meta)), **arrays)
-    tmp.replace(path)
 
 
 def _read(path: Path) -> tuple[dict, dict[str, np.ndarray]]:

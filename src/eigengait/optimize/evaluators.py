@@ -15,12 +15,15 @@ from eigengait.control.sketch import Sketch
 from eigengait.errors import UserInputError
 from eigengait.optimize.evaluate import BatchEvaluator, Outcome, default_threads
 from eigengait.optimize.problem import Problem
+from eigengait.outputs import keep_mujoco_log_out_of_the_folder
 
 EVALUATORS = ("threads", "processes", "ray")
 _worker: BatchEvaluator | None = None
 
 
 def _batch_evaluator(sketch_json: dict, threads: int) -> BatchEvaluator:
+    """A worker process's or Ray actor's evaluator; MuJoCo's warnings go to its standard error."""
+    keep_mujoco_log_out_of_the_folder()
     return batch_evaluator(Problem.from_sketch(Sketch.model_validate(sketch_json)), threads)
 
 

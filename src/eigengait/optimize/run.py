@@ -25,7 +25,6 @@ from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
 from eigengait import __version__
 from eigengait.control.controller import save_controller, to_file
-from eigengait.control.files import write_atomically
 from eigengait.control.sketch import Sketch
 from eigengait.errors import UserInputError
 from eigengait.optimize.evaluators import make_evaluator
@@ -33,8 +32,12 @@ from eigengait.optimize.checkpoint import load_state, save_state
 from eigengait.optimize.methods import make_optimizer
 from eigengait.optimize.mom import MomSettings, MomState
 from eigengait.optimize.problem import Problem
+from eigengait.outputs import check_folder, replacing, write_atomically
 
 BUDGET_FIELDS = ("max_evaluations", "max_seconds", "max_outer", "inner_generations")
+RUN_MARKERS = ("checkpoint.npz", "checkpoint.pkl", "best_controller.json")
+RUN_FILES = (*RUN_MARKERS, "status.json", "sketch.yaml", "settings.json", "log.csv", "objective.png",
+             "violation.png")
 
 
 def _saved_settings(folder: Path) -> dict:
@@ -81,21 +84,45 @@ def prepare_folder(folder: Path, sketch: Sketch, settings: MomSettings, evaluato
         _check_same_run(folder, sketch, saved, seed)
         merged = {**saved["settings"], **{k: getattr(settings, k) for k in BUDGET_FIELDS}}
         return MomSettings(**merged), saved["evaluator"], load_state(checkpoint)
-    if any((folder / name).exists() for name in ("checkpoint.npz", "checkpoint.pkl", "best_controller.json")):
-        raise UserInputError("the run folder already holds a run and was left untouched", file=folder,
-                             fix="pass --resume to continue it, or choose another --output folder")
-    if folder.exists() and not folder.is_dir():
-        raise UserInputError("the output is a file, not a folder", file=folder, fix="choose a folder name")
-    try:
-        folder.mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        raise UserInputError(f"cannot create the run folder ({exc.strerror})", file=folder,
-                             fix="choose a writable --output folder") from None
+    refuse_earlier_run(folder)
+    check_folder(folder)
     write_atomically(folder / "sketch.yaml", yaml.safe_dump(sketch.model_dump(mode="json"), sort_keys=False))
     write_atomically(folder / "settings.json", json.dumps(
         {"settings": asdict(settings), "evaluator": evaluator, "eigengait": __version__,
          "mujoco": mujoco.__version__}, indent=2))
     return settings, evaluator, None
+
+
+def _holds_run(folder: Path) -> bool:
+    """Whether the folder holds an earlier run with something to lose (a checkpoint or a controller)."""
+    return folder.is_dir() and any((folder / name).exists() for name in RUN_MARKERS)
+
+
+def refuse_earlier_run(folder: Path) -> None:
+    """Refuse to start a new run over an earlier one; the message says whether that run finished."""
+    if not _holds_run(folder):
+        return
+    if _finished(folder):
+        raise UserInputError("the run folder holds a finished run and was left untouched", file=folder,
+                             fix="choose another --output folder, add --force to start over, or pass --resume "
+                                 "with a larger budget to continue it")
+    raise UserInputError("the run folder holds an unfinished run (interrupted or stopped by an error) and was left "
+                         "untouched", file=folder, fix="pass --resume to continue it, or add --force to start over")
+
+
+def _finished(folder: Path) -> bool:
+    try:
+        return json.loads((folder / "status.json").read_text(encoding="utf-8"))["finished"] is True
+    except (OSError, ValueError, KeyError, TypeError):
+        return False
+
+
+def clear_run(folder: Path) -> None:
+    """Delete an earlier run's files, and temporary files a killed run left, from the folder (other files stay)."""
+    if not folder.is_dir():
+        return
+    for path in [*(folder / name for name in RUN_FILES), *folder.glob(".*.part.*")]:
+        path.unlink(missing_ok=True)
 
 
 def write_status(folder: Path, state: MomState) -> None:
@@ -108,12 +135,10 @@ def write_status(folder: Path, state: MomState) -> None:
 def write_log(folder: Path, rows: list[dict]) -> None:
     if not rows:
         return
-    tmp = folder / "log.csv.tmp"
-    with open(tmp, "w", newline="") as f:
+    with replacing(folder / "log.csv") as temporary, open(temporary, "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=list(rows[0]))
         w.writeheader()
         w.writerows(rows)
-    tmp.replace(folder / "log.csv")
 
 
 def write_plots(folder: Path, rows: list[dict], cycle_tolerance: float | None = None) -> None:
@@ -140,7 +165,8 @@ def write_plots(folder: Path, rows: list[dict], cycle_tolerance: float | None = 
         ax.set_ylabel(label)
         ax.grid(alpha=0.3)
         fig.tight_layout()
-        fig.savefig(folder / name)
+        with replacing(folder / name) as temporary:
+            fig.savefig(temporary)
         plt.close(fig)
 
 

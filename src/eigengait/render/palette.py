@@ -20,6 +20,7 @@ import mujoco
 import numpy as np
 
 from eigengait.errors import UserInputError
+from eigengait.outputs import replacing
 from eigengait.modal.modeset import ModeSet
 from eigengait.motion.modal_mix import DEFAULT_MAX_ROTATION_DEG, displaced_qpos, peak_rotation_amplitudes
 from eigengait.render.video import CameraView, FrameRenderer, creature_geoms, geom_corners
@@ -252,5 +253,6 @@ def write_palette(world: World, modes: ModeSet, path: str | Path, count: int | N
     import imageio.v3 as iio
 
     image = palette_image(world, modes, count, columns, tile_px, max_rotation_deg)
-    iio.imwrite(Path(path), image)
+    with replacing(path) as temporary:
+        iio.imwrite(temporary, image)
     return image

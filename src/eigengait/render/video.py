@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import copy
 from collections.abc import Iterator
+from contextlib import closing
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -23,6 +24,7 @@ import numpy as np
 from rich.progress import BarColumn, Progress, TextColumn, TimeRemainingColumn
 
 from eigengait.errors import UserInputError
+from eigengait.outputs import replacing
 from eigengait.sim.world import World
 
 VIDEO_SUFFIXES = (".mp4", ".gif")
@@ -248,21 +250,25 @@ def video_path(path: str | Path) -> Path:
 
 
 def write_video(frames: Iterator[np.ndarray], path: str | Path, fps: float) -> int:
-    """Write frames to an .mp4 (H.264, yuv420p) or .gif (looping) chosen by suffix; returns the frame count."""
-    import imageio.v2 as imageio
+    """Write frames to an .mp4 (H.264, yuv420p) or .gif (looping) chosen by suffix; returns the frame count.
 
+    The video is written under a temporary name and renamed when complete (`eigengait.outputs.replacing`)."""
     path = video_path(path)
-    if path.suffix.lower() == ".mp4":
-        writer = imageio.get_writer(path, format="FFMPEG", fps=fps, codec="libx264", pixelformat="yuv420p",
-                                    quality=8, macro_block_size=2, ffmpeg_log_level="error")
-    else:
-        writer = imageio.get_writer(path, format="GIF", mode="I", duration=1000.0 / fps, loop=0)
     count = 0
-    with writer:
+    with replacing(path) as temporary, closing(_video_writer(temporary, fps)) as writer:   # closed on errors too
         for frame in frames:
             writer.append_data(frame)
             count += 1
     return count
+
+
+def _video_writer(path: Path, fps: float):
+    import imageio.v2 as imageio
+
+    if path.suffix.lower() == ".mp4":
+        return imageio.get_writer(path, format="FFMPEG", fps=fps, codec="libx264", pixelformat="yuv420p",
+                                  quality=8, macro_block_size=2, ffmpeg_log_level="error")
+    return imageio.get_writer(path, format="GIF", mode="I", duration=1000.0 / fps, loop=0)
 
 
 def render_video(world: World, qpos: np.ndarray, source_fps: float, path: str | Path, width: int = 640,
