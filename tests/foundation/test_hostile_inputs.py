@@ -7,12 +7,14 @@ process, as the `eigengait` command does.
 
 from __future__ import annotations
 
+import json
 import pickle
 import sys
 
 import pytest
 
 from eigengait.cli import main
+from eigengait.control.library import resolve
 
 LATIN1 = "name: caf\xe9\n".encode("latin-1")
 
@@ -48,6 +50,7 @@ OPTION_VALUES = {
     "tolerance-nan": ["optimize", "basic-run", "-o", "{tmp}/run", "--cycle-tolerance", "nan"],
     "palette-angle-nan": ["palette", "humanoid", "--angle", "nan", "-o", "{tmp}/p.png"],
     "animate-seconds-nan": ["animate", "humanoid", "--mix", "2:1", "--seconds", "nan", "--bvh", "{tmp}/a.bvh"],
+    "cloth-time-step-negative": ["cloth", "run", "curtain", "-o", "{tmp}/out", "--time-step", "-1"],
     "cloth-duration-nan": ["cloth", "run", "curtain", "-o", "{tmp}/out", "--duration", "nan"],
     "cloth-restitution-nan": ["cloth", "run", "curtain", "-o", "{tmp}/out", "--restitution", "nan"],
 }
@@ -67,7 +70,23 @@ def test_a_script_error_never_echoes_another_files_lines(tmp_path, capsys, monke
     assert "root:" not in err and "/bin/bash" not in err
 
 
+def _deep_bvh(depth: int = 5000) -> bytes:
+    """A hierarchy nested `depth` joints deep (a recursive parser overflows Python's stack)."""
+    head = "HIERARCHY\nROOT Hips\n{\nOFFSET 0 0 0\nCHANNELS 6 Xposition Yposition Zposition Zrotation Xrotation Yrotation\n"
+    joints = "".join(f"JOINT j{i}\n{{\nOFFSET 0 1 0\nCHANNELS 3 Zrotation Xrotation Yrotation\n" for i in range(depth))
+    tail = "}\n" * (depth + 1) + "MOTION\nFrames: 1\nFrame Time: 0.01\n" + " ".join(["0"] * (6 + 3 * depth)) + "\n"
+    return (head + joints + tail).encode()
+
+
+def _short_state_controller() -> bytes:
+    data = json.loads(resolve("gait", "kangaroo-hop").read_text())
+    data["initial_qpos"] = data["initial_qpos"][:-1]
+    return json.dumps(data).encode()
+
+
 FILES = {
+    "bvh-5000-deep": ("deep.bvh", _deep_bvh(), ["track", "{file}", "--json"]),
+    "controller-short-state": ("c.json", _short_state_controller(), ["play", "{file}", "--cycles", "1"]),
     "mjcf-garbage": ("bad.xml", b"<mujoco><worldbody><body", ["modes", "{file}"]),
     "mjcf-empty": ("empty.xml", b"", ["modes", "{file}"]),
     "mjcf-missing": (None, None, ["modes", "{tmp}/missing.xml"]),

@@ -83,7 +83,7 @@ def run(script: str = typer.Argument(..., help="a .PAR file or a shipped example
         parsed = read_par(path)
         obstacles = [read_obt(p) for p in parsed.obstacles]
         model = script_model(parsed, obstacles, gravity=not no_gravity)
-        _check_options(duration, restitution, strain_limit, thickness, integrator, video_fps)
+        _check_options(duration, time_step, restitution, strain_limit, thickness, integrator, video_fps)
         h = time_step or parsed.time_step
         step_field = f"line {parsed.lines.get('DELTA_T', '?')}: DELTA_t" if time_step is None else "--time-step"
         total = duration or parsed.duration
@@ -123,9 +123,10 @@ def run(script: str = typer.Argument(..., help="a .PAR file or a shipped example
                   f"{len(shots) / video_fps:.2f} s (real time)"))
 
 
-def _check_options(duration, restitution, strain_limit, thickness, integrator, video_fps) -> None:
+def _check_options(duration, time_step, restitution, strain_limit, thickness, integrator, video_fps) -> None:
     """Raise :class:`UserInputError` for an impossible ``run`` option."""
     check_range(duration, "--duration", 1e-6, 1e6, "s")
+    check_range(time_step, "--time-step", 1e-7, 1.0, "s")
     check_range(restitution, "--restitution", 0.0, 1.0)
     check_range(strain_limit, "--strain-limit", 0.0)
     check_range(thickness, "--thickness", 1e-9, unit="m")

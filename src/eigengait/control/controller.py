@@ -121,12 +121,16 @@ def to_parameters(controller: ControllerFile, system: GaitSystem, source: str | 
     model = system.world.model
     freqs = system.air_modes.frequencies_hz[:FINGERPRINT_MODES]
     same_pose = controller.relax_pose == system.pose
-    if (len(controller.initial_qpos) != model.nq or len(controller.initial_qvel) != model.nv or not same_pose
-            or not np.allclose(freqs, controller.air_frequencies_hz, rtol=1e-4)):
+    if not same_pose or not np.allclose(freqs, controller.air_frequencies_hz, rtol=1e-4):
         raise UserInputError(f"this controller was made for character '{controller.character}' at relax pose "
                              f"'{controller.relax_pose}', not for '{system.character.name}' at '{system.pose}'",
                              file=source, field="character / relax_pose",
                              fix="load it with its own character and relax pose, or optimize a new one")
+    for field, values, size in (("initial_qpos", controller.initial_qpos, model.nq),
+                                ("initial_qvel", controller.initial_qvel, model.nv)):
+        if len(values) != size:
+            raise UserInputError(f"{field} has {len(values)} values; character '{system.character.name}' needs {size}",
+                                 file=source, field=field, fix="regenerate the controller with `eigengait optimize`")
     activations = {}
     for foot in system.active_feet:
         for phase in ("air", "ground"):

@@ -109,7 +109,13 @@ class _Tokens:
         return np.array(values, dtype=float)
 
 
-def _parse_joint(tokens: _Tokens, joints: list[BvhJoint], parent: int, name: str) -> None:
+MAX_DEPTH = 200   # joints from the root to the deepest leaf; real skeletons have fewer than 30
+
+
+def _parse_joint(tokens: _Tokens, joints: list[BvhJoint], parent: int, name: str, depth: int = 0) -> None:
+    if depth > MAX_DEPTH:
+        raise tokens.error(f"the hierarchy is deeper than {MAX_DEPTH} joints at '{name}'.",
+                           fix="check the file's nesting of braces; a real skeleton is far shallower.")
     tokens.expect("{")
     tokens.expect("OFFSET")
     offset = tokens.floats(3, f"the OFFSET of '{name}'")
@@ -135,7 +141,7 @@ def _parse_joint(tokens: _Tokens, joints: list[BvhJoint], parent: int, name: str
             return
         if token == "JOINT":
             child, _ = tokens.next("a joint name")
-            _parse_joint(tokens, joints, index, child)
+            _parse_joint(tokens, joints, index, child, depth + 1)
         elif token == "End":
             tokens.expect("Site")
             tokens.expect("{")

@@ -13,12 +13,6 @@ MAX_SPEED = 500.0  # rad/s or m/s on any dof: beyond this the simulation is cons
 MAX_CONTROL = 1e9  # N·m: MuJoCo resets the simulation on controls beyond ~1e10, hiding the blow-up
 
 
-def blown_up_dof(qvel: np.ndarray) -> int | None:
-    """Index of the first non-finite or runaway velocity, or None."""
-    bad = ~np.isfinite(qvel) | (np.abs(qvel) > MAX_SPEED)
-    return int(np.argmax(bad)) if bad.any() else None
-
-
 def first_blow_up(qvel: np.ndarray, motor_torques: np.ndarray, motor_dofs: np.ndarray,
                   times: np.ndarray | None = None, dt: float = 0.0) -> tuple[int, int] | None:
     """(step, dof) of the first blow-up in a recording (steps × nv velocities, steps × motors torques), or None.
@@ -52,11 +46,13 @@ def raise_blow_up(world: World, time: float, dof: int, file: str | None = None) 
                            fix="reduce the time step, the torques, the initial speeds or the joint stiffness")
 
 
-def step(world: World, data: mujoco.MjData, nstep: int = 1) -> None:
-    """Advance `nstep` physics steps in C, then check the state."""
+def step(world: World, data: mujoco.MjData, nstep: int = 1, model: mujoco.MjModel | None = None) -> None:
+    """Advance `nstep` physics steps in C, then check the state. `model`: the model `data` belongs to, when it is
+    an edited copy of the world's."""
     warnings_before = int(data.warning[mujoco.mjtWarning.mjWARN_BADQACC].number)
-    mujoco.mj_step(world.model, data, nstep)
-    dof = blown_up_dof(data.qvel)
+    mujoco.mj_step(model or world.model, data, nstep)
+    found = first_blow_up(data.qvel[None], np.zeros((1, 0)), np.zeros(0, int))
+    dof = None if found is None else found[1]
     if int(data.warning[mujoco.mjtWarning.mjWARN_BADQACC].number) > warnings_before and dof is None:
         dof = int(np.argmax(np.abs(data.qacc))) if data.qacc.size else 0
     if dof is not None:

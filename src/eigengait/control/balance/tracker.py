@@ -29,6 +29,7 @@ from eigengait.control.balance.reference import Reference
 from eigengait.control.balance.rotations import quat_angle, quat_to_mat
 from eigengait.control.balance.virtual import VirtualGains, virtual_force, virtual_torque
 from eigengait.errors import UserInputError
+from eigengait.sim.stepping import step
 from eigengait.sim.world import FLOOR, GRAVITY, World
 
 PUSH_DURATION = 0.1  # s
@@ -294,8 +295,8 @@ class Tracker:
             joint_err.append(quat_angle(data.qpos[self.ball_qpos], target["qpos"][self.ball_qpos]))
             com_err.append(np.linalg.norm(data.subtree_com[self.world.root_body] - target["com"]))
             torques.append(artificial)
-            mujoco.mj_step(model, data, nstep=self.settings.control_every)
-            if not np.all(np.isfinite(data.qpos)) or self._touches_floor_off_feet() or \
+            step(self.world, data, self.settings.control_every, model)   # a blow-up raises, naming time and body
+            if self._touches_floor_off_feet() or \
                     data.subtree_com[self.world.root_body][2] < 0.5 * target["com"][2]:
                 fell_at = float(data.time)
                 break
