@@ -14,6 +14,7 @@ import sys
 import pytest
 
 from eigengait.cli import main
+from eigengait.cloth.library import example_path
 from eigengait.control.library import resolve
 
 LATIN1 = "name: caf\xe9\n".encode("latin-1")
@@ -29,6 +30,7 @@ def run_cli(capsys, monkeypatch, args) -> tuple[int, str]:
 def assert_clean_refusal(code: int, err: str) -> None:
     assert code == 2, err
     assert "Traceback" not in err and err.strip()
+    assert "No such option" not in err, err          # refused for the value under test, not a mistyped case
     assert len([line for line in err.lower().splitlines() if line.startswith("error")]) == 1, err
 
 
@@ -84,7 +86,17 @@ def _short_state_controller() -> bytes:
     return json.dumps(data).encode()
 
 
+def _shipped_text(kind: str, name: str) -> str:
+    path = example_path(name) if kind == "cloth" else resolve(kind, name)
+    return path.read_text(encoding="utf-8")
+
+
 FILES = {
+    "par-4000-grid": ("big.PAR", _shipped_text("cloth", "curtain").replace("MALHA (20 20)", "MALHA (4000 4000)").encode(),
+                      ["cloth", "run", "{file}", "-o", "{tmp}/out"]),
+    "sketch-unknown-foot": ("s.yaml", _shipped_text("sketch", "basic-run").replace("character: humanoid",
+                                                                                     "character: humanoid\nfeet: [hoof]").encode(),
+                            ["sketch", "{file}"]),
     "bvh-5000-deep": ("deep.bvh", _deep_bvh(), ["track", "{file}", "--json"]),
     "controller-short-state": ("c.json", _short_state_controller(), ["play", "{file}", "--cycles", "1"]),
     "mjcf-garbage": ("bad.xml", b"<mujoco><worldbody><body", ["modes", "{file}"]),
@@ -98,7 +110,7 @@ FILES = {
     "controller-empty-object": ("c.json", b"{}", ["play", "{file}"]),
     "par-garbage": ("X.PAR", b"root:x:0:0:secret\n\x00\x01", ["cloth", "run", "{file}", "-o", "{tmp}/out"]),
     "par-empty": ("X.PAR", b"", ["cloth", "run", "{file}", "-o", "{tmp}/out"]),
-    "bvh-garbage": ("m.bvh", b"HIERARCHY\nROOT\n{", ["track", "{file}", "-o", "{tmp}/t"]),
+    "bvh-garbage": ("m.bvh", b"HIERARCHY\nROOT\n{", ["track", "{file}", "--json"]),
 }
 
 
@@ -108,7 +120,10 @@ def test_bad_files(name, content, args, tmp_path, capsys, monkeypatch):
     if content is not None:
         file.write_bytes(content)
     argv = [a.format(file=file, tmp=tmp_path) for a in args]
-    assert_clean_refusal(*run_cli(capsys, monkeypatch, argv))
+    code, err = run_cli(capsys, monkeypatch, argv)
+    assert_clean_refusal(code, err)
+    if content is not None:
+        assert name in err                     # the message blames the file at fault, not the character's model
 
 
 def _pickled_checkpoint(run):

@@ -44,6 +44,8 @@ def zup_to_yup(vector) -> np.ndarray:
     return np.stack([v[..., 0], v[..., 2], -v[..., 1]], axis=-1)
 
 
+MAX_NODES = 250_000   # nodes per surface (about 500×500): beyond this a run needs gigabytes and hours
+
 _WORD = re.compile(r"[A-Za-z0-9_.+-]{1,32}")
 
 
@@ -279,6 +281,10 @@ def _parse_surface(reader: _Reader, opener: _Token, index: int) -> SurfaceSpec:
             break
         if key == "MALHA":
             fields[key] = (reader.number(token, int), reader.number(token, int), token)
+            nodes = fields[key][0] * fields[key][1]
+            if nodes > MAX_NODES:
+                raise reader.error(f"a {fields[key][0]}×{fields[key][1]} mesh has {nodes:,} nodes; one surface may "
+                                   f"have at most {MAX_NODES:,}.", token, fix="use a coarser MALHA (e.g. 300 300).")
         elif key in ("DENSIDADE", "MASSA"):
             fields[key] = reader.number(token)
         elif key in ("POSIC_NO_SRU", "VETOR_NORMAL"):

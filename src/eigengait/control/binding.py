@@ -7,13 +7,19 @@ from pathlib import Path
 from eigengait.character import load_character
 from eigengait.control.gait import GaitSystem
 from eigengait.control.sketch import Sketch, check_modes
+from eigengait.errors import UserInputError
 from eigengait.sim.world import WorldOptions
 
 
-def sketch_system(sketch: Sketch, gravity: bool = True) -> GaitSystem:
-    """The sketch's gait system (one modal analysis per phase and foot), mode numbers not yet checked."""
+def sketch_system(sketch: Sketch, gravity: bool = True, source: str | Path | None = None) -> GaitSystem:
+    """The sketch's gait system (one modal analysis per phase and foot), mode numbers not yet checked; an error in
+    the sketch's feet names `source`."""
     character = load_character(sketch.character)
     feet = sketch.feet or character.meta.gait_order
+    unknown = [f for f in feet if f not in character.feet]
+    if unknown:
+        raise UserInputError(f"character '{character.name}' has no foot '{unknown[0]}'", file=source, field="feet",
+                             fix=f"use feet among: {', '.join(character.feet) or '(none)'}")
     return GaitSystem(character, sketch.relax_pose, feet, sketch.symmetric, sketch.basis, sketch.torque_limit,
                       WorldOptions(gravity=gravity))
 
@@ -24,6 +30,6 @@ def mode_counts(system: GaitSystem) -> dict[str, int]:
 
 def bind_sketch(sketch: Sketch, source: str | Path | None = None, gravity: bool = True) -> GaitSystem:
     """The sketch's gait system; every mode number the sketch names must exist (error names `source`)."""
-    system = sketch_system(sketch, gravity)
+    system = sketch_system(sketch, gravity, source)
     check_modes(sketch, mode_counts(system), source)
     return system
