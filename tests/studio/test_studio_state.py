@@ -17,6 +17,12 @@ def test_sandbox_refuses_paths_outside_the_root(tmp_path, outside):
         Sandbox(tmp_path).resolve(outside, must_exist=True)
 
 
+@pytest.mark.parametrize("name", ["a\x00b.yaml", "run\n.yaml", "\x1b[2Jx.yaml"])
+def test_sandbox_refuses_control_characters_with_a_clean_error(tmp_path, name):
+    with pytest.raises(UserInputError, match="control character"):
+        Sandbox(tmp_path).resolve(name)
+
+
 def test_sandbox_refuses_a_symlink_that_leaves_the_root(tmp_path):
     (tmp_path / "escape.xml").symlink_to("/etc/hostname")
     with pytest.raises(UserInputError, match="outside the studio folder"):

@@ -18,6 +18,9 @@ class Sandbox:
         text = text.strip()
         if not text:
             raise UserInputError("no file name given", fix="type a file name relative to the studio folder")
+        if not text.isprintable():
+            raise UserInputError("the file name holds a control character (e.g. a NUL byte)", file=repr(text),
+                                 fix="type a plain file name relative to the studio folder")
         path = (self.root / text).resolve()
         if not path.is_relative_to(self.root):
             raise UserInputError(f"'{text}' is outside the studio folder and was refused", file=text,
