@@ -34,7 +34,7 @@ def _check_range(value: float, option: str, fix: str) -> None:
 
 
 def reference_poses(clip_path: Path, character: str, mapping: Path | None, start_frame: int,
-                    clean: bool = True) -> dict:
+                    clean: bool = False) -> dict:
     """Load and retarget a clip, then clean its feet (unless `clean` is False).
 
     Returns world, poses (F, nq), frame_time (s), scale (m per file unit), conventions (or None when the skeleton's
@@ -74,7 +74,7 @@ def kinematic_summary(ref: dict, clean: bool) -> dict:
 
 
 def run_track(clip_path: Path, character: str, robustness: float, push: str | None, mapping: Path | None,
-              start_frame: int, tolerance: float, clean: bool = True) -> tuple[object, object, object]:
+              start_frame: int, tolerance: float, clean: bool = False) -> tuple[object, object, object]:
     """Load, retarget, clean the feet (unless `clean` is False), replay and track; returns (world, reference,
     result); result.foot_skate_m is the simulated motion's skate (m, mean per stance, `foot_metrics`)."""
     from eigengait.control.balance.reference import kinematic_replay
