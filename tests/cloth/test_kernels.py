@@ -98,7 +98,8 @@ def test_fused_steps_with_strain_limiting_match_the_reference_steps(integrator, 
         if not pinned:
             model = dataclasses.replace(model, fixed=np.zeros_like(model.fixed))
         sim = Simulation(model, 0.002, integrator, strain_limit=bound)
-        sim.advance(200)
+        sim.x = np.where(model.fixed[:, None], model.rest_positions, shaken(model, 4))
+        sim.advance(60)
         runs.append((sim.x, sim.v))
     runs, free = runs[:2], runs[2]
     assert np.abs(runs[0][0] - free[0]).max() > 1e-3  # the limiter acted
