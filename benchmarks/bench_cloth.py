@@ -56,7 +56,7 @@ def run_rate(n: int, seconds: float, *options: str, time_step: float = H) -> flo
 
     with tempfile.TemporaryDirectory() as folder:
         script = Path(folder) / "sheet.PAR"
-        args = ["run", str(script), "-o", str(Path(folder) / "out"), "--no-render", *options]
+        args = ["run", str(script), "-o", str(Path(folder) / "out"), "--no-render", "--force", *options]
         if time_step != H:
             args += ["--time-step", repr(time_step)]
         script.write_text(sheet_script(n, 1.0, time_step))

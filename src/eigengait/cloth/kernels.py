@@ -11,8 +11,6 @@ from __future__ import annotations
 import numba as nb
 import numpy as np
 
-from eigengait.cloth.strain import limit_strain
-
 #: explicit methods the fused step kernel knows
 EULER, SYMPLECTIC = 0, 1
 FUSED = {"euler": EULER, "symplectic": SYMPLECTIC}
@@ -90,16 +88,166 @@ def explicit_step(x, v, h, method, mass, springs, rest, k, bend, bend_coef, grav
 
 
 @nb.njit(cache=True)
-def explicit_steps(x, v, steps, h, method, mass, springs, rest, k, bend, bend_coef, gravity, external, friction,
-                   fixed, force, strain_springs, strain_rest, strain_weights, strain_bound):
-    """``steps`` calls of :func:`explicit_step`, each followed by a strain-limiting sweep when ``strain_bound`` ≥ 0,
-    in one compiled loop (for scenes whose fixed points stand still and that have nothing else to resolve per step).
+def _run_forces(X, runs, rest, k, T, F):
+    """Add the forces of the springs of ``runs`` to ``F`` (3, N) N at positions ``X`` (3, N) m; ``T`` (3, L) is
+    scratch space for the longest run. Each run is taken as slices so that its loops run in SIMD lanes."""
+    t0, t1, t2 = T[0], T[1], T[2]
+    for run in range(runs.shape[0]):
+        s0, a0, b0, count = runs[run, 0], runs[run, 1], runs[run, 2], runs[run, 3]
+        xa0, xa1, xa2 = X[0, a0:a0 + count], X[1, a0:a0 + count], X[2, a0:a0 + count]
+        xb0, xb1, xb2 = X[0, b0:b0 + count], X[1, b0:b0 + count], X[2, b0:b0 + count]
+        rs, ks = rest[s0:s0 + count], k[s0:s0 + count]
+        for r in range(count):
+            d0 = xb0[r] - xa0[r]
+            d1 = xb1[r] - xa1[r]
+            d2 = xb2[r] - xa2[r]
+            length = np.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
+            t = ks[r] * (length - rs[r]) / max(length, 1e-12)
+            t0[r], t1[r], t2[r] = t * d0, t * d1, t * d2
+        for c in range(3):
+            fa, fb, tc = F[c, a0:a0 + count], F[c, b0:b0 + count], T[c]
+            for r in range(count):
+                fa[r] += tc[r]
+            for r in range(count):
+                fb[r] -= tc[r]
+
+
+@nb.njit(cache=True)
+def _bend_forces(X, bend, bend_coef, F):
+    """Add the angular springs' forces (``bend_coef`` = k_c r / 2, N) on their middle points to ``F`` (3, N)."""
+    for b in range(bend.shape[0]):
+        a, c, e = bend[b, 0], bend[b, 1], bend[b, 2]
+        a0, a1, a2 = X[0, a] - X[0, c], X[1, a] - X[1, c], X[2, a] - X[2, c]
+        b0, b1, b2 = X[0, e] - X[0, c], X[1, e] - X[1, c], X[2, e] - X[2, c]
+        wa = bend_coef[b] / max(np.sqrt(a0 * a0 + a1 * a1 + a2 * a2), 1e-12)
+        wb = bend_coef[b] / max(np.sqrt(b0 * b0 + b1 * b1 + b2 * b2), 1e-12)
+        F[0, c] += wa * a0 + wb * b0
+        F[1, c] += wa * a1 + wb * b1
+        F[2, c] += wa * a2 + wb * b2
+
+
+@nb.njit(cache=True)
+def _integrate(X, V, F, h, method, mass, gravity, external, friction, free):
+    """The Euler update of :func:`explicit_step` on (3, N) arrays, branch-free so that it runs in SIMD lanes;
+    fixed points keep their state. Zeroes ``F`` for the next step."""
+    inv_h = 1.0 / h
+    lagged = method == EULER
+    g0, g1, g2 = gravity[0], gravity[1], gravity[2]
+    e0, e1, e2 = external[0], external[1], external[2]
+    x0, x1, x2, v0, v1, v2, f0, f1, f2 = X[0], X[1], X[2], V[0], V[1], V[2], F[0], F[1], F[2]
+    for i in range(X.shape[1]):
+        m = mass[i]
+        a0 = f0[i] + m * g0 + e0
+        a1 = f1[i] + m * g1 + e1
+        a2 = f2[i] + m * g2 + e2
+        u0, u1, u2 = v0[i], v1[i], v2[i]
+        speed = np.sqrt(u0 * u0 + u1 * u1 + u2 * u2)
+        push, stop = friction * np.sqrt(a0 * a0 + a1 * a1 + a2 * a2), m * speed * inv_h
+        drag = (stop if stop < push else push) / speed if speed > 0.0 else 0.0
+        step = h / m
+        n0 = u0 + step * (a0 - drag * u0)
+        n1 = u1 + step * (a1 - drag * u1)
+        n2 = u2 + step * (a2 - drag * u2)
+        keep = free[i]
+        x0[i] += (h * (u0 if lagged else n0)) if keep else 0.0
+        x1[i] += (h * (u1 if lagged else n1)) if keep else 0.0
+        x2[i] += (h * (u2 if lagged else n2)) if keep else 0.0
+        v0[i] = n0 if keep else u0
+        v1[i] = n1 if keep else u1
+        v2[i] = n2 if keep else u2
+        f0[i] = 0.0
+        f1[i] = 0.0
+        f2[i] = 0.0
+
+
+@nb.njit(cache=True)
+def _overstretched(X, runs, rest, bound, flags):
+    """Set ``flags[s]`` to whether spring ``s`` is longer than ``(1 + bound)·rest`` at ``X`` (3, N) m."""
+    for run in range(runs.shape[0]):
+        s0, a0, b0, count = runs[run, 0], runs[run, 1], runs[run, 2], runs[run, 3]
+        xa0, xa1, xa2 = X[0, a0:a0 + count], X[1, a0:a0 + count], X[2, a0:a0 + count]
+        xb0, xb1, xb2 = X[0, b0:b0 + count], X[1, b0:b0 + count], X[2, b0:b0 + count]
+        rs, out = rest[s0:s0 + count], flags[s0:s0 + count]
+        for r in range(count):
+            d0 = xb0[r] - xa0[r]
+            d1 = xb1[r] - xa1[r]
+            d2 = xb2[r] - xa2[r]
+            limit = (1.0 + bound) * rs[r]
+            out[r] = d0 * d0 + d1 * d1 + d2 * d2 > limit * limit
+
+
+@nb.njit(cache=True)
+def _sweep(X, V, springs, rest, weights, bound, h, flags, touch_start, touching):
+    """The strain-limiting sweep of :func:`~eigengait.cloth.strain.limit_strain` on (3, N) arrays, visiting only the
+    flagged springs: a spring is flagged when it was overstretched before the sweep or when an earlier spring of the
+    sweep moved one of its ends (``touching[touch_start[p]:touch_start[p + 1]]``: the springs at point p)."""
+    for s in range(springs.shape[0]):
+        if not flags[s]:
+            continue
+        i, j = springs[s, 0], springs[s, 1]
+        d0, d1, d2 = X[0, j] - X[0, i], X[1, j] - X[1, i], X[2, j] - X[2, i]
+        squared = d0 * d0 + d1 * d1 + d2 * d2
+        limit = (1.0 + bound) * rest[s]
+        wi, wj = weights[s, 0], weights[s, 1]
+        if squared <= limit * limit or wi + wj == 0.0:
+            continue
+        length = np.sqrt(squared)
+        scale = (length - limit) / ((wi + wj) * length)
+        for end, sign, w in ((i, 1.0, wi), (j, -1.0, wj)):
+            if w == 0.0:
+                continue
+            shift = sign * w * scale
+            X[0, end] += shift * d0
+            X[1, end] += shift * d1
+            X[2, end] += shift * d2
+            V[0, end] += shift * d0 / h
+            V[1, end] += shift * d1 / h
+            V[2, end] += shift * d2 / h
+            for q in range(touch_start[end], touch_start[end + 1]):
+                if touching[q] > s:
+                    flags[touching[q]] = True
+
+
+@nb.njit(cache=True)
+def explicit_steps(x, v, steps, h, method, mass, springs, rest, k, weights, bend, bend_coef, gravity, external,
+                   friction, free, bound, runs, touch_start, touching):
+    """``steps`` forward- (``method`` 0) or symplectic-Euler (1) steps, each followed by a strain-limiting sweep
+    when ``bound`` ≥ 0, in one compiled loop, in place on ``x`` (N, 3) m and ``v`` m/s.
+
+    The springs (``springs``, ``rest``, ``k``, ``weights``) come in the sweep order of
+    :func:`~eigengait.cloth.strain.projection_order`, described by :class:`SpringRuns`. Gives the result of
+    :func:`explicit_step` followed by :func:`~eigengait.cloth.strain.limit_strain`, up to the order in which the
+    spring forces are summed.
     """
+    X, V = x.T.copy(), v.T.copy()
+    F = np.zeros_like(X)
+    T = np.empty((3, max(runs[:, 3].max(), 1) if runs.shape[0] else 1))
+    flags = np.zeros(springs.shape[0], np.bool_)
     for _ in range(steps):
-        explicit_step(x, v, h, method, mass, springs, rest, k, bend, bend_coef, gravity, external, friction, fixed,
-                      force)
-        if strain_bound >= 0.0:
-            limit_strain(x, v, strain_springs, strain_rest, strain_weights, strain_bound, h)
+        _run_forces(X, runs, rest, k, T, F)
+        _bend_forces(X, bend, bend_coef, F)
+        _integrate(X, V, F, h, method, mass, gravity, external, friction, free)
+        if bound >= 0.0:
+            _overstretched(X, runs, rest, bound, flags)
+            _sweep(X, V, springs, rest, weights, bound, h, flags, touch_start, touching)
+    x[:] = X.T
+    v[:] = V.T
+
+
+class SpringRuns:
+    """Springs in sweep order cut into runs of consecutive point pairs (a+r, b+r), r < count, so that the compiled
+    loops over them run in SIMD lanes; plus, for each point, the sweep positions of the springs at it."""
+
+    def __init__(self, springs: np.ndarray, size: int):
+        first = np.r_[True, (np.diff(springs[:, 0]) != 1) | (np.diff(springs[:, 1]) != 1)] if len(springs) else \
+            np.zeros(0, bool)
+        starts = np.flatnonzero(first)
+        counts = np.diff(np.r_[starts, len(springs)])
+        self.runs = np.stack([starts, springs[starts, 0], springs[starts, 1], counts], axis=1).astype(np.int64)
+        ends = springs.ravel()
+        order = np.argsort(ends, kind="stable")
+        self.touching = (order // 2).astype(np.int64)
+        self.touch_start = np.searchsorted(ends[order], np.arange(size + 1)).astype(np.int64)
 
 
 @nb.njit(cache=True)

@@ -62,7 +62,6 @@ class Simulation:
         self._cloth_grid = TriangleGrid(model.triangles, float(model.spring_rest.max()))
         self.obstacles = Obstacles(model, self.thickness, self._cloth_grid) if model.obstacles else None
         self._reached = np.zeros(len(model.targets), bool)
-        self._force = np.zeros((model.size, 3))
         self._order_springs()
         self.x = model.rest_positions.copy()
         self.v = np.zeros_like(self.x)
@@ -107,6 +106,8 @@ class Simulation:
         m = self.model
         order, self._strain_weights = projection_order(m.springs, m.mass, m.fixed)
         self._strain_springs, self._strain_rest = m.springs[order], m.spring_rest[order]
+        self._strain_k = m.spring_k[order]
+        self._runs = kernels.SpringRuns(self._strain_springs, m.size)
 
     def _fix_reached(self, x0: np.ndarray, x1: np.ndarray, v: np.ndarray) -> None:
         """Fix each target point whose step segment passed within its radius of its target position."""
@@ -133,9 +134,11 @@ class Simulation:
             return
         m = self.model
         bound = -1.0 if self.strain_limit is None else self.strain_limit
-        kernels.explicit_steps(self.x, self.v, steps, self.h, self._fused, m.mass, m.springs, m.spring_rest,
-                               m.spring_k, m.bend, m.bend_coef, m.gravity, m.external_force, m.friction, m.fixed,
-                               self._force, self._strain_springs, self._strain_rest, self._strain_weights, bound)
+        runs = self._runs
+        kernels.explicit_steps(self.x, self.v, steps, self.h, self._fused, m.mass, self._strain_springs,
+                               self._strain_rest, self._strain_k, self._strain_weights, m.bend, m.bend_coef,
+                               m.gravity, m.external_force, m.friction, m.free, bound, runs.runs, runs.touch_start,
+                               runs.touching)
         self.steps += steps
         self.t = self.steps * self.h
 
