@@ -123,15 +123,31 @@ def read_obt(path: str | Path) -> Mesh:
     return Mesh(name=name, vertices=verts, faces=faces, face_material=face_material, materials=materials)
 
 
+def _rows(template: str, columns: np.ndarray) -> list[str]:
+    """One formatted line per row of ``columns`` (formatting Python numbers, far faster than NumPy scalars)."""
+    return list(map(template.format, *np.asarray(columns).T.tolist()))
+
+
+def _face_rows(mesh: Mesh, prefix_count: bool, offset: int) -> list[str]:
+    """Face lines: triangles as one vectorized block, other polygons one by one."""
+    materials = mesh.face_material or [0] * len(mesh.faces)
+    if mesh.faces and all(len(f) == 3 for f in mesh.faces):
+        tri = np.asarray(mesh.faces) + offset
+        if prefix_count:
+            return _rows("3 {} {} {} {}", np.column_stack([tri, materials]))
+        return _rows("f {} {} {}", tri)
+    if prefix_count:
+        return [" ".join(map(str, [len(f), *(i + offset for i in f), m])) for f, m in zip(mesh.faces, materials)]
+    return ["f " + " ".join(str(i + offset) for i in f) for f in mesh.faces]
+
+
 def format_obt(mesh: Mesh) -> str:
     """The ``.OBT`` text of ``mesh`` (written y-up, as FLEX3D did)."""
-    verts = zup_to_yup(mesh.vertices)
     c = zup_to_yup(mesh.center)
-    out = [f"$OBJETO {mesh.name} {c[0]:.6f} {c[1]:.6f} {c[2]:.6f} {mesh.radius:.6f}", f"$VERTICES {len(verts)}"]
-    out += [f"{x:.6f} {y:.6f} {z:.6f}" for x, y, z in verts]
+    out = [f"$OBJETO {mesh.name} {c[0]:.6f} {c[1]:.6f} {c[2]:.6f} {mesh.radius:.6f}", f"$VERTICES {len(mesh.vertices)}"]
+    out += _rows("{:.6f} {:.6f} {:.6f}", zup_to_yup(mesh.vertices))
     out.append(f"$FACES {len(mesh.faces)}")
-    materials = mesh.face_material or [0] * len(mesh.faces)
-    out += [" ".join(map(str, [len(f), *f, m])) for f, m in zip(mesh.faces, materials)]
+    out += _face_rows(mesh, prefix_count=True, offset=0)
     out.append("$DESCRICAO")
     out += [f"#{k} " + " ".join(f"{v:g}" for v in values) for k, values in sorted(mesh.materials.items())]
     out.append("$END_OBJ")
@@ -144,6 +160,6 @@ def write_obt(mesh: Mesh, path: str | Path) -> None:
 
 def write_obj(mesh: Mesh, path: str | Path) -> None:
     """Wavefront OBJ of ``mesh`` in the z-up world (1-based indices)."""
-    lines = [f"o {mesh.name}"] + [f"v {x:.6f} {y:.6f} {z:.6f}" for x, y, z in mesh.vertices]
-    lines += ["f " + " ".join(str(i + 1) for i in f) for f in mesh.faces]
+    lines = [f"o {mesh.name}"] + _rows("v {:.6f} {:.6f} {:.6f}", mesh.vertices)
+    lines += _face_rows(mesh, prefix_count=False, offset=1)
     Path(path).write_text("\n".join(lines) + "\n", encoding="utf-8")
