@@ -53,6 +53,7 @@ OPTION_VALUES = {
     "palette-angle-nan": ["palette", "humanoid", "--angle", "nan", "-o", "{tmp}/p.png"],
     "animate-seconds-nan": ["animate", "humanoid", "--mix", "2:1", "--seconds", "nan", "--bvh", "{tmp}/a.bvh"],
     "cloth-time-step-negative": ["cloth", "run", "curtain", "-o", "{tmp}/out", "--time-step", "-1"],
+    "cloth-floor-nan": ["cloth", "run", "curtain", "-o", "{tmp}/out", "--floor", "nan"],
     "cloth-duration-nan": ["cloth", "run", "curtain", "-o", "{tmp}/out", "--duration", "nan"],
     "cloth-restitution-nan": ["cloth", "run", "curtain", "-o", "{tmp}/out", "--restitution", "nan"],
 }

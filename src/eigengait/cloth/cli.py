@@ -87,6 +87,7 @@ def run(script: str = typer.Argument(..., help="a .PAR file or a shipped example
         h = time_step or parsed.time_step
         step_field = f"line {parsed.lines.get('DELTA_T', '?')}: DELTA_t" if time_step is None else "--time-step"
         total = duration or parsed.duration
+        check_range(floor, "--floor", -1e6, 1e6, "m")
         floor = floor if floor is not None else parsed.floor
         frames = frame_steps(h, total, parsed.frames_per_second, str(path), step_field)
         shots = None if no_render else video_steps(h, total, video_fps)
