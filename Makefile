@@ -19,6 +19,8 @@ demo: $(STAMP)
 	$(VENV)/bin/eigengait demo --output $(OUT)
 
 test: $(STAMP)
+	$(PY) -m ruff check .
+	$(PY) -m ruff format --check .
 	$(PY) -m pytest -n 2 --dist loadfile -m "not browser"
 	$(PY) -m pytest -m browser
 

@@ -4,7 +4,8 @@
    (plot: docs/images/balance_tradeoff.png).
 2. Push recovery: a 0.1 s sideways push on the torso at t = 0.5 s; the largest force survived per robustness.
 3. The ankleless humanoid with the same controller, for comparison.
-Character: the walker (the humanoid with ankles). Prints Markdown tables. Run: .venv/bin/python benchmarks/bench_balance.py
+Character: the walker (the humanoid with ankles). Prints Markdown tables.
+Run: .venv/bin/python benchmarks/bench_balance.py
 (`... bench_balance.py tradeoff` runs part 1 and redraws the plot only).
 """
 
@@ -41,31 +42,44 @@ def load(character: str):
 
 def tradeoff(world, reference) -> None:
     """Part 1: tracking error and artificial torque per robustness, as a table and docs/images/balance_tradeoff.png."""
-    print("| robustness | tracked (s) | fell | joint RMS (deg) | COM error (m) | artificial torque mean (N·m) | "
-          "wall time (s) |\n|---:|---:|---|---:|---:|---:|---:|")
+    print(
+        "| robustness | tracked (s) | fell | joint RMS (deg) | COM error (m) | artificial torque mean (N·m) | "
+        "wall time (s) |\n|---:|---:|---|---:|---:|---:|---:|"
+    )
     rows = []
     for r in ROBUSTNESS:
         start = time.perf_counter()
         res = track(world, reference, r)
         wall = time.perf_counter() - start
         rows.append(res)
-        print(f"| {r} | {res.duration_s:.2f} | {res.fell} | {res.joint_rms_deg:.1f} | {res.com_error_m:.3f} | "
-              f"{res.artificial_torque:.1f} | {wall:.2f} |", flush=True)
+        print(
+            f"| {r} | {res.duration_s:.2f} | {res.fell} | {res.joint_rms_deg:.1f} | {res.com_error_m:.3f} | "
+            f"{res.artificial_torque:.1f} | {wall:.2f} |",
+            flush=True,
+        )
     plot_tradeoff(rows, reference.duration)
 
 
 def plot_tradeoff(rows, clip_s: float) -> None:
     """Three panels against robustness: joint RMS error, COM error, mean artificial torque; falls marked."""
     fig, axes = plt.subplots(1, 3, figsize=(11, 3.6))
-    panels = (("joint RMS error (deg)", [res.joint_rms_deg for res in rows], "{:.1f}"),
-              ("COM error (m)", [res.com_error_m for res in rows], "{:.3f}"),
-              ("mean artificial torque (N·m)", [res.artificial_torque for res in rows], "{:.0f}"))
+    panels = (
+        ("joint RMS error (deg)", [res.joint_rms_deg for res in rows], "{:.1f}"),
+        ("COM error (m)", [res.com_error_m for res in rows], "{:.3f}"),
+        ("mean artificial torque (N·m)", [res.artificial_torque for res in rows], "{:.0f}"),
+    )
     for ax, (label, values, fmt) in zip(axes, panels):
         ax.plot(ROBUSTNESS, values, "o-", color="#2a6fb0")
         for k, (r, v, res) in enumerate(zip(ROBUSTNESS, values, rows)):
-            crowded = k + 1 < len(ROBUSTNESS) and ROBUSTNESS[k + 1] - r < 0.2     # label the left of a close pair
-            ax.annotate(fmt.format(v), (r, v), textcoords="offset points", xytext=(-4, 6) if crowded else (4, 6),
-                        ha="right" if crowded else "left", fontsize=8)
+            crowded = k + 1 < len(ROBUSTNESS) and ROBUSTNESS[k + 1] - r < 0.2  # label the left of a close pair
+            ax.annotate(
+                fmt.format(v),
+                (r, v),
+                textcoords="offset points",
+                xytext=(-4, 6) if crowded else (4, 6),
+                ha="right" if crowded else "left",
+                fontsize=8,
+            )
             if res.fell:
                 ax.plot(r, v, "x", color="#c0392b", ms=9)
         ax.set_ylim(0, max(values) * 1.22)
@@ -101,13 +115,18 @@ def main() -> None:
         print(f"| {r} | {'fell without push' if survived is None else survived} |", flush=True)
 
     _, plain = load("humanoid")
-    print("\n| humanoid (no ankle), robustness | tracked (s) | fell | joint RMS (deg) | COM error (m) | "
-          "artificial torque mean (N·m) |\n|---:|---:|---|---:|---:|---:|")
+    print(
+        "\n| humanoid (no ankle), robustness | tracked (s) | fell | joint RMS (deg) | COM error (m) | "
+        "artificial torque mean (N·m) |\n|---:|---:|---|---:|---:|---:|"
+    )
     humanoid_world = build_world(load_character("humanoid"))
     for r in (0.0, 0.5, 1.0):
         res = track(humanoid_world, plain, r)
-        print(f"| {r} | {res.duration_s:.2f} | {res.fell} | {res.joint_rms_deg:.1f} | {res.com_error_m:.3f} | "
-              f"{res.artificial_torque:.1f} |", flush=True)
+        print(
+            f"| {r} | {res.duration_s:.2f} | {res.fell} | {res.joint_rms_deg:.1f} | {res.com_error_m:.3f} | "
+            f"{res.artificial_torque:.1f} |",
+            flush=True,
+        )
 
 
 if __name__ == "__main__":

@@ -42,10 +42,12 @@ SPACING, MASS, K, FRICTION, H = 1.85, 0.1, 10.0, 0.5, 0.001
 def sheet_script(n: int, duration: float, time_step: float = H) -> str:
     """A .PAR script of the hanging n×n sheet, one frame per second."""
     fixed = "\n".join(f"    0 {j}" for j in range(n))
-    return (f"DURACAO = {duration}\nQUADROS_SEG = 1\nDELTA_t = {time_step}\nATRITO = {FRICTION}\n"
-            f"NUM_SUPERFICIES = 1\nSUPERFICIE sheet\n  MALHA ({n} {n})\n  DENSIDADE = {SPACING}\n"
-            f"  POSIC_NO_SRU (0 40 0)\n  VETOR_NORMAL (0 0 1)\n  MASSA = {MASS}\n  CONST_ELASTICIDADE = ({K} {K} {K})\n"
-            f"  RESTRICOES\n    PONTOS_FIXOS = {n}\n{fixed}\n  FIM_RESTRICOES\nFIM_SUPERFICIE\n")
+    return (
+        f"DURACAO = {duration}\nQUADROS_SEG = 1\nDELTA_t = {time_step}\nATRITO = {FRICTION}\n"
+        f"NUM_SUPERFICIES = 1\nSUPERFICIE sheet\n  MALHA ({n} {n})\n  DENSIDADE = {SPACING}\n"
+        f"  POSIC_NO_SRU (0 40 0)\n  VETOR_NORMAL (0 0 1)\n  MASSA = {MASS}\n  CONST_ELASTICIDADE = ({K} {K} {K})\n"
+        f"  RESTRICOES\n    PONTOS_FIXOS = {n}\n{fixed}\n  FIM_RESTRICOES\nFIM_SUPERFICIE\n"
+    )
 
 
 def run_rate(n: int, seconds: float, *options: str, time_step: float = H) -> float:
@@ -71,8 +73,18 @@ def run_rate(n: int, seconds: float, *options: str, time_step: float = H) -> flo
 
 
 def hanging(n: int):
-    spec = SurfaceSpec("sheet", n, n, SPACING, np.zeros(3), np.array([0.0, -1.0, 0.0]), MASS, (K,) * 3, (0.0,) * 3,
-                       fixed=[(0, j) for j in range(n)])
+    spec = SurfaceSpec(
+        "sheet",
+        n,
+        n,
+        SPACING,
+        np.zeros(3),
+        np.array([0.0, -1.0, 0.0]),
+        MASS,
+        (K,) * 3,
+        (0.0,) * 3,
+        fixed=[(0, j) for j in range(n)],
+    )
     return surface_model([spec], gravity=(0, 0, -9.81), friction=FRICTION)
 
 
@@ -88,8 +100,12 @@ def numpy_rate(n: int, budget: float = 1.0) -> float:
         d = x[j] - x[i]
         length = np.linalg.norm(d, axis=1)
         f = (K * (length - rest) / length)[:, None] * d
-        force = np.stack([np.bincount(i, f[:, c], model.size) - np.bincount(j, f[:, c], model.size)
-                          for c in range(3)], axis=1) + gravity
+        force = (
+            np.stack(
+                [np.bincount(i, f[:, c], model.size) - np.bincount(j, f[:, c], model.size) for c in range(3)], axis=1
+            )
+            + gravity
+        )
         speed = np.linalg.norm(v, axis=1)
         drag = np.minimum(FRICTION * np.linalg.norm(force, axis=1), MASS * speed / H) / np.maximum(speed, 1e-300)
         x = x + H * v * free
@@ -125,9 +141,15 @@ def mujoco_rate(n: int, budget: float = 1.0) -> float | None:
 
 
 if wp is not None:
+
     @wp.kernel
-    def _warp_springs(x: wp.array(dtype=wp.vec3), pairs: wp.array(dtype=wp.int32, ndim=2),
-                      rest: wp.array(dtype=float), k: float, force: wp.array(dtype=wp.vec3)):
+    def _warp_springs(
+        x: wp.array(dtype=wp.vec3),
+        pairs: wp.array(dtype=wp.int32, ndim=2),
+        rest: wp.array(dtype=float),
+        k: float,
+        force: wp.array(dtype=wp.vec3),
+    ):
         s = wp.tid()
         a = pairs[s, 0]
         b = pairs[s, 1]
@@ -138,8 +160,16 @@ if wp is not None:
         wp.atomic_sub(force, b, f)
 
     @wp.kernel
-    def _warp_euler(x: wp.array(dtype=wp.vec3), v: wp.array(dtype=wp.vec3), force: wp.array(dtype=wp.vec3),
-                    fixed: wp.array(dtype=wp.int32), mass: float, gravity: wp.vec3, friction: float, h: float):
+    def _warp_euler(
+        x: wp.array(dtype=wp.vec3),
+        v: wp.array(dtype=wp.vec3),
+        force: wp.array(dtype=wp.vec3),
+        fixed: wp.array(dtype=wp.int32),
+        mass: float,
+        gravity: wp.vec3,
+        friction: float,
+        h: float,
+    ):
         i = wp.tid()
         f = force[i] + gravity * mass
         force[i] = wp.vec3(0.0, 0.0, 0.0)
@@ -195,10 +225,14 @@ def main() -> None:
     args = parser.parse_args()
     import mujoco
 
-    print(f"mujoco {mujoco.__version__}, warp {wp.__version__ if wp else 'not installed'}; steps per CPU second, "
-          f"best of {args.rounds}")
-    print(f"{'grid':>8} {'run':>9} {'run-noSL':>9} {'implicit':>9} {'numpy':>9} {'mujoco':>9} {'warp':>9} "
-          f"{'run/numpy':>10} {'run/mj':>7} {'run/warp':>9} {'noSL/numpy':>11} {'noSL/warp':>10}")
+    print(
+        f"mujoco {mujoco.__version__}, warp {wp.__version__ if wp else 'not installed'}; steps per CPU second, "
+        f"best of {args.rounds}"
+    )
+    print(
+        f"{'grid':>8} {'run':>9} {'run-noSL':>9} {'implicit':>9} {'numpy':>9} {'mujoco':>9} {'warp':>9} "
+        f"{'run/numpy':>10} {'run/mj':>7} {'run/warp':>9} {'noSL/numpy':>11} {'noSL/warp':>10}"
+    )
     for n in args.sizes:
         contenders = {
             "run": lambda: run_rate(n, args.seconds),
@@ -218,9 +252,12 @@ def main() -> None:
         def ratio(a, b, width):
             return f"{a / b:{width}.2f}" if b else f"{'n/a':>{width}}"
 
-        print(f"{n:>4}x{n:<3} {run:9.0f} {run_free:9.0f} {implicit:9.1f} {numpy:9.0f} {_cell(mj)} {_cell(warp)} "
-              f"{ratio(run, numpy, 10)} {ratio(run, mj, 7)} {ratio(run, warp, 9)} {ratio(run_free, numpy, 11)} "
-              f"{ratio(run_free, warp, 10)}", flush=True)
+        print(
+            f"{n:>4}x{n:<3} {run:9.0f} {run_free:9.0f} {implicit:9.1f} {numpy:9.0f} {_cell(mj)} {_cell(warp)} "
+            f"{ratio(run, numpy, 10)} {ratio(run, mj, 7)} {ratio(run, warp, 9)} {ratio(run_free, numpy, 11)} "
+            f"{ratio(run_free, warp, 10)}",
+            flush=True,
+        )
 
 
 if __name__ == "__main__":

@@ -38,21 +38,32 @@ def main() -> None:
     sketch = load_sketch(resolve("sketch", args.sketch))
     settings = MomSettings(seed=args.seed, inner_generations=100, cycle_tolerance=sketch.targets.cycle_tolerance)
     with tempfile.TemporaryDirectory() as tmp:
-        first = optimize(open_loop_sketch(sketch), Path(tmp) / "open-loop",
-                         MomSettings(**{**settings.__dict__, "max_seconds": args.stage1_minutes * 60}),
-                         progress=False)
-        print(f"{args.sketch}, seed {args.seed}: stage 1 {first.elapsed:.0f} s, {first.evaluations} evaluations, "
-              f"violation {first.best.violation:.3f}; stage 2 {args.minutes:g} min per setting")
-        print("| feedback | gains | best violation | cyclic after | cycles survived (of 20) | pushes survived "
-              "(of 5) | speed (m/s) |")
+        first = optimize(
+            open_loop_sketch(sketch),
+            Path(tmp) / "open-loop",
+            MomSettings(**{**settings.__dict__, "max_seconds": args.stage1_minutes * 60}),
+            progress=False,
+        )
+        print(
+            f"{args.sketch}, seed {args.seed}: stage 1 {first.elapsed:.0f} s, {first.evaluations} evaluations, "
+            f"violation {first.best.violation:.3f}; stage 2 {args.minutes:g} min per setting"
+        )
+        print(
+            "| feedback | gains | best violation | cyclic after | cycles survived (of 20) | pushes survived "
+            "(of 5) | speed (m/s) |"
+        )
         print("|---|---:|---:|---:|---:|---:|---:|")
         for name in args.only:
             variant = sketch.model_copy(deep=True)
             variant.feedback.mechanisms = SETTINGS[name]
             folder = Path(tmp) / name.replace(" ", "")
-            state = closed_loop_stage(variant, folder, MomSettings(**{**settings.__dict__,
-                                                                      "max_seconds": args.minutes * 60}),
-                                      first, progress=False)
+            state = closed_loop_stage(
+                variant,
+                folder,
+                MomSettings(**{**settings.__dict__, "max_seconds": args.minutes * 60}),
+                first,
+                progress=False,
+            )
             rows = list(csv.DictReader(open(folder / "log.csv")))
             controller = load_controller(folder / "best_controller.json")
             system = system_for(controller)
@@ -62,8 +73,11 @@ def main() -> None:
             hit = next((r for r in rows if float(r["best_violation"]) < sketch.targets.cycle_tolerance), None)
             cyclic = f"{float(hit['seconds']):.0f} s" if hit else "not reached"
             gains = len(state.x_start) - len(first.x_start)
-            print(f"| {name} | {gains} | {state.best.violation:.3f} | {cyclic} | {result.cycles_completed} | "
-                  f"{sum(pushes)} | {result.mean_speed_mps:.2f} |", flush=True)
+            print(
+                f"| {name} | {gains} | {state.best.violation:.3f} | {cyclic} | {result.cycles_completed} | "
+                f"{sum(pushes)} | {result.mean_speed_mps:.2f} |",
+                flush=True,
+            )
 
 
 if __name__ == "__main__":

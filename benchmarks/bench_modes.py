@@ -21,8 +21,9 @@ def main() -> None:
     print(f"python start-up: {python:.2f} s (baseline)")
     for name in builtin_names():
         for phase in ("air", "ground"):
-            t = min(timed([sys.executable, "-m", "eigengait", "modes", name, "--phase", phase, "--json"])
-                    for _ in range(3))
+            t = min(
+                timed([sys.executable, "-m", "eigengait", "modes", name, "--phase", phase, "--json"]) for _ in range(3)
+            )
             print(f"eigengait modes {name:9s} --phase {phase:6s} --json: {t:.2f} s  ({t / python:.1f}× start-up)")
 
 

@@ -36,8 +36,7 @@ def main() -> None:
     args = parser.parse_args()
     sketch = load_sketch(resolve("sketch", "basic-run"))
     problem = Problem.from_sketch(sketch)
-    evaluator = BatchEvaluator(problem.system, problem.space, sketch.targets,
-                               cycles=sketch.feedback.horizon_cycles)
+    evaluator = BatchEvaluator(problem.system, problem.space, sketch.targets, cycles=sketch.feedback.horizon_cycles)
     X = np.tile(problem.space.initial(), (4 + int(3 * np.log(problem.space.size)), 1))
     start = time.perf_counter()
     evaluator.evaluate(X)
@@ -45,14 +44,23 @@ def main() -> None:
     print(f"one population of {len(X)} candidates: {unit:.3f} s (baseline unit)")
     with tempfile.TemporaryDirectory() as tmp:
         folder = Path(tmp) / "run"
-        state = optimize_gait(sketch, folder, MomSettings(seed=args.seed, max_seconds=args.minutes * 60,
-                                                          inner_generations=100, cycle_tolerance=args.tolerance),
-                              progress=False)
-        stages = {"open loop, 1 cycle": list(csv.DictReader(open(folder / STAGE_ONE / "log.csv"))),
-                  f"closed loop, {sketch.feedback.horizon_cycles} cycles": list(csv.DictReader(open(folder / "log.csv")))}
+        state = optimize_gait(
+            sketch,
+            folder,
+            MomSettings(
+                seed=args.seed, max_seconds=args.minutes * 60, inner_generations=100, cycle_tolerance=args.tolerance
+            ),
+            progress=False,
+        )
+        stages = {
+            "open loop, 1 cycle": list(csv.DictReader(open(folder / STAGE_ONE / "log.csv"))),
+            f"closed loop, {sketch.feedback.horizon_cycles} cycles": list(csv.DictReader(open(folder / "log.csv"))),
+        }
         controller = load_controller(folder / "best_controller.json")
-    print(f"stopped: {state.finished} after {state.elapsed:.0f} s, {state.evaluations} evaluations, "
-          f"best violation {state.best.violation:.3f}, speed {state.best.mean_velocity[0]:.2f} m/s")
+    print(
+        f"stopped: {state.finished} after {state.elapsed:.0f} s, {state.evaluations} evaluations, "
+        f"best violation {state.best.violation:.3f}, speed {state.best.mean_velocity[0]:.2f} m/s"
+    )
     offset = 0.0
     for name, rows in stages.items():
         print(f"stage: {name}")
@@ -60,8 +68,10 @@ def main() -> None:
             hit = next((r for r in rows if float(r["best_violation"]) < tol), None)
             if hit:
                 s = offset + float(hit["seconds"])
-                print(f"  violation < {tol:<4}: {s:6.0f} s from the sketch ({s / unit:6.0f} population units), "
-                      f"{hit['evaluations']} evaluations in the stage")
+                print(
+                    f"  violation < {tol:<4}: {s:6.0f} s from the sketch ({s / unit:6.0f} population units), "
+                    f"{hit['evaluations']} evaluations in the stage"
+                )
             else:
                 print(f"  violation < {tol:<4}: not reached")
         offset += float(rows[-1]["seconds"]) if rows else 0.0

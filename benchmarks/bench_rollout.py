@@ -43,11 +43,14 @@ def main() -> None:
     popsize = 4 + int(3 * np.log(problem.space.size))
     X = np.clip(problem.space.initial() + 0.05 * rng.normal(size=(popsize * 4, problem.space.size)), 0, 1)
     raw = raw_steps_per_second(problem, X)
-    print(f"humanoid basic-run, population {popsize}, {len(X)} candidates, step {problem.system.world.model.opt.timestep} s")
+    print(
+        f"humanoid basic-run, population {popsize}, {len(X)} candidates, "
+        f"step {problem.system.world.model.opt.timestep} s"
+    )
     print(f"raw single-thread mj_step(nstep=…): {raw:10.0f} steps/s (baseline)")
     for threads in sorted({1, 2, default_threads()}):
         evaluator = BatchEvaluator(problem.system, problem.space, problem.sketch.targets, threads=threads)
-        evaluator.evaluate(X[:popsize])                       # warm-up
+        evaluator.evaluate(X[:popsize])  # warm-up
         evaluator.steps_simulated = 0
         start = time.perf_counter()
         for batch in np.array_split(X, 4):

@@ -15,8 +15,14 @@ from eigengait.character import load_character
 from eigengait.modal import compute_modes
 
 MODELS = Path(__file__).resolve().parents[2] / "shared" / "data" / "models" / "dm_control"
-FILES = ["suite/humanoid.xml", "suite/humanoid_CMU.xml", "suite/quadruped.xml", "suite/walker.xml",
-         "suite/cheetah.xml", "locomotion/humanoid_CMU_V2020.xml"]
+FILES = [
+    "suite/humanoid.xml",
+    "suite/humanoid_CMU.xml",
+    "suite/quadruped.xml",
+    "suite/walker.xml",
+    "suite/cheetah.xml",
+    "locomotion/humanoid_CMU_V2020.xml",
+]
 
 
 def best_of(n: int, job) -> tuple[float, object]:
@@ -37,9 +43,11 @@ def main() -> None:
         t_modes, air = best_of(3, lambda: compute_modes(character))
         ground = compute_modes(character, "ground")
         root = "planar" if character.root_joints else ("free (added)" if character.scene.added_free_joint else "free")
-        print(f"| `{name}` | {root} | {character.internal_dofs} | {len(character.feet)} | "
-              f"{', '.join(f'{f:.2f}' for f in air.frequencies_hz[:3])} | "
-              f"{', '.join(f'{f:.2f}' for f in ground.frequencies_hz[:3])} | {t_load:.2f} | {t_modes:.2f} |")
+        print(
+            f"| `{name}` | {root} | {character.internal_dofs} | {len(character.feet)} | "
+            f"{', '.join(f'{f:.2f}' for f in air.frequencies_hz[:3])} | "
+            f"{', '.join(f'{f:.2f}' for f in ground.frequencies_hz[:3])} | {t_load:.2f} | {t_modes:.2f} |"
+        )
 
 
 if __name__ == "__main__":

@@ -24,5 +24,5 @@ for note in character.scene.notes:
     print("note:", note)
 modes = compute_modes(character, "air")
 print(f"{modes.character}: {modes.dofs} internal DOF, {modes.rigid_modes} rigid-body modes dropped")
-for i, f in enumerate(modes.frequencies_hz[:args.count], start=1):
+for i, f in enumerate(modes.frequencies_hz[: args.count], start=1):
     print(f"mode {i:2d}: {f:8.3f} Hz")

@@ -25,7 +25,7 @@ from eigengait.render.contacts import contact_diagram, foot_contacts  # noqa: E4
 from eigengait.render.video import CameraView, iter_frames  # noqa: E402
 
 FRAMES = 8
-TILE = (240, 260)                     # width, height in pixels
+TILE = (240, 260)  # width, height in pixels
 VIEW = CameraView(azimuth_deg=100.0, elevation_deg=-27.0, fill=0.85, follow=False)
 OUT = Path(__file__).resolve().parents[1] / "docs" / "images"
 
@@ -36,23 +36,37 @@ def strip(name: str, folder: Path) -> Path:
     result = play(system, to_parameters(controller, system), cycles=2)
     world, period = system.world, controller.period
     times = np.arange(len(result.qpos)) / result.fps
-    picks = period + np.arange(FRAMES) * period / FRAMES                      # the second cycle
+    picks = period + np.arange(FRAMES) * period / FRAMES  # the second cycle
     poses = resample(world.model, result.qpos, times, picks)
     tiles = list(iter_frames(world, poses, *TILE, VIEW, times=picks))
 
-    width, title, chart = FRAMES * TILE[0], 34, 250                          # pixels
+    width, title, chart = FRAMES * TILE[0], 34, 250  # pixels
     height = title + TILE[1] + chart
     fig = plt.figure(figsize=(width / 100, height / 100), dpi=100)
     fell = f" — FELL at t = {times[-1]:.2f} s (tiles after it repeat the last pose)" if result.fell else ""
-    fig.text(0.005, 1 - 17 / height, f"{name}: its second cycle ({period:.3f} s) from a fixed side camera, "
-             f"and the feet on the ground over two cycles{fell}", fontsize=13, weight="bold", va="center",
-             color="#c0392b" if fell else "black")
+    fig.text(
+        0.005,
+        1 - 17 / height,
+        f"{name}: its second cycle ({period:.3f} s) from a fixed side camera, "
+        f"and the feet on the ground over two cycles{fell}",
+        fontsize=13,
+        weight="bold",
+        va="center",
+        color="#c0392b" if fell else "black",
+    )
     top = fig.add_axes((0, (chart) / height, 1, TILE[1] / height))
     top.imshow(np.concatenate(tiles, axis=1), interpolation="nearest")
     top.set_axis_off()
     for k in range(FRAMES):
-        top.text((k + 0.5) * TILE[0], TILE[1] - 8, f"phase {k / FRAMES:.3g}", ha="center", va="bottom",
-                 fontsize=11, bbox={"facecolor": "white", "edgecolor": "none", "alpha": 0.8})
+        top.text(
+            (k + 0.5) * TILE[0],
+            TILE[1] - 8,
+            f"phase {k / FRAMES:.3g}",
+            ha="center",
+            va="bottom",
+            fontsize=11,
+            bbox={"facecolor": "white", "edgecolor": "none", "alpha": 0.8},
+        )
         if k:
             top.axvline(k * TILE[0] - 0.5, color="white", lw=2)
     diagram = fig.add_axes((0.07, 45 / height, 0.91, (chart - 120) / height))

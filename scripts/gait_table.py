@@ -20,14 +20,22 @@ def _phase_gap(a: float, b: float) -> float:
 
 def targets(name: str, m: dict, pushes: list[bool]) -> dict[str, bool]:
     tilt = max(abs(v) for v in m["torso_pitch_deg"] + m["torso_roll_deg"])
-    out = {"20 cycles": m["cycles_completed"] == 20 and not m["fell"],
-           "jump ≤ 15°": (m["max_frame_jump_deg"] or 0) <= 15, "root jump ≤ 6 cm": (m["max_root_jump_m"] or 0) <= 0.06,
-           "slip ≤ 3 cm": m["stance_slip_max_m"] is not None and m["stance_slip_max_m"] <= 0.03,
-           "tilt ≤ 30°": tilt <= 30}
+    out = {
+        "20 cycles": m["cycles_completed"] == 20 and not m["fell"],
+        "jump ≤ 15°": (m["max_frame_jump_deg"] or 0) <= 15,
+        "root jump ≤ 6 cm": (m["max_root_jump_m"] or 0) <= 0.06,
+        "slip ≤ 3 cm": m["stance_slip_max_m"] is not None and m["stance_slip_max_m"] <= 0.03,
+        "tilt ≤ 30°": tilt <= 30,
+    }
     speed, flight = m["mean_speed_mps"], m["flight_fraction"]
     if name == "humanoid-basic-run":
-        out.update({"speed ≥ 1.2": speed >= 1.2, "flight ≥ 0.10": flight >= 0.10,
-                    "cadence 140–200": m["cadence_spm"] is not None and 140 <= m["cadence_spm"] <= 200})
+        out.update(
+            {
+                "speed ≥ 1.2": speed >= 1.2,
+                "flight ≥ 0.10": flight >= 0.10,
+                "cadence 140–200": m["cadence_spm"] is not None and 140 <= m["cadence_spm"] <= 200,
+            }
+        )
     elif name == "monster-run":
         out.update({"speed ≥ 1.2": speed >= 1.2, "flight > 0": flight > 0})
     elif name == "kangaroo-hop":
@@ -35,19 +43,25 @@ def targets(name: str, m: dict, pushes: list[bool]) -> dict[str, bool]:
     elif name == "dog-trot":
         f = m["footfall"]
         known = None not in f.values()
-        out.update({"speed ≥ 0.5": speed >= 0.5,
-                    "diagonal pairs together": known and _phase_gap(f["front_left"], f["rear_right"]) <= 0.1
-                    and _phase_gap(f["front_right"], f["rear_left"]) <= 0.1,
-                    "pairs half a cycle apart": known and abs(_phase_gap(f["front_left"], f["front_right"]) - 0.5)
-                    <= 0.15})
+        out.update(
+            {
+                "speed ≥ 0.5": speed >= 0.5,
+                "diagonal pairs together": known
+                and _phase_gap(f["front_left"], f["rear_right"]) <= 0.1
+                and _phase_gap(f["front_right"], f["rear_left"]) <= 0.1,
+                "pairs half a cycle apart": known and abs(_phase_gap(f["front_left"], f["front_right"]) - 0.5) <= 0.15,
+            }
+        )
     if name in ("humanoid-basic-run", "dog-trot"):
         out["pushes ≥ 4/5"] = sum(pushes) >= 4
     return out
 
 
 def main() -> None:
-    print("| gait | cycles | speed (m/s) | cadence (steps/min) | flight | stance slip (m) | pitch (°) | roll (°) | "
-          "max jump (°) | pushes (of 5) | targets met |")
+    print(
+        "| gait | cycles | speed (m/s) | cadence (steps/min) | flight | stance slip (m) | pitch (°) | roll (°) | "
+        "max jump (°) | pushes (of 5) | targets met |"
+    )
     print("|---|---:|---:|---:|---:|---:|---|---|---:|---:|---|")
     failures = []
     for name in gait_names():
@@ -60,9 +74,11 @@ def main() -> None:
         failures += [f"{name}: {k}" for k, ok in met.items() if not ok]
         pitch = "{:.0f} … {:.0f}".format(*m["torso_pitch_deg"])
         roll = "{:.0f} … {:.0f}".format(*m["torso_roll_deg"])
-        print(f"| `{name}` | {m['cycles_completed']}{' (fell)' if m['fell'] else ''} | {m['mean_speed_mps']:.2f} | "
-              f"{m['cadence_spm']:.0f} | {m['flight_fraction']:.2f} | {m['stance_slip_max_m']} | {pitch} | {roll} | "
-              f"{m['max_frame_jump_deg']:.1f} | {sum(pushes)} | {sum(met.values())} of {len(met)} |")
+        print(
+            f"| `{name}` | {m['cycles_completed']}{' (fell)' if m['fell'] else ''} | {m['mean_speed_mps']:.2f} | "
+            f"{m['cadence_spm']:.0f} | {m['flight_fraction']:.2f} | {m['stance_slip_max_m']} | {pitch} | {roll} | "
+            f"{m['max_frame_jump_deg']:.1f} | {sum(pushes)} | {sum(met.values())} of {len(met)} |"
+        )
     print()
     for f in failures:
         print("not met:", f)

@@ -18,28 +18,46 @@ from eigengait.control.sketch import load_sketch
 from eigengait.optimize.mom import MomSettings
 from eigengait.optimize.staged import optimize_gait
 
-GAITS = {"humanoid-basic-run": "basic-run", "monster-run": "monster", "kangaroo-hop": "kangaroo",
-         "dog-trot": "dog-trot"}
+GAITS = {
+    "humanoid-basic-run": "basic-run",
+    "monster-run": "monster",
+    "kangaroo-hop": "kangaroo",
+    "dog-trot": "dog-trot",
+}
 PACKAGE = Path(__file__).resolve().parents[1] / "src" / "eigengait" / "data" / "gaits"
 
 
-def make(gait: str, evaluations: int, runs: Path, seed: int, max_outer: int, minutes: float | None,
-         horizon: int | None) -> None:
+def make(
+    gait: str, evaluations: int, runs: Path, seed: int, max_outer: int, minutes: float | None, horizon: int | None
+) -> None:
     sketch_path = resolve("sketch", GAITS[gait])
     folder = runs / gait
     resume = folder.exists()
     sketch = load_sketch(sketch_path)
     if horizon:
         sketch.feedback.horizon_cycles = horizon
-    state = optimize_gait(sketch, folder,
-                          MomSettings(seed=seed, max_evaluations=evaluations, inner_generations=100,
-                                      max_seconds=minutes * 60 if minutes else None,
-                                      max_outer=max_outer, cycle_tolerance=sketch.targets.cycle_tolerance),
-                          resume=resume, sketch_source=sketch_path)
+    state = optimize_gait(
+        sketch,
+        folder,
+        MomSettings(
+            seed=seed,
+            max_evaluations=evaluations,
+            inner_generations=100,
+            max_seconds=minutes * 60 if minutes else None,
+            max_outer=max_outer,
+            cycle_tolerance=sketch.targets.cycle_tolerance,
+        ),
+        resume=resume,
+        sketch_source=sketch_path,
+    )
     controller = load_controller(folder / "best_controller.json")
     controller.name = gait
-    controller.metrics = {"cycle_tolerance": sketch.targets.cycle_tolerance, "evaluations": state.evaluations,
-                          "optimizer_seconds": round(state.elapsed, 1), "horizon_cycles": sketch.feedback.horizon_cycles}
+    controller.metrics = {
+        "cycle_tolerance": sketch.targets.cycle_tolerance,
+        "evaluations": state.evaluations,
+        "optimizer_seconds": round(state.elapsed, 1),
+        "horizon_cycles": sketch.feedback.horizon_cycles,
+    }
     measure(controller)
 
 
@@ -49,8 +67,11 @@ def measure(controller) -> None:
     params = to_parameters(controller, system)
     free = play(system, params, cycles=20).summary()
     pushes = push_robustness(system, params)
-    kept = {k: controller.metrics[k] for k in ("cycle_tolerance", "evaluations", "optimizer_seconds",
-                                                "horizon_cycles") if k in controller.metrics}
+    kept = {
+        k: controller.metrics[k]
+        for k in ("cycle_tolerance", "evaluations", "optimizer_seconds", "horizon_cycles")
+        if k in controller.metrics
+    }
     controller.metrics = {k: v for k, v in free.items() if isinstance(v, (int, float, bool)) and v is not None}
     controller.metrics.update({**kept, "pushes_survived_of_5": sum(pushes)})
     save_controller(controller, PACKAGE / f"{controller.name}.json")
@@ -66,8 +87,7 @@ def main() -> None:
     parser.add_argument("--max-outer", type=int, default=20, help="multiplier iterations at most")
     parser.add_argument("--minutes", type=float, default=None, help="wall-clock budget per gait")
     parser.add_argument("--horizon", type=int, default=None, help="cycles per candidate (default: the sketch's)")
-    parser.add_argument("--measure-only", action="store_true",
-                        help="re-measure the shipped gaits (no optimization)")
+    parser.add_argument("--measure-only", action="store_true", help="re-measure the shipped gaits (no optimization)")
     args = parser.parse_args()
     for gait in args.gaits:
         if args.measure_only:

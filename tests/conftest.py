@@ -15,6 +15,12 @@ def eigengait_cli():
     import subprocess
 
     def run(*args, cwd=None, timeout=600):
-        return subprocess.run([sys.executable, "-m", "eigengait", *map(str, args)], capture_output=True, text=True,
-                              cwd=cwd, timeout=timeout)
+        return subprocess.run(
+            [sys.executable, "-m", "eigengait", *map(str, args)],
+            capture_output=True,
+            text=True,
+            cwd=cwd,
+            timeout=timeout,
+        )
+
     return run

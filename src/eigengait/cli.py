@@ -19,8 +19,9 @@ from eigengait import json_text
 from eigengait.errors import UserInputError
 from eigengait.outputs import keep_mujoco_log_out_of_the_folder, refuse_existing, require_suffix, write_atomically
 
-app = typer.Typer(add_completion=False, no_args_is_help=True,
-                  help="Physics-based character animation from natural vibration modes.")
+app = typer.Typer(
+    add_completion=False, no_args_is_help=True, help="Physics-based character animation from natural vibration modes."
+)
 character_app = typer.Typer(no_args_is_help=True, help="Inspect and export characters.")
 app.add_typer(character_app, name="character")
 console = Console()
@@ -36,9 +37,16 @@ def characters_command(as_json: bool = typer.Option(False, "--json", help="Print
     for name in builtin_names():
         character = load_character(name)
         world = build_world(character)
-        rows.append({"name": name, "bodies": world.model.nbody - 1, "joints": len(character.joints),
-                     "dofs": character.internal_dofs, "mass_kg": round(world.mass(), 2),
-                     "feet": list(character.feet)})
+        rows.append(
+            {
+                "name": name,
+                "bodies": world.model.nbody - 1,
+                "joints": len(character.joints),
+                "dofs": character.internal_dofs,
+                "mass_kg": round(world.mass(), 2),
+                "feet": list(character.feet),
+            }
+        )
     if as_json:
         print(json_text.dumps(rows))
         return
@@ -46,18 +54,26 @@ def characters_command(as_json: bool = typer.Option(False, "--json", help="Print
     for col in ("name", "bodies", "joints", "internal DOF", "mass (kg)", "feet"):
         table.add_column(col)
     for r in rows:
-        table.add_row(r["name"], str(r["bodies"]), str(r["joints"]), str(r["dofs"]), f"{r['mass_kg']:.1f}",
-                      ", ".join(r["feet"]) or "-")
+        table.add_row(
+            r["name"],
+            str(r["bodies"]),
+            str(r["joints"]),
+            str(r["dofs"]),
+            f"{r['mass_kg']:.1f}",
+            ", ".join(r["feet"]) or "-",
+        )
     console.print(table)
 
 
 @character_app.command("export")
-def character_export(name: str = typer.Argument(..., help="Built-in name, MJCF path or character sidecar."),
-                     output: Path = typer.Option(..., "-o", "--output", help="MJCF file to write."),
-                     relax: Optional[str] = typer.Option(None, "--relax", help="Relax pose: preset or JOINT=rx,ry,rz;..."),
-                     force: bool = typer.Option(False, "--force", help="Overwrite an existing file."),
-                     body: Optional[str] = typer.Option(None, "--body", help=BODY_HELP),
-                     stiffness: Optional[str] = typer.Option(None, "--stiffness", help=STIFFNESS_HELP)):
+def character_export(
+    name: str = typer.Argument(..., help="Built-in name, MJCF path or character sidecar."),
+    output: Path = typer.Option(..., "-o", "--output", help="MJCF file to write."),
+    relax: Optional[str] = typer.Option(None, "--relax", help="Relax pose: preset or JOINT=rx,ry,rz;..."),
+    force: bool = typer.Option(False, "--force", help="Overwrite an existing file."),
+    body: Optional[str] = typer.Option(None, "--body", help=BODY_HELP),
+    stiffness: Optional[str] = typer.Option(None, "--stiffness", help=STIFFNESS_HELP),
+):
     """Write the character's MJCF exactly as simulated (springs, motors, contact spheres, floor)."""
     from eigengait.character import load_character
     from eigengait.character.relax import parse_relax_argument
@@ -70,15 +86,17 @@ def character_export(name: str = typer.Argument(..., help="Built-in name, MJCF p
 
 
 @app.command("modes")
-def modes_command(character: str = typer.Argument(..., help="Built-in name, MJCF path or character sidecar."),
-                  phase: str = typer.Option("air", "--phase", help="air (free body) or ground (toe pinned)."),
-                  foot: Optional[str] = typer.Option(None, "--foot", help="Stance foot for the ground phase."),
-                  relax: Optional[str] = typer.Option(None, "--relax", help="Relax pose: preset or JOINT=rx,ry,rz;..."),
-                  as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
-                  save: Optional[Path] = typer.Option(None, "--save", help="Save the ModeSet (.npz)."),
-                  body: Optional[str] = typer.Option(None, "--body", help=BODY_HELP),
-                  stiffness: Optional[str] = typer.Option(None, "--stiffness", help=STIFFNESS_HELP),
-                  force: bool = typer.Option(False, "--force", help="Overwrite an existing --save file.")):
+def modes_command(
+    character: str = typer.Argument(..., help="Built-in name, MJCF path or character sidecar."),
+    phase: str = typer.Option("air", "--phase", help="air (free body) or ground (toe pinned)."),
+    foot: Optional[str] = typer.Option(None, "--foot", help="Stance foot for the ground phase."),
+    relax: Optional[str] = typer.Option(None, "--relax", help="Relax pose: preset or JOINT=rx,ry,rz;..."),
+    as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
+    save: Optional[Path] = typer.Option(None, "--save", help="Save the ModeSet (.npz)."),
+    body: Optional[str] = typer.Option(None, "--body", help=BODY_HELP),
+    stiffness: Optional[str] = typer.Option(None, "--stiffness", help=STIFFNESS_HELP),
+    force: bool = typer.Option(False, "--force", help="Overwrite an existing --save file."),
+):
     """Natural vibration modes about the relax pose. Mode 1 is the lowest non-rigid mode."""
     from eigengait.character import load_character
     from eigengait.character.relax import parse_relax_argument
@@ -129,6 +147,7 @@ _register_command_groups()
 def _is_usage_error(exc: Exception) -> bool:
     """A command-line usage error from click or from the copy of click that typer carries (a bad option value)."""
     import click
+
     carried = tuple(k for k in typer.BadParameter.__mro__ if k.__name__ == "ClickException")
     return isinstance(exc, (click.ClickException, *carried))
 
@@ -136,10 +155,10 @@ def _is_usage_error(exc: Exception) -> bool:
 def main() -> None:
     """Entry point: run the app, turning bad input into one message and exit status 2."""
     keep_mujoco_log_out_of_the_folder()
-    if sys.argv[1:3] == ["sketch", "new"]:      # `sketch new MODEL`: the starter-sketch command
+    if sys.argv[1:3] == ["sketch", "new"]:  # `sketch new MODEL`: the starter-sketch command
         sys.argv[1:3] = ["sketch-new"]
     try:
-        code = app(standalone_mode=False)   # a typer.Exit inside a command comes back as the return value
+        code = app(standalone_mode=False)  # a typer.Exit inside a command comes back as the return value
     except UserInputError as err:
         Console(stderr=True).print(f"[bold red]error:[/] {err}", highlight=False, soft_wrap=True)
         sys.exit(2)

@@ -23,10 +23,12 @@ from eigengait.motion.modal_mix import DEFAULT_MAX_ROTATION_DEG
 
 console = Console()
 
-MIX_HELP = ("Modes to mix: MODE:AMPLITUDE or MODE:AMPLITUDE@PHASE_DEGREES, comma separated, e.g. '1:0.5,3:0.3@90'. "
-            "MODE is the mode number (1 = lowest frequency); AMPLITUDE is relative to the equal-energy default "
-            "(1 = every mode the same energy, the widest mode turning a joint --angle degrees); PHASE is the "
-            "phase of the sine in degrees (default 0).")
+MIX_HELP = (
+    "Modes to mix: MODE:AMPLITUDE or MODE:AMPLITUDE@PHASE_DEGREES, comma separated, e.g. '1:0.5,3:0.3@90'. "
+    "MODE is the mode number (1 = lowest frequency); AMPLITUDE is relative to the equal-energy default "
+    "(1 = every mode the same energy, the widest mode turning a joint --angle degrees); PHASE is the "
+    "phase of the sine in degrees (default 0)."
+)
 
 
 def _world_and_modes(character: str, phase: str, foot: Optional[str], relax: Optional[str]):
@@ -40,16 +42,17 @@ def _world_and_modes(character: str, phase: str, foot: Optional[str], relax: Opt
 
 
 def palette_command(
-        character: str = typer.Argument(..., help="Built-in name or MJCF path."),
-        phase: str = typer.Option("air", "--phase", help="air (free body) or ground (stance toe pinned)."),
-        foot: Optional[str] = typer.Option(None, "--foot", help="Stance foot for the ground phase."),
-        relax: Optional[str] = typer.Option(None, "--relax", help="Relax pose: preset or JOINT=rx,ry,rz;..."),
-        output: Path = typer.Option(Path("palette.png"), "-o", "--output", help="PNG file to write."),
-        count: Optional[int] = typer.Option(None, "--modes", help="Show modes 1..N (default: all)."),
-        columns: Optional[int] = typer.Option(None, "--columns", min=1, help="Tiles per row (default: about square)."),
-        tile: int = typer.Option(240, "--tile", min=32, help="Tile size in pixels (even)."),
-        angle: float = typer.Option(DEFAULT_MAX_ROTATION_DEG, "--angle", help="Peak joint rotation shown, degrees."),
-        force: bool = typer.Option(False, "--force", help="Overwrite an existing file.")):
+    character: str = typer.Argument(..., help="Built-in name or MJCF path."),
+    phase: str = typer.Option("air", "--phase", help="air (free body) or ground (stance toe pinned)."),
+    foot: Optional[str] = typer.Option(None, "--foot", help="Stance foot for the ground phase."),
+    relax: Optional[str] = typer.Option(None, "--relax", help="Relax pose: preset or JOINT=rx,ry,rz;..."),
+    output: Path = typer.Option(Path("palette.png"), "-o", "--output", help="PNG file to write."),
+    count: Optional[int] = typer.Option(None, "--modes", help="Show modes 1..N (default: all)."),
+    columns: Optional[int] = typer.Option(None, "--columns", min=1, help="Tiles per row (default: about square)."),
+    tile: int = typer.Option(240, "--tile", min=32, help="Tile size in pixels (even)."),
+    angle: float = typer.Option(DEFAULT_MAX_ROTATION_DEG, "--angle", help="Peak joint rotation shown, degrees."),
+    force: bool = typer.Option(False, "--force", help="Overwrite an existing file."),
+):
     """Palette image: one tile per mode, its −A and +A extremes over the relax pose, with frequencies."""
     from eigengait.render.palette import write_palette
 
@@ -62,24 +65,31 @@ def palette_command(
 
 
 def animate_command(
-        character: str = typer.Argument(..., help="Built-in name or MJCF path."),
-        mix: str = typer.Option(..., "--mix", help=MIX_HELP),
-        phase: str = typer.Option("air", "--phase", help="air (free body) or ground (stance toe pinned)."),
-        foot: Optional[str] = typer.Option(None, "--foot", help="Stance foot for the ground phase."),
-        relax: Optional[str] = typer.Option(None, "--relax", help="Relax pose: preset or JOINT=rx,ry,rz;..."),
-        seconds: float = typer.Option(4.0, "--seconds", help="Duration in seconds."),
-        fps: float = typer.Option(30.0, "--fps", help="Frames per second of the video and the BVH."),
-        angle: float = typer.Option(DEFAULT_MAX_ROTATION_DEG, "--angle",
-                                    help="Joint rotation (degrees) of the widest mode at relative amplitude 1."),
-        base_hz: Optional[float] = typer.Option(None, "--base-hz",
-                                                help="Move each mode's frequency to the nearest multiple of this "
-                                                     "(Hz), so the motion loops every 1/base-hz seconds."),
-        video: Optional[Path] = typer.Option(None, "--video", help="Video to write: .mp4 (H.264) or .gif."),
-        bvh: Optional[Path] = typer.Option(None, "--bvh", help="BVH file to write (y-up; unit: --bvh-units)."),
-        bvh_units: str = BVH_UNITS_OPTION, speed: float = SPEED_OPTION, camera: str = CAMERA_OPTION,
-        width: int = typer.Option(640, "--width", help="Video width in pixels (even)."),
-        height: int = typer.Option(480, "--height", help="Video height in pixels (even)."),
-        force: bool = typer.Option(False, "--force", help="Overwrite existing files.")):
+    character: str = typer.Argument(..., help="Built-in name or MJCF path."),
+    mix: str = typer.Option(..., "--mix", help=MIX_HELP),
+    phase: str = typer.Option("air", "--phase", help="air (free body) or ground (stance toe pinned)."),
+    foot: Optional[str] = typer.Option(None, "--foot", help="Stance foot for the ground phase."),
+    relax: Optional[str] = typer.Option(None, "--relax", help="Relax pose: preset or JOINT=rx,ry,rz;..."),
+    seconds: float = typer.Option(4.0, "--seconds", help="Duration in seconds."),
+    fps: float = typer.Option(30.0, "--fps", help="Frames per second of the video and the BVH."),
+    angle: float = typer.Option(
+        DEFAULT_MAX_ROTATION_DEG, "--angle", help="Joint rotation (degrees) of the widest mode at relative amplitude 1."
+    ),
+    base_hz: Optional[float] = typer.Option(
+        None,
+        "--base-hz",
+        help="Move each mode's frequency to the nearest multiple of this "
+        "(Hz), so the motion loops every 1/base-hz seconds.",
+    ),
+    video: Optional[Path] = typer.Option(None, "--video", help="Video to write: .mp4 (H.264) or .gif."),
+    bvh: Optional[Path] = typer.Option(None, "--bvh", help="BVH file to write (y-up; unit: --bvh-units)."),
+    bvh_units: str = BVH_UNITS_OPTION,
+    speed: float = SPEED_OPTION,
+    camera: str = CAMERA_OPTION,
+    width: int = typer.Option(640, "--width", help="Video width in pixels (even)."),
+    height: int = typer.Option(480, "--height", help="Video height in pixels (even)."),
+    force: bool = typer.Option(False, "--force", help="Overwrite existing files."),
+):
     """Kinematic mode animation: x(t) = Σ A_i φ_i sin(2π f_i t + ϕ_i) about the relax pose (no physics).
 
     Example: eigengait animate humanoid --mix "2:1,11:0.5@90" --video run.mp4 --bvh run.bvh
@@ -107,16 +117,32 @@ def animate_command(
         table.add_column(col, justify="right")
     peaks = joint_rotations(world, modal_mix.shapes * modal_mix.amplitudes).max(axis=0)
     for term, f, a, peak in zip(terms, modal_mix.frequencies_hz, modal_mix.amplitudes, peaks):
-        table.add_row(str(term.mode), f"{f:.3f}", f"{term.amplitude:g}", f"{a:.4f}", f"{np.rad2deg(peak):.1f}",
-                      f"{term.phase_deg:g}")
+        table.add_row(
+            str(term.mode),
+            f"{f:.3f}",
+            f"{term.amplitude:g}",
+            f"{a:.4f}",
+            f"{np.rad2deg(peak):.1f}",
+            f"{term.phase_deg:g}",
+        )
     period = modal_mix.period()
     table.caption = f"loops every {period:.3f} s" if period else "frequencies are not commensurate: no exact loop"
     console.print(table)
 
     if video is not None:
         start = time.perf_counter()
-        frames = render_video(world, qpos, fps, video, width, height, CameraView(follow=camera == "follow"),
-                              progress=True, fps=fps, speed=speed)
+        frames = render_video(
+            world,
+            qpos,
+            fps,
+            video,
+            width,
+            height,
+            CameraView(follow=camera == "follow"),
+            progress=True,
+            fps=fps,
+            speed=speed,
+        )
         elapsed = time.perf_counter() - start
         console.print(f"wrote {video} ({frames} frames, {width}×{height}, {frames / elapsed:.1f} frames/s)")
     if bvh is not None:

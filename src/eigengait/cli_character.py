@@ -33,12 +33,16 @@ def stiffness_option():
     return typer.Option(None, "--stiffness", help=STIFFNESS_HELP)
 
 
-def inspect_command(model: str = typer.Argument(..., help="Built-in name, MJCF path or character sidecar."),
-                    body: Optional[str] = body_option(), stiffness: Optional[str] = stiffness_option(),
-                    as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
-                    output: Optional[Path] = typer.Option(None, "-o", "--output",
-                                                          help="Write an editable sidecar NAME.eigengait.yaml."),
-                    force: bool = typer.Option(False, "--force", help="Overwrite an existing sidecar.")):
+def inspect_command(
+    model: str = typer.Argument(..., help="Built-in name, MJCF path or character sidecar."),
+    body: Optional[str] = body_option(),
+    stiffness: Optional[str] = stiffness_option(),
+    as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
+    output: Optional[Path] = typer.Option(
+        None, "-o", "--output", help="Write an editable sidecar NAME.eigengait.yaml."
+    ),
+    force: bool = typer.Option(False, "--force", help="Overwrite an existing sidecar."),
+):
     """What eigengait found or guessed in a model: root, joints, stiffness, feet, mirror pairs."""
     from eigengait.character import load_character
     from eigengait.character.report import describe, sidecar_yaml
@@ -52,8 +56,10 @@ def inspect_command(model: str = typer.Argument(..., help="Built-in name, MJCF p
         print(json_text.dumps(info))
         return
     root = info["root"]
-    console.print(f"[bold]{info['character']}[/] — {info['internal_dofs']} internal DOF; root '{root['body']}' "
-                  f"({root['kind']}{': ' + ', '.join(root['joints']) if root['joints'] else ''})")
+    console.print(
+        f"[bold]{info['character']}[/] — {info['internal_dofs']} internal DOF; root '{root['body']}' "
+        f"({root['kind']}{': ' + ', '.join(root['joints']) if root['joints'] else ''})"
+    )
     for note in info["notes"]:
         console.print(f"note: {note}")
     table = Table(title="joints")
@@ -69,10 +75,13 @@ def inspect_command(model: str = typer.Argument(..., help="Built-in name, MJCF p
         console.print(f"wrote {output}")
 
 
-def sketch_new_command(model: str = typer.Argument(..., help="Built-in name, MJCF path or character sidecar."),
-                       output: Path = typer.Option(..., "-o", "--output", help="Sketch file to write (.yaml)."),
-                       body: Optional[str] = body_option(), stiffness: Optional[str] = stiffness_option(),
-                       force: bool = typer.Option(False, "--force", help="Overwrite existing files.")):
+def sketch_new_command(
+    model: str = typer.Argument(..., help="Built-in name, MJCF path or character sidecar."),
+    output: Path = typer.Option(..., "-o", "--output", help="Sketch file to write (.yaml)."),
+    body: Optional[str] = body_option(),
+    stiffness: Optional[str] = stiffness_option(),
+    force: bool = typer.Option(False, "--force", help="Overwrite existing files."),
+):
     """Write a starter sketch; for a user's MJCF (or a sidecar with --body/--stiffness), also a character sidecar
     `NAME.eigengait.yaml` beside it that the sketch refers to."""
     from eigengait.character import builtin_names, load_character

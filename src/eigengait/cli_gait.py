@@ -11,25 +11,35 @@ import typer
 from rich.console import Console
 from rich.table import Table
 
-from eigengait.cli_media import (BVH_UNITS_OPTION, CAMERA_OPTION, FPS_OPTION, SPEED_OPTION, MediaOptions,
-                                 status_console, write_media)
+from eigengait.cli_media import (
+    BVH_UNITS_OPTION,
+    CAMERA_OPTION,
+    FPS_OPTION,
+    SPEED_OPTION,
+    MediaOptions,
+    status_console,
+    write_media,
+)
 from eigengait import json_text
 from eigengait.inputs import check_range
 from eigengait.errors import UserInputError
 from eigengait.outputs import check_folder, refuse_existing, write_atomically
 
 console = Console()
-DEMO_KINEMATIC_MIX = "2:1.4,15:0.8@90"   # stride + both knees a quarter period later (Kry et al. 2009 style)
-DEMO_KINEMATIC_BASE_HZ = 0.9           # snap both frequencies to multiples of 0.9 Hz so the clip loops
+DEMO_KINEMATIC_MIX = "2:1.4,15:0.8@90"  # stride + both knees a quarter period later (Kry et al. 2009 style)
+DEMO_KINEMATIC_BASE_HZ = 0.9  # snap both frequencies to multiples of 0.9 Hz so the clip loops
 
 
 def sketch_command(
-        sketch: str = typer.Argument(..., help="Sketch file (.yaml/.json) or a shipped preset name."),
-        seconds: float = typer.Option(4.0, "--seconds", help="Simulated time (s)."),
-        video: Optional[Path] = typer.Option(None, "--video", help="Write a video (.mp4/.gif)."),
-        fps: float = FPS_OPTION, speed: float = SPEED_OPTION, camera: str = CAMERA_OPTION,
-        force: bool = typer.Option(False, "--force", help="Overwrite an existing video."),
-        as_json: bool = typer.Option(False, "--json", help="Print one JSON object.")):
+    sketch: str = typer.Argument(..., help="Sketch file (.yaml/.json) or a shipped preset name."),
+    seconds: float = typer.Option(4.0, "--seconds", help="Simulated time (s)."),
+    video: Optional[Path] = typer.Option(None, "--video", help="Write a video (.mp4/.gif)."),
+    fps: float = FPS_OPTION,
+    speed: float = SPEED_OPTION,
+    camera: str = CAMERA_OPTION,
+    force: bool = typer.Option(False, "--force", help="Overwrite an existing video."),
+    as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
+):
     """Simulate a sketch with gravity off, as the animator sees it while editing."""
     from eigengait.control.library import resolve
     from eigengait.control.sketch import load_sketch
@@ -41,64 +51,88 @@ def sketch_command(
     refuse_existing([video], force)
     path = resolve("sketch", sketch)
     result = simulate_sketch(load_sketch(path), seconds, source=path)
-    summary = {"sketch": str(path), "simulated_s": seconds, "wall_s": round(result.wall_seconds, 3),
-               "realtime_factor": round(seconds / max(result.wall_seconds, 1e-9), 1),
-               "max_joint_rotation_deg": round(result.max_joint_rotation_deg, 2)}
+    summary = {
+        "sketch": str(path),
+        "simulated_s": seconds,
+        "wall_s": round(result.wall_seconds, 3),
+        "realtime_factor": round(seconds / max(result.wall_seconds, 1e-9), 1),
+        "max_joint_rotation_deg": round(result.max_joint_rotation_deg, 2),
+    }
     if as_json:
         print(json_text.dumps(summary))
     else:
-        console.print(f"simulated {seconds:.1f} s of '{path.name}' with gravity off in {result.wall_seconds:.2f} s "
-                      f"({summary['realtime_factor']}× real time); largest joint rotation "
-                      f"{summary['max_joint_rotation_deg']}°")
+        console.print(
+            f"simulated {seconds:.1f} s of '{path.name}' with gravity off in {result.wall_seconds:.2f} s "
+            f"({summary['realtime_factor']}× real time); largest joint rotation "
+            f"{summary['max_joint_rotation_deg']}°"
+        )
     write_media(result.world, result.qpos, result.fps, media, status_console(as_json))
 
 
 def optimize_command(
-        sketch: str = typer.Argument(..., help="Sketch file or shipped preset name."),
-        output: Path = typer.Option(..., "-o", "--output", help="Run folder."),
-        seed: Optional[int] = typer.Option(None, "--seed", help="Random seed (default 1; a resumed run keeps "
-                                                                 "its own)."),
-        evaluations: Optional[int] = typer.Option(None, "--max-evaluations", help="Total simulation budget."),
-        minutes: Optional[float] = typer.Option(None, "--max-minutes", help="Wall-clock budget (min)."),
-        generations: int = typer.Option(1000, "--inner-generations", help="Cap per inner CMA-ES run."),
-        max_outer: int = typer.Option(20, "--max-outer", help="Cap on multiplier iterations."),
-        tolerance: Optional[float] = typer.Option(None, "--cycle-tolerance",
-                                                  help="max|φᵢ| accepted as cyclic (default: the sketch's)."),
-        popsize: Optional[int] = typer.Option(None, "--popsize"),
-        method: str = typer.Option("mom", "--method", help="mom (thesis's method of multipliers) | al (pycma's "
-                                                            "adaptive augmented Lagrangian)"),
-        evaluator: str = typer.Option("threads", "--evaluator", help="threads | processes | ray"),
-        workers: Optional[int] = typer.Option(None, "--workers", help="Threads/processes/actors (default: cores)."),
-        resume: bool = typer.Option(False, "--resume", help="Continue the run in --output."),
-        force: bool = typer.Option(False, "--force", help="Start over: delete an earlier run's files in --output.")):
+    sketch: str = typer.Argument(..., help="Sketch file or shipped preset name."),
+    output: Path = typer.Option(..., "-o", "--output", help="Run folder."),
+    seed: Optional[int] = typer.Option(None, "--seed", help="Random seed (default 1; a resumed run keeps its own)."),
+    evaluations: Optional[int] = typer.Option(None, "--max-evaluations", help="Total simulation budget."),
+    minutes: Optional[float] = typer.Option(None, "--max-minutes", help="Wall-clock budget (min)."),
+    generations: int = typer.Option(1000, "--inner-generations", help="Cap per inner CMA-ES run."),
+    max_outer: int = typer.Option(20, "--max-outer", help="Cap on multiplier iterations."),
+    tolerance: Optional[float] = typer.Option(
+        None, "--cycle-tolerance", help="max|φᵢ| accepted as cyclic (default: the sketch's)."
+    ),
+    popsize: Optional[int] = typer.Option(None, "--popsize"),
+    method: str = typer.Option(
+        "mom", "--method", help="mom (thesis's method of multipliers) | al (pycma's adaptive augmented Lagrangian)"
+    ),
+    evaluator: str = typer.Option("threads", "--evaluator", help="threads | processes | ray"),
+    workers: Optional[int] = typer.Option(None, "--workers", help="Threads/processes/actors (default: cores)."),
+    resume: bool = typer.Option(False, "--resume", help="Continue the run in --output."),
+    force: bool = typer.Option(False, "--force", help="Start over: delete an earlier run's files in --output."),
+):
     """Optimize a sketch into a cyclic, physically simulated gait (method of multipliers + CMA-ES)."""
     from eigengait.control.library import resolve
     from eigengait.control.sketch import load_sketch
     from eigengait.optimize.mom import MomSettings
     from eigengait.optimize.staged import optimize_gait
 
-    for value, option, low in ((evaluations, "--max-evaluations", 1), (minutes, "--max-minutes", 0.01),
-                               (generations, "--inner-generations", 1), (max_outer, "--max-outer", 1),
-                               (tolerance, "--cycle-tolerance", 1e-6), (popsize, "--popsize", 2),
-                               (workers, "--workers", 1)):
+    for value, option, low in (
+        (evaluations, "--max-evaluations", 1),
+        (minutes, "--max-minutes", 0.01),
+        (generations, "--inner-generations", 1),
+        (max_outer, "--max-outer", 1),
+        (tolerance, "--cycle-tolerance", 1e-6),
+        (popsize, "--popsize", 2),
+        (workers, "--workers", 1),
+    ):
         check_range(value, option, low)
     if force and resume:
-        raise UserInputError("--force and --resume do not go together", field="--force",
-                             fix="--resume continues the run in --output; --force starts it over")
+        raise UserInputError(
+            "--force and --resume do not go together",
+            field="--force",
+            fix="--resume continues the run in --output; --force starts it over",
+        )
     path = resolve("sketch", sketch)
     loaded = load_sketch(path)
     tolerance = tolerance if tolerance is not None else loaded.targets.cycle_tolerance
-    settings = MomSettings(seed=1 if seed is None else seed, max_evaluations=evaluations,
-                           max_seconds=minutes * 60 if minutes else None,
-                           inner_generations=generations, max_outer=max_outer, cycle_tolerance=tolerance,
-                           popsize=popsize, method=method)
+    settings = MomSettings(
+        seed=1 if seed is None else seed,
+        max_evaluations=evaluations,
+        max_seconds=minutes * 60 if minutes else None,
+        inner_generations=generations,
+        max_outer=max_outer,
+        cycle_tolerance=tolerance,
+        popsize=popsize,
+        method=method,
+    )
     if not resume:
         _start_run(output, force)
     state = optimize_gait(loaded, output, settings, evaluator, workers, resume, sketch_source=path, seed=seed)
     best = state.best
-    console.print(f"{state.finished}: {state.evaluations} evaluations, {state.generation} generations, "
-                  f"{state.elapsed:.0f} s; best cost {best.cost:.4g}, cycle violation {best.violation:.3g}, "
-                  f"speed {best.mean_velocity[0]:.2f} m/s")
+    console.print(
+        f"{state.finished}: {state.evaluations} evaluations, {state.generation} generations, "
+        f"{state.elapsed:.0f} s; best cost {best.cost:.4g}, cycle violation {best.violation:.3g}, "
+        f"speed {best.mean_velocity[0]:.2f} m/s"
+    )
     console.print(f"run folder: {output} (best_controller.json, log.csv, objective.png, violation.png)")
 
 
@@ -116,18 +150,27 @@ def _start_run(folder: Path, force: bool) -> None:
 
 
 def play_command(
-        controller: str = typer.Argument(..., help="Controller file or shipped gait name."),
-        cycles: int = typer.Option(6, "--cycles", help="Cycles to play."),
-        snap: bool = typer.Option(False, "--snap", help="Reset to the initial state at each cycle end, open loop "
-                                                        "(the thesis's playback; physically incorrect)."),
-        push: Optional[str] = typer.Option(None, "--push", help="Sideways pushes on the root body: FORCE@TIME[,...] "
-                                                                "(N along +y for 0.1 s, at s), e.g. 350@1.3"),
-        as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
-        video: Optional[Path] = typer.Option(None, "--video", help="Write a video (.mp4/.gif)."),
-        bvh: Optional[Path] = typer.Option(None, "--bvh", help="Write the motion as BVH."),
-        fps: float = FPS_OPTION, speed: float = SPEED_OPTION, camera: str = CAMERA_OPTION,
-        bvh_units: str = BVH_UNITS_OPTION,
-        force: bool = typer.Option(False, "--force", help="Overwrite existing outputs.")):
+    controller: str = typer.Argument(..., help="Controller file or shipped gait name."),
+    cycles: int = typer.Option(6, "--cycles", help="Cycles to play."),
+    snap: bool = typer.Option(
+        False,
+        "--snap",
+        help="Reset to the initial state at each cycle end, open loop (the thesis's playback; physically incorrect).",
+    ),
+    push: Optional[str] = typer.Option(
+        None,
+        "--push",
+        help="Sideways pushes on the root body: FORCE@TIME[,...] (N along +y for 0.1 s, at s), e.g. 350@1.3",
+    ),
+    as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
+    video: Optional[Path] = typer.Option(None, "--video", help="Write a video (.mp4/.gif)."),
+    bvh: Optional[Path] = typer.Option(None, "--bvh", help="Write the motion as BVH."),
+    fps: float = FPS_OPTION,
+    speed: float = SPEED_OPTION,
+    camera: str = CAMERA_OPTION,
+    bvh_units: str = BVH_UNITS_OPTION,
+    force: bool = typer.Option(False, "--force", help="Overwrite existing outputs."),
+):
     """Play a controller on the ground with gravity, physics only; report speed, energy, survival and gait quality."""
     from eigengait.control.controller import load_controller, system_for, to_parameters
     from eigengait.control.library import resolve
@@ -137,8 +180,11 @@ def play_command(
         raise UserInputError(f"--cycles must be at least 1, got {cycles}", field="--cycles")
     pushes = parse_pushes(push) if push else ()
     if pushes and snap:
-        raise UserInputError("--push and --snap do not go together", field="--push",
-                             fix="pushes test the gait's own balance: play without --snap")
+        raise UserInputError(
+            "--push and --snap do not go together",
+            field="--push",
+            fix="pushes test the gait's own balance: play without --snap",
+        )
     media = MediaOptions(video=video, bvh=bvh, fps=fps, speed=speed, camera=camera, bvh_units=bvh_units).check()
     refuse_existing([video, bvh], force)
     path = resolve("gait", controller)
@@ -166,8 +212,15 @@ def gaits_command(as_json: bool = typer.Option(False, "--json", help="Print JSON
     rows = []
     for name in gait_names():
         c = load_controller(resolve("gait", name))
-        rows.append({"name": name, "character": c.character, "feet": c.feet, "period_s": round(c.period, 3),
-                     **{k: c.metrics[k] for k in ("mean_speed_mps", "cycle_violation") if k in c.metrics}})
+        rows.append(
+            {
+                "name": name,
+                "character": c.character,
+                "feet": c.feet,
+                "period_s": round(c.period, 3),
+                **{k: c.metrics[k] for k in ("mean_speed_mps", "cycle_violation") if k in c.metrics},
+            }
+        )
     if as_json:
         print(json_text.dumps(rows))
         return
@@ -175,16 +228,22 @@ def gaits_command(as_json: bool = typer.Option(False, "--json", help="Print JSON
     for col in ("name", "character", "period (s)", "speed (m/s)", "cycle violation"):
         table.add_column(col)
     for r in rows:
-        table.add_row(r["name"], r["character"], str(r["period_s"]), f"{r.get('mean_speed_mps', float('nan')):.2f}",
-                      f"{r.get('cycle_violation', float('nan')):.3g}")
+        table.add_row(
+            r["name"],
+            r["character"],
+            str(r["period_s"]),
+            f"{r.get('mean_speed_mps', float('nan')):.2f}",
+            f"{r.get('cycle_violation', float('nan')):.3g}",
+        )
     console.print(table)
 
 
 def demo_command(
-        output: Path = typer.Option(Path("out/demo"), "--output", help="Parent folder; each demo gets a new subfolder."),
-        evaluations: int = typer.Option(200000, "--max-evaluations", help="Optimization budget (evaluations)."),
-        minutes: float = typer.Option(8.0, "--max-minutes", help="Optimization budget (wall-clock minutes)."),
-        seed: int = typer.Option(1, "--seed")):
+    output: Path = typer.Option(Path("out/demo"), "--output", help="Parent folder; each demo gets a new subfolder."),
+    evaluations: int = typer.Option(200000, "--max-evaluations", help="Optimization budget (evaluations)."),
+    minutes: float = typer.Option(8.0, "--max-minutes", help="Optimization budget (wall-clock minutes)."),
+    seed: int = typer.Option(1, "--seed"),
+):
     """The main job on the humanoid: modes -> palette -> basic-run sketch -> optimization -> playback -> video, BVH."""
     from eigengait.character import load_character
     from eigengait.control.controller import load_controller, system_for, to_parameters
@@ -206,26 +265,38 @@ def demo_command(
         mode_set.save(folder / f"modes_{phase}.npz")
         write_palette(world, mode_set, folder / f"palette_{phase}.png")
     from eigengait.motion.modal_mix import build_mix, mix_trajectory, parse_mix
+
     kinematic = build_mix(world, modes["air"], parse_mix(DEMO_KINEMATIC_MIX), base_hz=DEMO_KINEMATIC_BASE_HZ)
     _, qpos = mix_trajectory(world, kinematic, seconds=4.0, fps=30.0)
-    console.print(f"[1/4] modes and palettes: {folder}/palette_air.png, palette_ground.png; "
-                  f"kinematic two-mode gait (air modes {DEMO_KINEMATIC_MIX}):")
+    console.print(
+        f"[1/4] modes and palettes: {folder}/palette_air.png, palette_ground.png; "
+        f"kinematic two-mode gait (air modes {DEMO_KINEMATIC_MIX}):"
+    )
     write_media(world, qpos, 30.0, MediaOptions(folder / "kinematic.mp4", folder / "kinematic.bvh"), console)
     sketch_path = resolve("sketch", "basic-run")
     sketch = load_sketch(sketch_path)
-    state = optimize_gait(sketch, folder / "optimization",
-                          MomSettings(seed=seed, max_evaluations=evaluations, max_seconds=minutes * 60,
-                                      inner_generations=100, cycle_tolerance=sketch.targets.cycle_tolerance),
-                          sketch_source=sketch_path)
-    console.print(f"[2/4] optimization ({state.finished}): cycle violation {state.best.violation:.3g}, "
-                  f"{state.evaluations} evaluations in {state.elapsed:.0f} s")
+    state = optimize_gait(
+        sketch,
+        folder / "optimization",
+        MomSettings(
+            seed=seed,
+            max_evaluations=evaluations,
+            max_seconds=minutes * 60,
+            inner_generations=100,
+            cycle_tolerance=sketch.targets.cycle_tolerance,
+        ),
+        sketch_source=sketch_path,
+    )
+    console.print(
+        f"[2/4] optimization ({state.finished}): cycle violation {state.best.violation:.3g}, "
+        f"{state.evaluations} evaluations in {state.elapsed:.0f} s"
+    )
     c = load_controller(folder / "optimization" / "best_controller.json")
     system = system_for(c)
     result = play(system, to_parameters(c, system), cycles=20)
     write_atomically(folder / "playback.json", json_text.dumps(result.summary(), indent=2))
     console.print(f"[3/4] playback: {json_text.dumps(result.summary())}")
-    write_media(system.world, result.qpos, result.fps, MediaOptions(folder / "gait.mp4", folder / "gait.bvh"),
-                console)
+    write_media(system.world, result.qpos, result.fps, MediaOptions(folder / "gait.mp4", folder / "gait.bvh"), console)
     console.print(f"[4/4] done in {time.perf_counter() - t0:.0f} s. Outputs in {folder}")
 
 

@@ -6,8 +6,15 @@ from pathlib import Path
 
 import typer
 
-from eigengait.cli_media import (BVH_UNITS_OPTION, CAMERA_OPTION, FPS_OPTION, SPEED_OPTION, MediaOptions,
-                                 status_console, write_media)
+from eigengait.cli_media import (
+    BVH_UNITS_OPTION,
+    CAMERA_OPTION,
+    FPS_OPTION,
+    SPEED_OPTION,
+    MediaOptions,
+    status_console,
+    write_media,
+)
 from eigengait import json_text
 from eigengait.outputs import refuse_existing
 
@@ -20,28 +27,44 @@ def register(app: typer.Typer) -> None:
     @app.command("track")
     def track_command(
         clip: Path = typer.Argument(..., help="BVH motion-capture clip."),
-        character: str = typer.Option("walker", "--character",
-                                      help="Built-in character name or MJCF path (default: the walker, the "
-                                           "humanoid with ankles; 'humanoid' has none and tracks worse)."),
-        robustness: float = typer.Option(0.5, "--robustness",
-                                         help="0 = physically correct (no artificial torque) … 1 = stance-foot "
-                                              "torque fully cancelled (very stable)."),
+        character: str = typer.Option(
+            "walker",
+            "--character",
+            help="Built-in character name or MJCF path (default: the walker, the "
+            "humanoid with ankles; 'humanoid' has none and tracks worse).",
+        ),
+        robustness: float = typer.Option(
+            0.5,
+            "--robustness",
+            help="0 = physically correct (no artificial torque) … 1 = stance-foot "
+            "torque fully cancelled (very stable).",
+        ),
         push: str = typer.Option(None, "--push", help=PUSH_HELP),
         mapping: Path = typer.Option(None, "--mapping", help="YAML mapping BVH joints → MJCF joints."),
         start_frame: int = typer.Option(1, "--start-frame", help="First clip frame used (CMU frame 0 is a T-pose)."),
-        tolerance: float = typer.Option(0.0, "--tolerance",
-                                        help="Switch balance off while the compensated fraction is below this."),
-        kinematic: bool = typer.Option(False, "--kinematic",
-                                       help="No physics: play the retargeted reference and report its foot skate, "
-                                            "floor penetration and ground clearance (--video/--bvh show it)."),
-        clean_feet: bool = typer.Option(False, "--clean-feet/--raw-feet",
-                                        help="Remove stance-foot skate from the reference by leg IK before use, or "
-                                             "keep the retargeted feet (default: measured, the cleanup does not "
-                                             "yet lengthen tracking; docs/balance.md)."),
+        tolerance: float = typer.Option(
+            0.0, "--tolerance", help="Switch balance off while the compensated fraction is below this."
+        ),
+        kinematic: bool = typer.Option(
+            False,
+            "--kinematic",
+            help="No physics: play the retargeted reference and report its foot skate, "
+            "floor penetration and ground clearance (--video/--bvh show it).",
+        ),
+        clean_feet: bool = typer.Option(
+            False,
+            "--clean-feet/--raw-feet",
+            help="Remove stance-foot skate from the reference by leg IK before use, or "
+            "keep the retargeted feet (default: measured, the cleanup does not "
+            "yet lengthen tracking; docs/balance.md).",
+        ),
         video: Path = typer.Option(None, "--video", help="Write the simulated motion to this .mp4 or .gif."),
-        bvh: Path = typer.Option(None, "--bvh", help="Write the simulated motion as BVH (root motion included; "
-                                                     "lengths in --bvh-units)."),
-        fps: float = FPS_OPTION, speed: float = SPEED_OPTION, camera: str = CAMERA_OPTION,
+        bvh: Path = typer.Option(
+            None, "--bvh", help="Write the simulated motion as BVH (root motion included; lengths in --bvh-units)."
+        ),
+        fps: float = FPS_OPTION,
+        speed: float = SPEED_OPTION,
+        camera: str = CAMERA_OPTION,
         bvh_units: str = BVH_UNITS_OPTION,
         force: bool = typer.Option(False, "--force", help="Overwrite existing outputs."),
         as_json: bool = typer.Option(False, "--json", help="Print the result as JSON."),
@@ -57,17 +80,20 @@ def register(app: typer.Typer) -> None:
             write_media(ref["world"], ref["qpos"], 1.0 / ref["frame_time"], media, status_console(as_json))
             _print_kinematic({**kinematic_summary(ref, clean_feet), **units}, as_json)
             return
-        world, reference, result = run_track(clip, character, robustness, push, mapping, start_frame, tolerance,
-                                             clean_feet)
+        world, reference, result = run_track(
+            clip, character, robustness, push, mapping, start_frame, tolerance, clean_feet
+        )
         write_media(world, result.qpos, 1.0 / result.frame_time, media, status_console(as_json))
         if as_json:
             typer.echo(json_text.dumps({**result.summary(), **units}))
             return
         state = f"fell at {result.fall_time_s:.2f} s" if result.fell else "did not fall"
-        typer.echo(f"tracked {result.duration_s:.2f} s of {reference.duration:.2f} s ({state}); "
-                   f"joint RMS error {result.joint_rms_deg:.1f}°, COM error {result.com_error_m:.3f} m, "
-                   f"mean artificial torque {result.artificial_torque:.1f} N·m, foot skate "
-                   f"{result.foot_skate_m:.3f} m per stance (robustness {robustness}).")
+        typer.echo(
+            f"tracked {result.duration_s:.2f} s of {reference.duration:.2f} s ({state}); "
+            f"joint RMS error {result.joint_rms_deg:.1f}°, COM error {result.com_error_m:.3f} m, "
+            f"mean artificial torque {result.artificial_torque:.1f} N·m, foot skate "
+            f"{result.foot_skate_m:.3f} m per stance (robustness {robustness})."
+        )
 
 
 def _print_kinematic(report: dict, as_json: bool) -> None:
@@ -75,10 +101,15 @@ def _print_kinematic(report: dict, as_json: bool) -> None:
         typer.echo(json_text.dumps(report))
         return
     source = report["source"]
-    axes = (f"{source['unit']} ({source['metres_per_unit']:g} m), up {source['up_axis']}, facing "
-            f"{source['forward_axis']}" if source else "axes from the mapping file or the CMU convention")
+    axes = (
+        f"{source['unit']} ({source['metres_per_unit']:g} m), up {source['up_axis']}, facing {source['forward_axis']}"
+        if source
+        else "axes from the mapping file or the CMU convention"
+    )
     clearance = report["ground_clearance_m"]
-    typer.echo(f"reference {report['duration_s']:.2f} s, {axes}; foot skate {report['foot_skate_m']:.3f} m per "
-               f"stance ({report['stances']} stances; {report['raw']['foot_skate_m']:.3f} m before cleanup), floor "
-               f"penetration {report['floor_penetration_m']:.3f} m, ground clearance "
-               f"{'n/a' if clearance is None else f'{clearance:.3f} m'}.")
+    typer.echo(
+        f"reference {report['duration_s']:.2f} s, {axes}; foot skate {report['foot_skate_m']:.3f} m per "
+        f"stance ({report['stances']} stances; {report['raw']['foot_skate_m']:.3f} m before cleanup), floor "
+        f"penetration {report['floor_penetration_m']:.3f} m, ground clearance "
+        f"{'n/a' if clearance is None else f'{clearance:.3f} m'}."
+    )

@@ -17,8 +17,7 @@ class UserInputError(Exception):
         fix: what the user should do about it, if known.
     """
 
-    def __init__(self, message: str, *, file: str | None = None, field: str | None = None,
-                 fix: str | None = None):
+    def __init__(self, message: str, *, file: str | None = None, field: str | None = None, fix: str | None = None):
         self.message = message
         self.file = None if file is None else str(file)
         self.field = field

@@ -26,5 +26,8 @@ def check_range(value: float | None, option: str, low: float, high: float = math
         return
     if not (math.isfinite(value) and low <= value <= high):
         span = f"at least {low:g}" if high == math.inf else f"between {low:g} and {high:g}"
-        raise UserInputError(f"{option} {value} is out of range", field=option,
-                             fix=f"use a finite value {span}{(' ' + unit) if unit else ''}")
+        raise UserInputError(
+            f"{option} {value} is out of range",
+            field=option,
+            fix=f"use a finite value {span}{(' ' + unit) if unit else ''}",
+        )

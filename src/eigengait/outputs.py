@@ -25,8 +25,9 @@ def check_output(path: Path, force: bool) -> None:
     try:
         _check_target(path, force)
     except OSError as exc:
-        raise UserInputError(f"unusable output path ({exc.strerror or exc.__class__.__name__})", file=path,
-                             fix="choose another name") from None
+        raise UserInputError(
+            f"unusable output path ({exc.strerror or exc.__class__.__name__})", file=path, fix="choose another name"
+        ) from None
     _check_writable(path.parent)
 
 
@@ -37,27 +38,43 @@ def _check_writable(folder: Path) -> None:
         with tempfile.TemporaryFile(dir=folder):
             pass
     except (FileExistsError, NotADirectoryError):
-        raise UserInputError("the output's folder cannot be created: a file of that name is in the way",
-                             file=folder, fix="choose another location") from None
+        raise UserInputError(
+            "the output's folder cannot be created: a file of that name is in the way",
+            file=folder,
+            fix="choose another location",
+        ) from None
     except OSError as exc:
-        raise UserInputError(f"cannot write in the output's folder ({exc.strerror or exc.__class__.__name__})",
-                             file=folder, fix="choose a writable location") from None
+        raise UserInputError(
+            f"cannot write in the output's folder ({exc.strerror or exc.__class__.__name__})",
+            file=folder,
+            fix="choose a writable location",
+        ) from None
 
 
 def _check_target(path: Path, force: bool) -> None:
     if path.is_dir():
-        raise UserInputError("the output path is a folder, not a file (--force does not replace folders)", file=path,
-                             fix="name a file inside it")
+        raise UserInputError(
+            "the output path is a folder, not a file (--force does not replace folders)",
+            file=path,
+            fix="name a file inside it",
+        )
     if path.exists() and not force:
-        raise UserInputError("the output file exists and was left untouched", file=path,
-                             fix="add --force to replace it, or choose another name")
+        raise UserInputError(
+            "the output file exists and was left untouched",
+            file=path,
+            fix="add --force to replace it, or choose another name",
+        )
 
 
 def require_suffix(path: Path | None, suffixes: tuple[str, ...], option: str) -> None:
     """Raise unless `path` is None or ends in one of `suffixes` (lower case, with the dot)."""
     if path is not None and path.suffix.lower() not in suffixes:
-        raise UserInputError(f"cannot write '{path.suffix or 'no extension'}' files", file=path, field=option,
-                             fix=f"name the file with one of: {', '.join(suffixes)}")
+        raise UserInputError(
+            f"cannot write '{path.suffix or 'no extension'}' files",
+            file=path,
+            field=option,
+            fix=f"name the file with one of: {', '.join(suffixes)}",
+        )
 
 
 def refuse_existing(paths: list[Path | None], force: bool) -> None:

@@ -12,10 +12,12 @@ from eigengait.cli_track import register
 
 WALK = str(Path(__file__).resolve().parents[3] / "shared" / "data" / "mocap" / "cmu_02_01_walk.bvh")
 RUN = str(Path(__file__).resolve().parents[3] / "shared" / "data" / "mocap" / "cmu_16_36_run_daz.bvh")
-MAIN = ("import sys, typer; from eigengait.cli_track import register; from eigengait.errors import UserInputError\n"
-        "app = typer.Typer(); register(app); app.command('noop')(lambda: None)\n"
-        "try:\n    app(standalone_mode=False)\n"
-        "except UserInputError as err:\n    print('error:', err, file=sys.stderr); sys.exit(2)\n")
+MAIN = (
+    "import sys, typer; from eigengait.cli_track import register; from eigengait.errors import UserInputError\n"
+    "app = typer.Typer(); register(app); app.command('noop')(lambda: None)\n"
+    "try:\n    app(standalone_mode=False)\n"
+    "except UserInputError as err:\n    print('error:', err, file=sys.stderr); sys.exit(2)\n"
+)
 
 
 def _app():
@@ -29,13 +31,14 @@ def test_json_reports_the_required_fields(tmp_path):
     lines = Path(WALK).read_text().splitlines()
     header = lines.index("MOTION")
     short = tmp_path / "short.bvh"
-    frames = lines[header + 3:header + 3 + 40]
-    short.write_text("\n".join(lines[:header + 1] + ["Frames: 40", "Frame Time: .0083333"] + frames) + "\n")
+    frames = lines[header + 3 : header + 3 + 40]
+    short.write_text("\n".join(lines[: header + 1] + ["Frames: 40", "Frame Time: .0083333"] + frames) + "\n")
     out_bvh = tmp_path / "out.bvh"
-    result = CliRunner().invoke(_app(), ["track", str(short), "--robustness", "1", "--json", "--bvh", str(out_bvh),
-                                         "--bvh-units", "cm"])
+    result = CliRunner().invoke(
+        _app(), ["track", str(short), "--robustness", "1", "--json", "--bvh", str(out_bvh), "--bvh-units", "cm"]
+    )
     assert result.exit_code == 0, result.output
-    out = json.loads(result.stdout)          # status lines ("BVH: …") go to standard error
+    out = json.loads(result.stdout)  # status lines ("BVH: …") go to standard error
     assert {"duration_s", "fell", "joint_rms_deg", "com_error_m", "artificial_torque"} <= set(out)
     assert out["duration_s"] > 0.25 and out["fell"] is False and out["fall_time_s"] is None
     assert 0.0 <= out["foot_skate_m"] < 0.5 and out["bvh_units"] == "cm"

@@ -5,8 +5,12 @@ import numpy as np
 import pytest
 
 from eigengait.character import load_character
-from eigengait.control.balance.momentum import centroidal_inertia, centroidal_momentum_matrix, \
-    foot_rooted_momentum_matrix, momentum_jacobian
+from eigengait.control.balance.momentum import (
+    centroidal_inertia,
+    centroidal_momentum_matrix,
+    foot_rooted_momentum_matrix,
+    momentum_jacobian,
+)
 from eigengait.sim.world import build_world
 
 
@@ -25,7 +29,7 @@ def _random_state(world, seed):
         if model.jnt_type[j] in (mujoco.mjtJoint.mjJNT_BALL, mujoco.mjtJoint.mjJNT_FREE):
             adr = model.jnt_qposadr[j] + (3 if model.jnt_type[j] == mujoco.mjtJoint.mjJNT_FREE else 0)
             q = rng.normal(size=4)
-            data.qpos[adr:adr + 4] = q / np.linalg.norm(q)
+            data.qpos[adr : adr + 4] = q / np.linalg.norm(q)
     data.qvel[:] = rng.normal(size=model.nv)
     mujoco.mj_forward(model, data)
     mujoco.mj_subtreeVel(model, data)

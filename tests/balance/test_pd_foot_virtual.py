@@ -20,7 +20,7 @@ def test_joint_error_is_child_frame_rotation_vector():
 
 def test_joint_error_takes_the_shortest_arc():
     actual = np.array([1.0, 0, 0, 0])
-    desired = quat_exp(np.array([0.0, 0.0, np.radians(300.0)]))   # 300° about z is −60°
+    desired = quat_exp(np.array([0.0, 0.0, np.radians(300.0)]))  # 300° about z is −60°
     np.testing.assert_allclose(joint_error(actual, desired), [0, 0, -np.radians(60.0)], atol=1e-9)
     np.testing.assert_allclose(joint_error(actual, -desired), [0, 0, -np.radians(60.0)], atol=1e-9)
 
@@ -28,8 +28,9 @@ def test_joint_error_takes_the_shortest_arc():
 def test_pd_torque_combines_gains_per_axis():
     actual = np.array([[1.0, 0, 0, 0]])
     desired = quat_exp(np.array([[0.1, 0.0, 0.0]]))
-    tau = pd_torques(actual, desired, np.zeros((1, 3)), np.array([[0, 2.0, 0]]), np.array([10.0, 20, 30]),
-                     np.array([1.0, 2, 3]))
+    tau = pd_torques(
+        actual, desired, np.zeros((1, 3)), np.array([[0, 2.0, 0]]), np.array([10.0, 20, 30]), np.array([1.0, 2, 3])
+    )
     np.testing.assert_allclose(tau, [[1.0, 4.0, 0.0]], atol=1e-12)
 
 
@@ -41,37 +42,68 @@ def test_rotation_conversions_round_trip():
 
 def test_virtual_force_compensates_gravity_and_pulls_toward_reference():
     gains = VirtualGains(k_fs=100, k_fd=10, k_P=0, k_ts=0, k_td=0, k_ma=0)
-    f = virtual_force(np.array([0.0, 0, 1]), np.zeros(3), np.zeros(2), np.array([0.1, 0, 1.2]), np.zeros(3),
-                      np.zeros(2), 70.0, 9.81, gains)
-    np.testing.assert_allclose(f, [10.0, 0.0, 70 * 9.81])   # horizontal only: the 0.2 m height error is ignored
+    f = virtual_force(
+        np.array([0.0, 0, 1]),
+        np.zeros(3),
+        np.zeros(2),
+        np.array([0.1, 0, 1.2]),
+        np.zeros(3),
+        np.zeros(2),
+        70.0,
+        9.81,
+        gains,
+    )
+    np.testing.assert_allclose(f, [10.0, 0.0, 70 * 9.81])  # horizontal only: the 0.2 m height error is ignored
     # E20 (absolute=False): offsets are measured from each character's own support point.
     relative = VirtualGains(k_fs=100, k_fd=10, k_P=0, k_ts=0, k_td=0, k_ma=0, absolute=False)
-    f = virtual_force(np.array([1.0, 0, 1]), np.zeros(3), np.array([1.0, 0]), np.array([0.0, 0, 1]), np.zeros(3),
-                      np.zeros(2), 70.0, 9.81, relative)
+    f = virtual_force(
+        np.array([1.0, 0, 1]),
+        np.zeros(3),
+        np.array([1.0, 0]),
+        np.array([0.0, 0, 1]),
+        np.zeros(3),
+        np.zeros(2),
+        70.0,
+        9.81,
+        relative,
+    )
     np.testing.assert_allclose(f[:2], 0.0)
     # Default (absolute): the same 1 m world-frame COM error is pulled back.
-    f = virtual_force(np.array([1.0, 0, 1]), np.zeros(3), np.array([1.0, 0]), np.array([0.0, 0, 1]), np.zeros(3),
-                      np.zeros(2), 70.0, 9.81, gains)
+    f = virtual_force(
+        np.array([1.0, 0, 1]),
+        np.zeros(3),
+        np.array([1.0, 0]),
+        np.array([0.0, 0, 1]),
+        np.zeros(3),
+        np.zeros(2),
+        70.0,
+        9.81,
+        gains,
+    )
     np.testing.assert_allclose(f[:2], [-100.0, 0.0])
     # Feed-forward: the reference's momentum rate m·a_ref is added (scaled by `feedforward`).
     acc = np.array([2.0, 0.0, -1.0])
     f0 = virtual_force(np.zeros(3), np.zeros(3), np.zeros(2), np.zeros(3), np.zeros(3), np.zeros(2), 70.0, 9.81, gains)
-    f1 = virtual_force(np.zeros(3), np.zeros(3), np.zeros(2), np.zeros(3), np.zeros(3), np.zeros(2), 70.0, 9.81, gains,
-                       acc)
+    f1 = virtual_force(
+        np.zeros(3), np.zeros(3), np.zeros(2), np.zeros(3), np.zeros(3), np.zeros(2), 70.0, 9.81, gains, acc
+    )
     np.testing.assert_allclose(f1 - f0, 70.0 * acc)
     off = VirtualGains(k_fs=100, k_fd=10, k_P=0, k_ts=0, k_td=0, k_ma=0, feedforward=0.0)
-    np.testing.assert_allclose(virtual_force(np.zeros(3), np.zeros(3), np.zeros(2), np.zeros(3), np.zeros(3),
-                                             np.zeros(2), 70.0, 9.81, off, acc), f0)
+    np.testing.assert_allclose(
+        virtual_force(
+            np.zeros(3), np.zeros(3), np.zeros(2), np.zeros(3), np.zeros(3), np.zeros(2), 70.0, 9.81, off, acc
+        ),
+        f0,
+    )
 
 
 def test_virtual_torque_uses_momentum_with_the_safe_sign():
     gains = VirtualGains(k_ts=0, k_td=0, k_ma=3.0)
     q = np.array([1.0, 0, 0, 0])
     tau = virtual_torque(q, q, np.zeros(3), np.zeros(3), np.array([0, 0, 2.0]), np.zeros(3), gains)
-    np.testing.assert_allclose(tau, [0, 0, -6.0])   # opposes excess angular momentum
+    np.testing.assert_allclose(tau, [0, 0, -6.0])  # opposes excess angular momentum
     gains = VirtualGains(k_ts=10, k_td=0, k_ma=0)
-    tau = virtual_torque(q, quat_exp(np.array([0.2, 0, 0])), np.zeros(3), np.zeros(3), np.zeros(3), np.zeros(3),
-                         gains)
+    tau = virtual_torque(q, quat_exp(np.array([0.2, 0, 0])), np.zeros(3), np.zeros(3), np.zeros(3), np.zeros(3), gains)
     np.testing.assert_allclose(tau, [2.0, 0, 0], atol=1e-12)
 
 

@@ -13,7 +13,7 @@ from eigengait.motion.bvh import read_bvh
 from eigengait.motion.retarget import builtin_mapping, load_mapping, retarget
 from eigengait.sim.world import build_world
 
-MOCAP = Path(__file__).resolve().parents[3] / "shared" / "data" / "mocap"   # shared/ beside the repo
+MOCAP = Path(__file__).resolve().parents[3] / "shared" / "data" / "mocap"  # shared/ beside the repo
 
 
 @pytest.fixture(scope="module")
@@ -30,14 +30,14 @@ def walk(world):
 
 def test_walk_is_upright_forward_and_on_the_floor(walk):
     poses, ref = walk
-    assert poses.scale == pytest.approx(0.0564, rel=0.1)   # the CMU unit is 0.0564 m
+    assert poses.scale == pytest.approx(0.0564, rel=0.1)  # the CMU unit is 0.0564 m
     travel = ref.com[-1] - ref.com[0]
-    assert 3.0 < travel[0] < 4.0 and abs(travel[1]) < 0.3      # about 3.4 m along +x
+    assert 3.0 < travel[0] < 4.0 and abs(travel[1]) < 0.3  # about 3.4 m along +x
     assert np.all((ref.com[:, 2] > 0.8) & (ref.com[:, 2] < 1.1))
     speed = np.linalg.norm(ref.com_vel[:, :2], axis=1).mean()
-    assert 1.0 < speed < 1.4                                   # 1.1–1.2 m/s per the data notes
-    assert 0.45 < ref.foot_contact.mean() < 0.85               # each foot stands most of the time, not always
-    assert ref.foot_contact.any(axis=1).mean() > 0.95           # walking: (almost) never both feet in the air
+    assert 1.0 < speed < 1.4  # 1.1–1.2 m/s per the data notes
+    assert 0.45 < ref.foot_contact.mean() < 0.85  # each foot stands most of the time, not always
+    assert ref.foot_contact.any(axis=1).mean() > 0.95  # walking: (almost) never both feet in the air
 
 
 def test_daz_run_maps_and_has_flight(world):
@@ -95,8 +95,9 @@ def test_walker_has_ankles_and_its_reference_walks(walker_walk):
     assert 3.0 < travel[0] < 4.0 and abs(travel[1]) < 0.3
     assert ref.foot_contact.any(axis=1).mean() > 0.95
     # the momentum rates are derivatives of the momenta
-    np.testing.assert_allclose(ref.com_acc[100:200].mean(0) * ref.frame_time * 100,
-                               ref.com_vel[200] - ref.com_vel[100], atol=0.2)
+    np.testing.assert_allclose(
+        ref.com_acc[100:200].mean(0) * ref.frame_time * 100, ref.com_vel[200] - ref.com_vel[100], atol=0.2
+    )
 
 
 def test_walker_tracks_the_first_second_of_the_cmu_walk_at_moderate_robustness(walker_walk):

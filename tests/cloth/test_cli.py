@@ -29,8 +29,23 @@ def test_every_example_runs_briefly(name, tmp_path):
 
 
 def test_run_renders_pngs_and_video(tmp_path):
-    result = runner.invoke(app, ["run", "tablecloth", "-o", str(tmp_path), "--duration", "1",
-                                 "--integrator", "implicit", "--time-step", "0.01", "--video-fps", "4"])
+    result = runner.invoke(
+        app,
+        [
+            "run",
+            "tablecloth",
+            "-o",
+            str(tmp_path),
+            "--duration",
+            "1",
+            "--integrator",
+            "implicit",
+            "--time-step",
+            "0.01",
+            "--video-fps",
+            "4",
+        ],
+    )
     assert result.exit_code == 0, result.output
     assert (tmp_path / "toalha_2.OBT").exists() and (tmp_path / "obj" / "toalha_2.obj").exists()
     assert len(list((tmp_path / "png").glob("*.png"))) == 3
@@ -43,19 +58,30 @@ def write(tmp_path, text):
     return path
 
 
-GOOD = ("DURACAO = 1\nQUADROS_SEG = 1\nDELTA_t = 0.01\nNUM_SUPERFICIES = 1\nSUPERFICIE s\n"
-        "MALHA (3 3)\nDENSIDADE = 1\nMASSA = 1\nCONST_ELASTICIDADE (10 10 10)\nRESTRICOES\nPONTOS_FIXOS = 1\n0 0\n"
-        "FIM_RESTRICOES\nFIM_SUPERFICIE\n")
+GOOD = (
+    "DURACAO = 1\nQUADROS_SEG = 1\nDELTA_t = 0.01\nNUM_SUPERFICIES = 1\nSUPERFICIE s\n"
+    "MALHA (3 3)\nDENSIDADE = 1\nMASSA = 1\nCONST_ELASTICIDADE (10 10 10)\nRESTRICOES\nPONTOS_FIXOS = 1\n0 0\n"
+    "FIM_RESTRICOES\nFIM_SUPERFICIE\n"
+)
 
 
-@pytest.mark.parametrize("text, needle", [
-    (GOOD.replace("MASSA", "MASA"), "line 8"),
-    (GOOD.replace("0 0\n", "5 0\n"), "line 12"),
-    (GOOD.replace("NUM_SUPERFICIES = 1\n", "OBJETOS_NA_CENA = 1\nmissing.obt\nNUM_SUPERFICIES = 1\n"),
-     "missing.obt"),
-    (GOOD.replace("DELTA_t = 0.01", "DELTA_t = 0.1").replace("DURACAO = 1", "DURACAO = 5")
-     .replace("(10 10 10)", "(1e5 1e5 1e5)"), "diverged"),
-])
+@pytest.mark.parametrize(
+    "text, needle",
+    [
+        (GOOD.replace("MASSA", "MASA"), "line 8"),
+        (GOOD.replace("0 0\n", "5 0\n"), "line 12"),
+        (
+            GOOD.replace("NUM_SUPERFICIES = 1\n", "OBJETOS_NA_CENA = 1\nmissing.obt\nNUM_SUPERFICIES = 1\n"),
+            "missing.obt",
+        ),
+        (
+            GOOD.replace("DELTA_t = 0.01", "DELTA_t = 0.1")
+            .replace("DURACAO = 1", "DURACAO = 5")
+            .replace("(10 10 10)", "(1e5 1e5 1e5)"),
+            "diverged",
+        ),
+    ],
+)
 def test_bad_input_exits_2_with_one_line(tmp_path, text, needle):
     out = tmp_path / "out"
     result = runner.invoke(app, ["run", str(write(tmp_path, text)), "-o", str(out), "--no-render", "--dissertation"])
@@ -66,10 +92,14 @@ def test_bad_input_exits_2_with_one_line(tmp_path, text, needle):
 
 
 def test_blow_up_warns_first_and_leaves_no_frames(tmp_path):
-    text = (GOOD.replace("DELTA_t = 0.01", "DELTA_t = 0.1").replace("DURACAO = 1", "DURACAO = 5")
-            .replace("(10 10 10)", "(1e5 1e5 1e5)"))
-    result = runner.invoke(app, ["run", str(write(tmp_path, text)), "-o", str(tmp_path / "o"), "--no-render",
-                                 "--dissertation"])
+    text = (
+        GOOD.replace("DELTA_t = 0.01", "DELTA_t = 0.1")
+        .replace("DURACAO = 1", "DURACAO = 5")
+        .replace("(10 10 10)", "(1e5 1e5 1e5)")
+    )
+    result = runner.invoke(
+        app, ["run", str(write(tmp_path, text)), "-o", str(tmp_path / "o"), "--no-render", "--dissertation"]
+    )
     assert result.exit_code == 2
     assert "warning:" in result.output and "stable step" in result.output
     assert "line 3: DELTA_t" in result.output
@@ -90,6 +120,7 @@ def test_unknown_integrator_and_example(tmp_path):
 
 
 def test_module_is_runnable():
-    done = subprocess.run([sys.executable, "-m", "eigengait.cloth.cli", "examples"], capture_output=True, text=True,
-                          timeout=60)
+    done = subprocess.run(
+        [sys.executable, "-m", "eigengait.cloth.cli", "examples"], capture_output=True, text=True, timeout=60
+    )
     assert done.returncode == 0 and "tablecloth" in done.stdout

@@ -34,8 +34,9 @@ def test_dissertation_mode_curtain_stretches_like_rubber():
 
 
 def test_floor_holds_a_falling_sheet_at_the_contact_gap():
-    spec = SurfaceSpec("s", 5, 5, 0.5, np.array([0.0, 0.0, 1.0]), np.array([0.0, 0.0, 1.0]), 0.05, (30.0,) * 3,
-                       (0, 0, 0))
+    spec = SurfaceSpec(
+        "s", 5, 5, 0.5, np.array([0.0, 0.0, 1.0]), np.array([0.0, 0.0, 1.0]), 0.05, (30.0,) * 3, (0, 0, 0)
+    )
     model = surface_model([spec], gravity=(0, 0, -9.81), friction=0.3)
     sim = Simulation(model, 0.002, "symplectic", floor=-0.5)
     sim.advance(1000)
@@ -62,22 +63,38 @@ def test_tablecloth_rests_on_the_table_and_covers_its_top():
     # Seen from above, every vertex of the table top lies under the cloth (no corner pokes through).
     corners = sim.x[model.triangles]
     for vertex in table.vertices[table.vertices[:, 2] == top]:
-        hits = [s for a, b, c in corners for hit, s, _, _ in [_ray_triangle(vertex, np.array([0.0, 0, 1]), a, b, c)]
-                if hit and s > 0]
+        hits = [
+            s
+            for a, b, c in corners
+            for hit, s, _, _ in [_ray_triangle(vertex, np.array([0.0, 0, 1]), a, b, c)]
+            if hit and s > 0
+        ]
         assert hits, f"table corner {vertex} is not under the cloth"
         assert min(hits) > 0.5 * sim.thickness  # pushed out along the corner's bisector, so less than straight up
 
 
 def hanging_pair(**surface):
-    top = SurfaceSpec("top", 3, 3, 1.0, np.zeros(3), np.array([0.0, -1.0, 0.0]), 0.1, (50.0,) * 3, (0, 0, 0),
-                      fixed=[(0, 0), (0, 1), (0, 2)])
-    low = SurfaceSpec("low", 3, 3, 1.0, np.array([0.0, 0.0, -3.0]), np.array([0.0, -1.0, 0.0]), 0.1, (50.0,) * 3,
-                      (0, 0, 0), **surface)
+    top = SurfaceSpec(
+        "top",
+        3,
+        3,
+        1.0,
+        np.zeros(3),
+        np.array([0.0, -1.0, 0.0]),
+        0.1,
+        (50.0,) * 3,
+        (0, 0, 0),
+        fixed=[(0, 0), (0, 1), (0, 2)],
+    )
+    low = SurfaceSpec(
+        "low", 3, 3, 1.0, np.array([0.0, 0.0, -3.0]), np.array([0.0, -1.0, 0.0]), 0.1, (50.0,) * 3, (0, 0, 0), **surface
+    )
     return [top, low]
 
 
 def test_target_point_is_fixed_where_it_arrives():
     from eigengait.cloth.par import Target
+
     goal = np.array([1.0, 0.0, -6.0])
     model = surface_model(hanging_pair(targets=[Target(2, 2, goal)]), gravity=(0, 0, -9.81), friction=0.5)
     sim = Simulation(model, 0.001, "symplectic", strain_limit=None)
@@ -90,6 +107,7 @@ def test_target_point_is_fixed_where_it_arrives():
 
 def test_attached_surface_hangs_from_the_other():
     from eigengait.cloth.par import Attachment
+
     held = [Attachment(0, j, "top", (2, j), 0) for j in range(3)]
     model = surface_model(hanging_pair(attachments=held), gravity=(0, 0, -9.81), friction=0.5)
     sim = Simulation(model, 0.001, "symplectic")
@@ -138,12 +156,15 @@ def test_par_target_attachment_and_floor():
     assert model.targets.tolist() == [8]
 
 
-@pytest.mark.parametrize("edit, words", [
-    (("0 0 b 1 1", "0 0 c 1 1"), ["line 15", "no surface named 'c'"]),
-    (("0 0 b 1 1", "0 0 b 5 1"), ["line 15", "outside surface 'b'"]),
-    (("2 2 (4 -2 0)", "7 2 (4 -2 0)"), ["line 13", "outside the 3x3 grid"]),
-    (("0 0 b 1 1", "0 0 mesa"), ["line 15", "no obstacle named 'mesa'"]),
-])
+@pytest.mark.parametrize(
+    "edit, words",
+    [
+        (("0 0 b 1 1", "0 0 c 1 1"), ["line 15", "no surface named 'c'"]),
+        (("0 0 b 1 1", "0 0 b 5 1"), ["line 15", "outside surface 'b'"]),
+        (("2 2 (4 -2 0)", "7 2 (4 -2 0)"), ["line 13", "outside the 3x3 grid"]),
+        (("0 0 b 1 1", "0 0 mesa"), ["line 15", "no obstacle named 'mesa'"]),
+    ],
+)
 def test_constraint_errors_name_the_line(edit, words):
     with pytest.raises(UserInputError) as error:
         script_model(parse_par(PAR.replace(*edit), "scene.PAR"))
@@ -154,8 +175,19 @@ def test_constraint_errors_name_the_line(edit, words):
 def test_point_attached_to_an_obstacle_sits_on_its_surface():
     from test_model import box
     from eigengait.cloth.par import Attachment
-    spec = SurfaceSpec("s", 3, 3, 1.0, np.array([0.0, 0.0, 1.5]), np.array([0.0, -1.0, 0.0]), 0.1, (50.0,) * 3,
-                       (0, 0, 0), attachments=[Attachment(2, 1, "box", None, 0)])
+
+    spec = SurfaceSpec(
+        "s",
+        3,
+        3,
+        1.0,
+        np.array([0.0, 0.0, 1.5]),
+        np.array([0.0, -1.0, 0.0]),
+        0.1,
+        (50.0,) * 3,
+        (0, 0, 0),
+        attachments=[Attachment(2, 1, "box", None, 0)],
+    )
     model = surface_model([spec], gravity=(0, 0, -9.81), obstacles=[box((-1, -1, -1), (1, 1, 0))])
     point = 2 * 3 + 1
     assert model.fixed[point]
@@ -168,11 +200,31 @@ def test_run_options_for_fabric(tmp_path):
     from eigengait.cloth.cli import app
 
     runner = CliRunner()
-    ok = runner.invoke(app, ["run", "tablecloth", "-o", str(tmp_path / "a"), "--duration", "0.5", "--no-render",
-                             "--strain-limit", "0.05", "--thickness", "0.2", "--floor", "0"])
+    ok = runner.invoke(
+        app,
+        [
+            "run",
+            "tablecloth",
+            "-o",
+            str(tmp_path / "a"),
+            "--duration",
+            "0.5",
+            "--no-render",
+            "--strain-limit",
+            "0.05",
+            "--thickness",
+            "0.2",
+            "--floor",
+            "0",
+        ],
+    )
     assert ok.exit_code == 0, ok.output
-    assert runner.invoke(app, ["run", "curtain", "-o", str(tmp_path / "b"), "--duration", "1", "--no-render",
-                               "--dissertation"]).exit_code == 0
+    assert (
+        runner.invoke(
+            app, ["run", "curtain", "-o", str(tmp_path / "b"), "--duration", "1", "--no-render", "--dissertation"]
+        ).exit_code
+        == 0
+    )
     for option, value in (("--strain-limit", "-0.1"), ("--thickness", "0")):
         bad = runner.invoke(app, ["run", "curtain", "-o", str(tmp_path / "c"), "--no-render", option, value])
         assert bad.exit_code == 2 and option in bad.output and "Traceback" not in bad.output

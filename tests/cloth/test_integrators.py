@@ -40,8 +40,9 @@ def test_forward_euler_reproduces_table_4_1(h):
 
 def spring_pair(k=1.0, mass=1.0, friction=0.0, stretch=2.0):
     """Two points 2 m apart at rest; point 0 fixed, point 1 pulled out to ``2·stretch`` m along x."""
-    spec = SurfaceSpec("s", 1, 2, 2.0, np.zeros(3), np.array([0.0, -1.0, 0.0]), mass, (k, k, k), (0, 0, 0),
-                       fixed=[(0, 0)])
+    spec = SurfaceSpec(
+        "s", 1, 2, 2.0, np.zeros(3), np.array([0.0, -1.0, 0.0]), mass, (k, k, k), (0, 0, 0), fixed=[(0, 0)]
+    )
     model = surface_model([spec], friction=friction)
     model.rest_positions[1, 0] = model.rest_positions[0, 0] + 2.0 * stretch
     return model
@@ -87,8 +88,18 @@ def test_rk4_and_symplectic_keep_undamped_energy_bounded():
 
 
 def stiff_sheet():
-    spec = SurfaceSpec("sheet", 8, 8, 1.0, np.zeros(3), np.array([0.0, -1.0, 0.0]), 0.01, (1000.0,) * 3,
-                       (0, 0, 0), fixed=[(0, j) for j in range(8)])
+    spec = SurfaceSpec(
+        "sheet",
+        8,
+        8,
+        1.0,
+        np.zeros(3),
+        np.array([0.0, -1.0, 0.0]),
+        0.01,
+        (1000.0,) * 3,
+        (0, 0, 0),
+        fixed=[(0, j) for j in range(8)],
+    )
     return surface_model([spec], gravity=(0, 0, -9.81), friction=0.2)
 
 

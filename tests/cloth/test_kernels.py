@@ -13,8 +13,18 @@ from eigengait.cloth.stiffness import StiffnessAssembler
 
 
 def sheet(compiled=True, n=7, bending=(0.3, 0.2, 0.1)):
-    spec = SurfaceSpec("s", n, n + 1, 0.5, np.zeros(3), np.array([0.3, -1.0, 0.2]), 0.05, (40.0, 30.0, 20.0),
-                       bending, fixed=[(0, 0), (0, n)])
+    spec = SurfaceSpec(
+        "s",
+        n,
+        n + 1,
+        0.5,
+        np.zeros(3),
+        np.array([0.3, -1.0, 0.2]),
+        0.05,
+        (40.0, 30.0, 20.0),
+        bending,
+        fixed=[(0, 0), (0, n)],
+    )
     model = surface_model([spec], gravity=(0, 0, -9.81), external_force=(0.1, 0.0, 0.0), friction=0.4)
     return dataclasses.replace(model, compiled=compiled)
 
@@ -27,8 +37,7 @@ def shaken(model, seed=0):
 def test_internal_forces_match_the_numpy_reference():
     model = sheet()
     x = shaken(model)
-    np.testing.assert_allclose(model.internal_forces(x), model.internal_forces_reference(x), rtol=1e-12,
-                               atol=1e-12)
+    np.testing.assert_allclose(model.internal_forces(x), model.internal_forces_reference(x), rtol=1e-12, atol=1e-12)
 
 
 @pytest.mark.parametrize("clamp", [True, False])
@@ -46,8 +55,9 @@ def test_jacobian_blocks_act_like_the_assembled_sparse_matrix(clamp):
     np.testing.assert_allclose(diagonal.ravel(), K.diagonal(), rtol=1e-12, atol=1e-12)
 
 
-@pytest.mark.parametrize("integrator, h", [("euler", 0.002), ("symplectic", 0.002), ("rk4", 0.002),
-                                           ("implicit", 1 / 60)])
+@pytest.mark.parametrize(
+    "integrator, h", [("euler", 0.002), ("symplectic", 0.002), ("rk4", 0.002), ("implicit", 1 / 60)]
+)
 def test_compiled_steps_match_the_reference_steps(integrator, h):
     runs = []
     for compiled in (True, False):
@@ -64,8 +74,9 @@ def test_compiled_self_collision_matches_the_numpy_pass():
     from eigengait.cloth.simulate import TriangleGrid
 
     floor = SurfaceSpec("floor", 3, 3, 1.0, np.zeros(3), np.array([0.0, 0.0, 1.0]), 1.0, (10.0,) * 3, (0, 0, 0))
-    dot = SurfaceSpec("dot", 1, 2, 3.0, np.array([1.7, 0.3, 0.05]), np.array([0.0, 0.0, 1.0]), 0.5, (0.0,) * 3,
-                      (0, 0, 0))
+    dot = SurfaceSpec(
+        "dot", 1, 2, 3.0, np.array([1.7, 0.3, 0.05]), np.array([0.0, 0.0, 1.0]), 0.5, (0.0,) * 3, (0, 0, 0)
+    )
     model = surface_model([floor, dot])
     x0 = model.rest_positions.copy()
     x0[9:, 2] = 0.05
@@ -114,5 +125,5 @@ def test_spring_runs_cover_every_spring_once():
     rebuilt = np.concatenate([np.stack([a + np.arange(n), b + np.arange(n)], axis=1) for _, a, b, n in runs.runs])
     np.testing.assert_array_equal(rebuilt, springs)
     for p in range(model.size):
-        at = runs.touching[runs.touch_start[p]:runs.touch_start[p + 1]]
+        at = runs.touching[runs.touch_start[p] : runs.touch_start[p + 1]]
         np.testing.assert_array_equal(np.sort(at), np.flatnonzero((springs == p).any(axis=1)))

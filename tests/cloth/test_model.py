@@ -10,8 +10,17 @@ from eigengait.cloth.stiffness import StiffnessAssembler
 
 
 def spec(rows=3, cols=3, **kw):
-    base = dict(name="s", rows=rows, cols=cols, spacing=1.0, position=np.zeros(3),
-                normal=np.array([0.0, 0.0, 1.0]), mass=0.1, stiffness=(10.0, 20.0, 30.0), bending=(0, 0, 0))
+    base = dict(
+        name="s",
+        rows=rows,
+        cols=cols,
+        spacing=1.0,
+        position=np.zeros(3),
+        normal=np.array([0.0, 0.0, 1.0]),
+        mass=0.1,
+        stiffness=(10.0, 20.0, 30.0),
+        bending=(0, 0, 0),
+    )
     base.update(kw)
     return SurfaceSpec(**base)
 
@@ -69,6 +78,7 @@ def test_stiffness_matrix_matches_finite_differences():
 
 def test_translation_moves_fixed_points_per_frame():
     from eigengait.cloth.par import Translation
+
     moving = spec(2, 2, fixed=[(0, 0), (0, 1)], translations=[Translation(np.array([0.5, 0, 0]), 1.0, 3.0)])
     model = surface_model([moving], frames_per_second=2.0)
     sim = Simulation(model, 0.01, "symplectic")
@@ -78,8 +88,19 @@ def test_translation_moves_fixed_points_per_frame():
 
 def box(lo, hi) -> Mesh:
     (x0, y0, z0), (x1, y1, z1) = lo, hi
-    v = np.array([[x0, y0, z0], [x1, y0, z0], [x1, y1, z0], [x0, y1, z0],
-                  [x0, y0, z1], [x1, y0, z1], [x1, y1, z1], [x0, y1, z1]], float)
+    v = np.array(
+        [
+            [x0, y0, z0],
+            [x1, y0, z0],
+            [x1, y1, z0],
+            [x0, y1, z0],
+            [x0, y0, z1],
+            [x1, y0, z1],
+            [x1, y1, z1],
+            [x0, y1, z1],
+        ],
+        float,
+    )
     faces = [[0, 1, 2, 3], [4, 5, 6, 7], [0, 1, 5, 4], [1, 2, 6, 5], [2, 3, 7, 6], [3, 0, 4, 7]]
     return Mesh("box", v, faces)
 
@@ -111,8 +132,14 @@ def test_restitution_one_reflects_the_normal_velocity():
 
 def test_self_collision_stops_a_sheet_passing_through_another():
     upper = spec(6, 6, position=np.array([0.0, 0.0, 0.5]), stiffness=(50.0,) * 3, mass=0.1)
-    lower = spec(6, 6, name="low", position=np.array([0.2, 0.3, 0.0]), stiffness=(50.0,) * 3,
-                 fixed=[(i, j) for i in range(6) for j in range(6)])
+    lower = spec(
+        6,
+        6,
+        name="low",
+        position=np.array([0.2, 0.3, 0.0]),
+        stiffness=(50.0,) * 3,
+        fixed=[(i, j) for i in range(6) for j in range(6)],
+    )
     model = surface_model([upper, lower], gravity=(0, 0, -9.81), friction=0.3)
     free = Simulation(model, 0.002, "symplectic")
     free.advance(300)

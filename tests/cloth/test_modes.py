@@ -4,8 +4,7 @@ import numpy as np
 import pytest
 
 from eigengait.cloth.model import script_model
-from eigengait.cloth.modes import (draw_palette, equilibrium, membrane, out_of_plane_fraction, string,
-                                   vibration_modes)
+from eigengait.cloth.modes import draw_palette, equilibrium, membrane, out_of_plane_fraction, string, vibration_modes
 from eigengait.cloth.library import example_path
 from eigengait.cloth.par import read_par
 
@@ -13,8 +12,9 @@ from eigengait.cloth.par import read_par
 def test_taut_string_transverse_modes():
     points, k, r, m, s = 60, 100.0, 1.0, 0.01, 1.1
     modes = vibration_modes(string(points, spacing=r, mass=m, stiffness=k, stretch=s), count=12)
-    transverse = modes.frequencies[out_of_plane_fraction(modes, (0, 0, 1)) + out_of_plane_fraction(modes, (0, 1, 0))
-                                   > 0.99]
+    transverse = modes.frequencies[
+        out_of_plane_fraction(modes, (0, 0, 1)) + out_of_plane_fraction(modes, (0, 1, 0)) > 0.99
+    ]
     tension, spacing = k * r * (s - 1), r * s
     length = (points - 1) * spacing
     analytic = np.arange(1, 6) / (2 * length) * np.sqrt(tension / (m / spacing))
@@ -30,7 +30,8 @@ def test_membrane_modes_match_f_mn():
     assert (out_of_plane_fraction(modes) > 0.99).all()
     spacing = r * s
     a = b = (cols - 1) * spacing
-    # Out-of-plane: straight springs give T l ∂² per axis, the two diagonal families 2 T_d l/√2 ∇² ⇒ c² = 3 k r (s-1) l / m.
+    # Out-of-plane: straight springs give T l ∂² per axis, the two diagonal families 2 T_d l/√2 ∇²
+    # ⇒ c² = 3 k r (s-1) l / m.
     c = np.sqrt(3 * k * r * (s - 1) * spacing / m)
     analytic = sorted(c / 2 * np.hypot(p / a, q / b) for p in range(1, 5) for q in range(1, 5))[:8]
     np.testing.assert_allclose(modes.frequencies, analytic, rtol=0.02)
@@ -58,6 +59,7 @@ def test_hanging_curtain_modes_and_palette(tmp_path):
 
 def test_free_surface_has_no_equilibrium():
     from eigengait.errors import UserInputError
+
     model = script_model(read_par(example_path("tablecloth")))
     with pytest.raises(UserInputError, match="no fixed point"):
         equilibrium(model)

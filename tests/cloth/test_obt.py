@@ -9,8 +9,9 @@ from eigengait.errors import UserInputError
 
 
 def test_round_trip(tmp_path):
-    mesh = Mesh("tri", np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 2.5]]), [[0, 1, 2]], [3],
-                {3: (0.1, 0.2, 0.3, 0.5, 0.25, 0.125)})
+    mesh = Mesh(
+        "tri", np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 2.5]]), [[0, 1, 2]], [3], {3: (0.1, 0.2, 0.3, 0.5, 0.25, 0.125)}
+    )
     write_obt(mesh, tmp_path / "t.OBT")
     back = read_obt(tmp_path / "t.OBT")
     assert back.name == "tri" and back.faces == [[0, 1, 2]] and back.face_material == [3]

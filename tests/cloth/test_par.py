@@ -46,9 +46,14 @@ def test_unaccented_minimal_script_and_yup_conversion():
 
 
 def test_accents_equals_before_tuples_and_spelling_variants():
-    text = (MINIMAL.replace("DURACAO", "DURAÇÃO").replace("FORCA_EXTERNA (", "FORÇA_EXTERNA = (")
-            .replace("RESTRICOES", "RESTRICÇÕES").replace("INI_TRANSL", "INL_TRANSL")
-            .replace("CONST_CURVATURA = 5", "CONST_CURVATURA = (1.0 2.0 3.0)").replace("SUPERFICIE pano", "SUPERFÍCIE"))
+    text = (
+        MINIMAL.replace("DURACAO", "DURAÇÃO")
+        .replace("FORCA_EXTERNA (", "FORÇA_EXTERNA = (")
+        .replace("RESTRICOES", "RESTRICÇÕES")
+        .replace("INI_TRANSL", "INL_TRANSL")
+        .replace("CONST_CURVATURA = 5", "CONST_CURVATURA = (1.0 2.0 3.0)")
+        .replace("SUPERFICIE pano", "SUPERFÍCIE")
+    )
     s = parse_par(text)
     assert s.duration == 2 and s.surfaces[0].bending == (1, 2, 3)
     assert s.surfaces[0].name == "SUPERFICIE1"
@@ -56,8 +61,9 @@ def test_accents_equals_before_tuples_and_spelling_variants():
 
 
 def test_repeated_translation_blocks():
-    text = MINIMAL.replace("    FIM_TRANSL = 1\n", "    FIM_TRANSL = 1\n    TRANSLACAO (-2 0 0)\n    INI_TRANSL = 3\n"
-                                                  "    FIM_TRANSL = 4\n")
+    text = MINIMAL.replace(
+        "    FIM_TRANSL = 1\n", "    FIM_TRANSL = 1\n    TRANSLACAO (-2 0 0)\n    INI_TRANSL = 3\n    FIM_TRANSL = 4\n"
+    )
     moves = parse_par(text).surfaces[0].translations
     assert [(m.start, m.end) for m in moves] == [(0, 1), (3, 4)]
     np.testing.assert_allclose(moves[1].step, [-2, 0, 0])
@@ -75,15 +81,18 @@ def test_every_shipped_example_parses(name):
     assert s.time_step == 0.001 and s.surfaces
 
 
-@pytest.mark.parametrize("edit, line, words", [
-    (("ATRITO = 0.5", "ATRITOS = 0.5"), 5, "unknown keyword"),
-    (("    0 3\n", "    0 4\n"), 19, "outside the 3x4 grid"),
-    (("DELTA_t = 0.001\n", ""), None, "DELTA_T"),
-    (("MASSA = 0.1", "MASSA = abc"), 13, "expects a number"),
-    (("PONTOS_FIXOS = 2", "PONTOS_FIXOS = 3"), 20, "fixed point"),
-    (("NUM_SUPERFICIES = 1", "NUM_SUPERFICIES = 2"), 7, "NUM_SUPERFICIES says 2"),
-    (("  MALHA (3 4)\n", ""), 15, "MALHA"),
-])
+@pytest.mark.parametrize(
+    "edit, line, words",
+    [
+        (("ATRITO = 0.5", "ATRITOS = 0.5"), 5, "unknown keyword"),
+        (("    0 3\n", "    0 4\n"), 19, "outside the 3x4 grid"),
+        (("DELTA_t = 0.001\n", ""), None, "DELTA_T"),
+        (("MASSA = 0.1", "MASSA = abc"), 13, "expects a number"),
+        (("PONTOS_FIXOS = 2", "PONTOS_FIXOS = 3"), 20, "fixed point"),
+        (("NUM_SUPERFICIES = 1", "NUM_SUPERFICIES = 2"), 7, "NUM_SUPERFICIES says 2"),
+        (("  MALHA (3 4)\n", ""), 15, "MALHA"),
+    ],
+)
 def test_errors_name_file_and_line(edit, line, words):
     with pytest.raises(UserInputError) as info:
         parse_par(MINIMAL.replace(*edit), "bad.PAR")

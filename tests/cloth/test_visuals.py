@@ -14,9 +14,11 @@ from eigengait.cloth.simulate import run_samples, video_steps
 
 runner = CliRunner()
 
-SHEET = ("DURACAO = 2\nQUADROS_SEG = 2\nDELTA_t = 0.01\nNUM_SUPERFICIES = 1\nSUPERFICIE s\nMALHA (4 4)\n"
-         "DENSIDADE = 1\nMASSA = 0.1\nCONST_ELASTICIDADE (10 10 10)\nRESTRICOES\nPONTOS_FIXOS = 2\n0 0\n0 3\n"
-         "FIM_RESTRICOES\nFIM_SUPERFICIE\n")
+SHEET = (
+    "DURACAO = 2\nQUADROS_SEG = 2\nDELTA_t = 0.01\nNUM_SUPERFICIES = 1\nSUPERFICIE s\nMALHA (4 4)\n"
+    "DENSIDADE = 1\nMASSA = 0.1\nCONST_ELASTICIDADE (10 10 10)\nRESTRICOES\nPONTOS_FIXOS = 2\n0 0\n0 3\n"
+    "FIM_RESTRICOES\nFIM_SUPERFICIE\n"
+)
 
 
 def run(tmp_path, out, *args):

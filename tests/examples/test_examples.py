@@ -27,8 +27,12 @@ def numbers(pattern: str, text: str) -> list[float]:
 def test_modes_example_prints_what_the_modes_command_computes():
     out = run_example("modes_of_your_model.py", str(WALKER), "--count", "4")
     printed = numbers(r"mode +\d+: +([\d.]+) Hz", out)
-    cli = subprocess.run([sys.executable, "-m", "eigengait", "modes", str(WALKER), "--stiffness", "auto", "--json"],
-                         capture_output=True, text=True, timeout=300)
+    cli = subprocess.run(
+        [sys.executable, "-m", "eigengait", "modes", str(WALKER), "--stiffness", "auto", "--json"],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
     assert cli.returncode == 0, cli.stderr
     expected = json.loads(cli.stdout)["frequencies_hz"][:4]
     assert np.allclose(printed, expected, atol=1e-3) and printed == sorted(printed)
@@ -38,8 +42,8 @@ def test_cloth_example_hangs_the_curtain_within_its_strain_limit():
     out = run_example("cloth_script.py", "curtain", "--seconds", "1")
     strains = numbers(r"strain +([\d.]+) %", out)
     heights = numbers(r"z = +([-\d.]+) m", out)
-    assert len(strains) == 2 and max(strains) <= 10.0 + 1e-6 and strains[-1] > 1.0   # stretched, but limited
-    assert heights[1] < heights[0]                                                 # gravity pulls it down
+    assert len(strains) == 2 and max(strains) <= 10.0 + 1e-6 and strains[-1] > 1.0  # stretched, but limited
+    assert heights[1] < heights[0]  # gravity pulls it down
 
 
 def test_track_example_holds_the_walk():

@@ -8,8 +8,14 @@ import numpy as np
 import yaml
 
 
-def random_tree(rng: np.random.Generator, folder: Path, n_bodies: int = 6, hinge_fraction: float = 0.3,
-                anisotropic: bool = True, name: str = "tree") -> Path:
+def random_tree(
+    rng: np.random.Generator,
+    folder: Path,
+    n_bodies: int = 6,
+    hinge_fraction: float = 0.3,
+    anisotropic: bool = True,
+    name: str = "tree",
+) -> Path:
     """Write `name.xml` (+ sidecar) with a free root and n_bodies-1 random joints; returns the MJCF path."""
     lines = [f'<mujoco model="{name}"><worldbody>']
     stiffness = {}
@@ -28,16 +34,22 @@ def random_tree(rng: np.random.Generator, folder: Path, n_bodies: int = 6, hinge
             lines.append('<freejoint name="root"/>')
         elif rng.random() < hinge_fraction:
             axis = rng.normal(size=3)
-            lines.append(f'<joint name="j{i}" type="hinge" axis="{" ".join(map(str, axis))}" '
-                         f'pos="{" ".join(map(str, rng.uniform(-0.1, 0.1, 3)))}" stiffness="{rng.uniform(5, 50)}"/>')
+            lines.append(
+                f'<joint name="j{i}" type="hinge" axis="{" ".join(map(str, axis))}" '
+                f'pos="{" ".join(map(str, rng.uniform(-0.1, 0.1, 3)))}" stiffness="{rng.uniform(5, 50)}"/>'
+            )
         else:
             k = rng.uniform(5, 50)
-            lines.append(f'<joint name="j{i}" type="ball" pos="{" ".join(map(str, rng.uniform(-0.1, 0.1, 3)))}" '
-                         f'stiffness="{k}"/>')
+            lines.append(
+                f'<joint name="j{i}" type="ball" pos="{" ".join(map(str, rng.uniform(-0.1, 0.1, 3)))}" '
+                f'stiffness="{k}"/>'
+            )
             if anisotropic:
                 stiffness[f"j{i}"] = [float(x) for x in rng.uniform(5, 50, 3)]
-        lines.append(f'<geom type="box" size="{" ".join(map(str, half))}" '
-                     f'pos="{" ".join(map(str, rng.uniform(-0.1, 0.1, 3)))}" density="{rng.uniform(300, 2000)}"/>')
+        lines.append(
+            f'<geom type="box" size="{" ".join(map(str, half))}" '
+            f'pos="{" ".join(map(str, rng.uniform(-0.1, 0.1, 3)))}" density="{rng.uniform(300, 2000)}"/>'
+        )
         if i == n_bodies - 1:
             lines.append(f'<site name="tip_toe" pos="{" ".join(map(str, rng.uniform(-0.1, 0.1, 3)))}"/>')
         for c in children[i]:

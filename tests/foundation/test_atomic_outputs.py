@@ -33,14 +33,32 @@ def test_force_replaces_an_existing_output(name, args, tmp_path, capsys, monkeyp
     code, err = run_cli(capsys, monkeypatch, [*(a.format(out=out) for a in args), "--force"])
     assert code == 0, err
     assert out.read_bytes() != b"old" and out.stat().st_size > 100
-    assert sorted(p.name for p in tmp_path.iterdir()) == [name]          # no temporary file left
+    assert sorted(p.name for p in tmp_path.iterdir()) == [name]  # no temporary file left
 
 
 def test_a_kill_during_a_video_write_leaves_no_file_under_the_final_name(tmp_path):
     out = tmp_path / "out.mp4"
-    proc = subprocess.Popen([sys.executable, "-m", "eigengait", "animate", "humanoid", "--mix", "2:1", "--seconds",
-                             "30", "--width", "64", "--height", "64", "--video", str(out)],
-                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    proc = subprocess.Popen(
+        [
+            sys.executable,
+            "-m",
+            "eigengait",
+            "animate",
+            "humanoid",
+            "--mix",
+            "2:1",
+            "--seconds",
+            "30",
+            "--width",
+            "64",
+            "--height",
+            "64",
+            "--video",
+            str(out),
+        ],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+    )
     try:
         deadline = time.monotonic() + 120
         while not list(tmp_path.glob(".out.mp4.*.part.mp4")):
@@ -51,7 +69,7 @@ def test_a_kill_during_a_video_write_leaves_no_file_under_the_final_name(tmp_pat
     finally:
         proc.kill()
         proc.wait()
-    time.sleep(0.5)                  # the orphaned encoder, if any, finishes the temporary file, not the output
+    time.sleep(0.5)  # the orphaned encoder, if any, finishes the temporary file, not the output
     assert not out.exists()
 
 
@@ -74,8 +92,9 @@ def test_mujoco_warnings_go_to_stderr_not_to_a_log_in_the_folder(tmp_path, capfd
     monkeypatch.chdir(tmp_path)
     code, err = run_cli(capfd, monkeypatch, ["characters", "--json"])
     assert code == 0, err
-    model = mujoco.MjModel.from_xml_string("<mujoco><worldbody><body><freejoint/><geom size='.1'/></body>"
-                                           "</worldbody></mujoco>")
+    model = mujoco.MjModel.from_xml_string(
+        "<mujoco><worldbody><body><freejoint/><geom size='.1'/></body></worldbody></mujoco>"
+    )
     data = mujoco.MjData(model)
     data.qvel[:] = 1e20
     mujoco.mj_step(model, data)

@@ -15,17 +15,26 @@ from eigengait.sim.stepping import step
 GOOD_BODY = '<geom type="box" size=".1 .1 .1"/>'
 CASES = {
     "malformed": ("<mujoco><worldbody><body>", "malformed MJCF"),
-    "ball_root": (f'<mujoco><worldbody><body><joint name="j" type="ball" stiffness="5"/>{GOOD_BODY}</body>'
-                  "</worldbody></mujoco>", "root joint must be a named slide or hinge"),
-    "reserved_name": (f'<mujoco><worldbody><body><freejoint/>{GOOD_BODY}<body pos="0 0 .2">'
-                      f'<joint name="j" type="ball" stiffness="5"/><geom name="eigengait:floor" size=".1"/></body>'
-                      "</body></worldbody></mujoco>", "geom 'eigengait:floor'"),
-    "no_stiffness": (f'<mujoco><worldbody><body><freejoint/>{GOOD_BODY}<body pos="0 0 .2">'
-                     f'<joint name="elbow" type="ball"/>{GOOD_BODY}</body></body></worldbody></mujoco>',
-                     "joint 'elbow' stiffness"),
-    "slide_joint": (f'<mujoco><worldbody><body><freejoint/>{GOOD_BODY}<body pos="0 0 .2">'
-                    f'<joint name="s" type="slide" stiffness="5"/>{GOOD_BODY}</body></body></worldbody></mujoco>',
-                    "not supported"),
+    "ball_root": (
+        f'<mujoco><worldbody><body><joint name="j" type="ball" stiffness="5"/>{GOOD_BODY}</body></worldbody></mujoco>',
+        "root joint must be a named slide or hinge",
+    ),
+    "reserved_name": (
+        f'<mujoco><worldbody><body><freejoint/>{GOOD_BODY}<body pos="0 0 .2">'
+        f'<joint name="j" type="ball" stiffness="5"/><geom name="eigengait:floor" size=".1"/></body>'
+        "</body></worldbody></mujoco>",
+        "geom 'eigengait:floor'",
+    ),
+    "no_stiffness": (
+        f'<mujoco><worldbody><body><freejoint/>{GOOD_BODY}<body pos="0 0 .2">'
+        f'<joint name="elbow" type="ball"/>{GOOD_BODY}</body></body></worldbody></mujoco>',
+        "joint 'elbow' stiffness",
+    ),
+    "slide_joint": (
+        f'<mujoco><worldbody><body><freejoint/>{GOOD_BODY}<body pos="0 0 .2">'
+        f'<joint name="s" type="slide" stiffness="5"/>{GOOD_BODY}</body></body></worldbody></mujoco>',
+        "not supported",
+    ),
 }
 
 
@@ -43,20 +52,24 @@ def test_bad_mjcf_names_file_and_problem(tmp_path, eigengait_cli, case):
 
 
 def test_bad_sidecar_field_is_named(tmp_path):
-    (tmp_path / "c.xml").write_text(f'<mujoco><worldbody><body><freejoint/>{GOOD_BODY}<body pos="0 0 .2">'
-                                    f'<joint name="j" type="ball" stiffness="5"/>{GOOD_BODY}</body></body>'
-                                    "</worldbody></mujoco>")
+    (tmp_path / "c.xml").write_text(
+        f'<mujoco><worldbody><body><freejoint/>{GOOD_BODY}<body pos="0 0 .2">'
+        f'<joint name="j" type="ball" stiffness="5"/>{GOOD_BODY}</body></body>'
+        "</worldbody></mujoco>"
+    )
     (tmp_path / "c.eigengait.yaml").write_text("eigengait: 1\nstiffness:\n  j: [1, -2, 3]\n")
     with pytest.raises(UserInputError, match=r"c\.eigengait\.yaml.*stiffness"):
         load_character(tmp_path / "c.xml")
 
 
 def test_unknown_names_exit_2(eigengait_cli):
-    for args, expected in ((["modes", "dragon"], "unknown character"),
-                           (["modes", "humanoid", "--relax", "sitting"], "unknown relax pose"),
-                           (["modes", "humanoid", "--phase", "ground", "--foot", "tail"], "unknown foot"),
-                           (["modes", "humanoid", "--phase", "water"], "unknown phase"),
-                           (["modes", "missing.xml"], "file not found")):
+    for args, expected in (
+        (["modes", "dragon"], "unknown character"),
+        (["modes", "humanoid", "--relax", "sitting"], "unknown relax pose"),
+        (["modes", "humanoid", "--phase", "ground", "--foot", "tail"], "unknown foot"),
+        (["modes", "humanoid", "--phase", "water"], "unknown phase"),
+        (["modes", "missing.xml"], "file not found"),
+    ):
         result = eigengait_cli(*args)
         assert result.returncode == 2, args
         assert expected in result.stderr and "Traceback" not in result.stderr
@@ -79,7 +92,7 @@ def test_exported_mjcf_is_the_simulated_model(tmp_path, eigengait_cli):
     assert (exported.nv, exported.nu, exported.ngeom) == (world.model.nv, world.model.nu, world.model.ngeom)
     np.testing.assert_allclose(exported.body_quat, world.model.body_quat, atol=1e-6)  # XML keeps ~7 digits
     again = eigengait_cli("character", "export", "humanoid", "-o", out)
-    assert again.returncode == 2 and "--force" in again.stderr       # nothing overwritten silently
+    assert again.returncode == 2 and "--force" in again.stderr  # nothing overwritten silently
 
 
 def test_feetless_character_has_no_ground_phase():
@@ -90,10 +103,13 @@ def test_feetless_character_has_no_ground_phase():
 def _feetless(tmp=[]):
     import tempfile
     from pathlib import Path
+
     folder = Path(tempfile.mkdtemp())
     path = folder / "blob.xml"
-    path.write_text(f'<mujoco><worldbody><body><freejoint/>{GOOD_BODY}<body pos="0 0 .2">'
-                    f'<joint name="j" type="ball" stiffness="5"/>{GOOD_BODY}</body></body></worldbody></mujoco>')
+    path.write_text(
+        f'<mujoco><worldbody><body><freejoint/>{GOOD_BODY}<body pos="0 0 .2">'
+        f'<joint name="j" type="ball" stiffness="5"/>{GOOD_BODY}</body></body></worldbody></mujoco>'
+    )
     return path
 
 

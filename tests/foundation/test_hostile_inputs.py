@@ -30,7 +30,7 @@ def run_cli(capsys, monkeypatch, args) -> tuple[int, str]:
 def assert_clean_refusal(code: int, err: str) -> None:
     assert code == 2, err
     assert "Traceback" not in err and err.strip()
-    assert "No such option" not in err, err          # refused for the value under test, not a mistyped case
+    assert "No such option" not in err, err  # refused for the value under test, not a mistyped case
     assert len([line for line in err.lower().splitlines() if line.startswith("error")]) == 1, err
 
 
@@ -62,7 +62,7 @@ OPTION_VALUES = {
 @pytest.mark.parametrize("args", OPTION_VALUES.values(), ids=OPTION_VALUES.keys())
 def test_bad_option_values(args, tmp_path, capsys, monkeypatch):
     assert_clean_refusal(*run_cli(capsys, monkeypatch, [a.format(tmp=tmp_path) for a in args]))
-    assert not (tmp_path / "run").exists()              # refused before any work started
+    assert not (tmp_path / "run").exists()  # refused before any work started
 
 
 def test_a_script_error_never_echoes_another_files_lines(tmp_path, capsys, monkeypatch):
@@ -75,7 +75,8 @@ def test_a_script_error_never_echoes_another_files_lines(tmp_path, capsys, monke
 
 def _deep_bvh(depth: int = 5000) -> bytes:
     """A hierarchy nested `depth` joints deep (a recursive parser overflows Python's stack)."""
-    head = "HIERARCHY\nROOT Hips\n{\nOFFSET 0 0 0\nCHANNELS 6 Xposition Yposition Zposition Zrotation Xrotation Yrotation\n"
+    channels = "CHANNELS 6 Xposition Yposition Zposition Zrotation Xrotation Yrotation\n"
+    head = "HIERARCHY\nROOT Hips\n{\nOFFSET 0 0 0\n" + channels
     joints = "".join(f"JOINT j{i}\n{{\nOFFSET 0 1 0\nCHANNELS 3 Zrotation Xrotation Yrotation\n" for i in range(depth))
     tail = "}\n" * (depth + 1) + "MOTION\nFrames: 1\nFrame Time: 0.01\n" + " ".join(["0"] * (6 + 3 * depth)) + "\n"
     return (head + joints + tail).encode()
@@ -93,11 +94,18 @@ def _shipped_text(kind: str, name: str) -> str:
 
 
 FILES = {
-    "par-4000-grid": ("big.PAR", _shipped_text("cloth", "curtain").replace("MALHA (20 20)", "MALHA (4000 4000)").encode(),
-                      ["cloth", "run", "{file}", "-o", "{tmp}/out"]),
-    "sketch-unknown-foot": ("s.yaml", _shipped_text("sketch", "basic-run").replace("character: humanoid",
-                                                                                     "character: humanoid\nfeet: [hoof]").encode(),
-                            ["sketch", "{file}"]),
+    "par-4000-grid": (
+        "big.PAR",
+        _shipped_text("cloth", "curtain").replace("MALHA (20 20)", "MALHA (4000 4000)").encode(),
+        ["cloth", "run", "{file}", "-o", "{tmp}/out"],
+    ),
+    "sketch-unknown-foot": (
+        "s.yaml",
+        _shipped_text("sketch", "basic-run")
+        .replace("character: humanoid", "character: humanoid\nfeet: [hoof]")
+        .encode(),
+        ["sketch", "{file}"],
+    ),
     "bvh-5000-deep": ("deep.bvh", _deep_bvh(), ["track", "{file}", "--json"]),
     "controller-short-state": ("c.json", _short_state_controller(), ["play", "{file}", "--cycles", "1"]),
     "mjcf-garbage": ("bad.xml", b"<mujoco><worldbody><body", ["modes", "{file}"]),
@@ -124,7 +132,7 @@ def test_bad_files(name, content, args, tmp_path, capsys, monkeypatch):
     code, err = run_cli(capsys, monkeypatch, argv)
     assert_clean_refusal(code, err)
     if content is not None:
-        assert name in err                     # the message blames the file at fault, not the character's model
+        assert name in err  # the message blames the file at fault, not the character's model
 
 
 def _pickled_checkpoint(run):
@@ -144,8 +152,12 @@ def _empty_folder(run):
     pass
 
 
-RUN_FOLDERS = {"pickled-checkpoint": _pickled_checkpoint, "garbage-checkpoint": _garbage_checkpoint,
-               "damaged-settings": _damaged_settings, "nothing-to-resume": _empty_folder}
+RUN_FOLDERS = {
+    "pickled-checkpoint": _pickled_checkpoint,
+    "garbage-checkpoint": _garbage_checkpoint,
+    "damaged-settings": _damaged_settings,
+    "nothing-to-resume": _empty_folder,
+}
 
 
 @pytest.mark.parametrize("damage", RUN_FOLDERS.values(), ids=RUN_FOLDERS.keys())
@@ -233,8 +245,11 @@ def _unfinished_first_stage(run):
     _unfinished_run(run / "open-loop")
 
 
-EARLIER_RUNS = {"unfinished": (_unfinished_run, "--resume"), "finished": (_finished_run, "--force"),
-                "unfinished-first-stage": (_unfinished_first_stage, "--resume")}
+EARLIER_RUNS = {
+    "unfinished": (_unfinished_run, "--resume"),
+    "finished": (_finished_run, "--force"),
+    "unfinished-first-stage": (_unfinished_first_stage, "--resume"),
+}
 
 
 @pytest.mark.parametrize("earlier, fix", EARLIER_RUNS.values(), ids=EARLIER_RUNS.keys())

@@ -40,8 +40,9 @@ def two_boxes(tmp_path, k):
       <body name="b"><joint name="j" type="ball" stiffness="1"/><geom type="box" size="0.3 0.05 0.1" pos="0.3 0 0"/>
       </body></body></worldbody></mujoco>"""
     (tmp_path / "pair.xml").write_text(xml)
-    (tmp_path / "pair.eigengait.yaml").write_text(yaml.safe_dump({"eigengait": 1, "stiffness": {"j": [float(x) for x in k]},
-                                                                   "damping_ratio": 0.0}))
+    (tmp_path / "pair.eigengait.yaml").write_text(
+        yaml.safe_dump({"eigengait": 1, "stiffness": {"j": [float(x) for x in k]}, "damping_ratio": 0.0})
+    )
     return load_character(tmp_path / "pair.xml")
 
 
@@ -106,8 +107,8 @@ def test_relax_pose_moves_the_spring_rest_and_the_modes():
     crouched = build_world(character, "crouched", WorldOptions(gravity=False))
     d0, d1 = default.new_data(), crouched.new_data()
     pelvis = default.root_body
-    assert d1.xpos[pelvis][2] < d0.xpos[pelvis][2] - 0.05      # the hips are lower when crouched
-    for _ in range(400):                                       # springs rest at the new pose: nothing moves
+    assert d1.xpos[pelvis][2] < d0.xpos[pelvis][2] - 0.05  # the hips are lower when crouched
+    for _ in range(400):  # springs rest at the new pose: nothing moves
         mujoco.mj_step(crouched.model, d1)
     assert np.abs(d1.qvel).max() < 1e-6
     f0 = compute_modes(default, "ground").frequencies_hz

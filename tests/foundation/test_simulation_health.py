@@ -12,7 +12,7 @@ from eigengait.json_text import dumps
 from eigengait.sim.stepping import MAX_CONTROL, MAX_SPEED, first_blow_up
 from test_hostile_inputs import assert_clean_refusal, run_cli
 
-DOFS = np.array([6, 7, 8])     # motor i drives dof DOFS[i]
+DOFS = np.array([6, 7, 8])  # motor i drives dof DOFS[i]
 
 
 def test_first_blow_up_finds_the_first_bad_step_and_its_dof():
@@ -32,20 +32,26 @@ def test_a_clock_that_jumps_back_is_a_reset_blow_up():
     qvel = np.zeros((10, 9))
     qvel[:, 5] = np.linspace(0, 100, 10)
     assert first_blow_up(qvel, np.zeros((10, 3)), DOFS, times, dt) is None
-    times[7:] = dt * np.arange(4)           # MuJoCo restarted the simulation at step 6
+    times[7:] = dt * np.arange(4)  # MuJoCo restarted the simulation at step 6
     assert first_blow_up(qvel, np.zeros((10, 3)), DOFS, times, dt) == (6, 5)
 
 
 def test_json_text_has_no_nan_or_infinity():
     text = dumps({"a": float("nan"), "b": [np.inf, np.float32(1.5)], "c": np.int64(3), "d": np.bool_(True)})
-    assert json.loads(text, parse_constant=lambda c: pytest.fail(f"{c} in JSON")) == \
-        {"a": None, "b": [None, 1.5], "c": 3, "d": True}
+    assert json.loads(text, parse_constant=lambda c: pytest.fail(f"{c} in JSON")) == {
+        "a": None,
+        "b": [None, 1.5],
+        "c": 3,
+        "d": True,
+    }
 
 
 def _controller(tmp_path, scale_activations=1.0, **fields):
     data = json.loads(resolve("gait", "kangaroo-hop").read_text())
-    data["activations"] = {f: {ph: {m: v * scale_activations for m, v in modes.items()}
-                               for ph, modes in phases.items()} for f, phases in data["activations"].items()}
+    data["activations"] = {
+        f: {ph: {m: v * scale_activations for m, v in modes.items()} for ph, modes in phases.items()}
+        for f, phases in data["activations"].items()
+    }
     data.update(fields)
     path = tmp_path / "c.json"
     path.write_text(json.dumps(data))
@@ -57,7 +63,7 @@ def test_a_blow_up_during_play_names_time_and_body(tmp_path, capsys, monkeypatch
     code, err = run_cli(capsys, monkeypatch, ["play", path, "--cycles", "1", "--json"])
     assert_clean_refusal(code, err)
     assert "blew up at t = " in err and "body '" in err and "c.json" in err
-    assert capsys.readouterr().out == ""          # nothing printed as a result
+    assert capsys.readouterr().out == ""  # nothing printed as a result
 
 
 @pytest.mark.parametrize("fields", [{"initial_qvel": [1e8]}, {"torque_limit": 1e12}], ids=["runaway-speed", "torque"])

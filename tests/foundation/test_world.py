@@ -12,24 +12,24 @@ def test_character_stands_on_the_floor_and_springs_hold_it_without_gravity():
     data = world.new_data()
     toe = world.model.site("left_toe").id
     radius = world.model.geom_size[world.foot_spheres["left"][0], 0]
-    assert abs(data.site_xpos[toe][2] - radius) < 1e-9          # lowest contact sphere touches z = 0
+    assert abs(data.site_xpos[toe][2] - radius) < 1e-9  # lowest contact sphere touches z = 0
     mujoco.mj_step(world.model, data, 2000)
-    assert np.abs(data.qvel).max() < 1e-6                        # at rest: springs rest at the relax pose
+    assert np.abs(data.qvel).max() < 1e-6  # at rest: springs rest at the relax pose
 
 
 def test_only_the_stance_foot_collides_when_filtered():
     world = build_world(load_character("humanoid"), options=WorldOptions(contact="feet"))
     world.set_stance_foot("left")
     data = world.new_data()
-    mujoco.mj_step(world.model, data, 1000)                       # 0.5 s of gravity
+    mujoco.mj_step(world.model, data, 1000)  # 0.5 s of gravity
     left = data.site_xpos[world.model.site("left_toe").id][2]
     right = data.site_xpos[world.model.site("right_toe").id][2]
-    assert left > 0.0 and right < left - 0.02                     # the swing foot sinks through the floor
+    assert left > 0.0 and right < left - 0.02  # the swing foot sinks through the floor
     world.set_stance_foot(None)
     data = world.new_data()
     mujoco.mj_step(world.model, data, 1000)
     right = data.site_xpos[world.model.site("right_toe").id][2]
-    assert right > 0.0                                            # both feet collide again
+    assert right > 0.0  # both feet collide again
 
 
 def test_default_damping_is_a_tenth_of_the_stiffness():

@@ -13,11 +13,15 @@ from eigengait.sim import build_world
 
 def test_biped_schedule_splits_the_period_by_foot_and_air_ratio():
     states = schedule(["left", "right"], period=1.0, air_ratio=0.3, pulse_air=0.1, pulse_ground=0.5)
-    assert [(s.foot, s.phase) for s in states] == [("left", "air"), ("left", "ground"), ("right", "air"),
-                                                   ("right", "ground")]
+    assert [(s.foot, s.phase) for s in states] == [
+        ("left", "air"),
+        ("left", "ground"),
+        ("right", "air"),
+        ("right", "ground"),
+    ]
     np.testing.assert_allclose([s.duration for s in states], [0.15, 0.35, 0.15, 0.35])
     np.testing.assert_allclose([s.start for s in states], [0.0, 0.15, 0.5, 0.65])
-    assert states[1].pulse == pytest.approx(0.35)          # a pulse never outlasts its state
+    assert states[1].pulse == pytest.approx(0.35)  # a pulse never outlasts its state
 
 
 def test_rectangular_pulses_in_the_control_sequence():
@@ -27,7 +31,7 @@ def test_rectangular_pulses_in_the_control_sequence():
     assert u.shape == (800, 2)
     assert np.count_nonzero(u[:400, 0]) == 50 and np.count_nonzero(u[:400, 1]) == 100
     assert np.all(u[200:300, 1] == 2.0) and np.all(u[300:400] == 0.0)
-    np.testing.assert_array_equal(u[:400], u[400:])          # cyclic
+    np.testing.assert_array_equal(u[:400], u[400:])  # cyclic
 
 
 def test_second_foot_uses_mirrored_torques():
@@ -42,9 +46,9 @@ def test_second_foot_uses_mirrored_torques():
     np.testing.assert_allclose(tau[3], mirror.dofs(tau[1]))
     labels = [f"{j}:{a}" for j in world.character.joints for a in "xyz"]
     i, k = labels.index("left_thigh:y"), labels.index("right_thigh:y")
-    assert tau[2][k] == pytest.approx(tau[0][i])             # pitch torque keeps its sign on the other leg
+    assert tau[2][k] == pytest.approx(tau[0][i])  # pitch torque keeps its sign on the other leg
     i, k = labels.index("left_thigh:x"), labels.index("right_thigh:x")
-    assert tau[2][k] == pytest.approx(-tau[0][i])            # roll torque flips
+    assert tau[2][k] == pytest.approx(-tau[0][i])  # roll torque flips
 
 
 def test_mirroring_a_state_reflects_every_body_and_is_an_involution():
@@ -79,8 +83,8 @@ def test_mirroring_a_state_reflects_every_body_and_is_an_involution():
 def test_soft_constraint_functions():
     assert terms.q_upper(0.2, 0.5) == pytest.approx(0.09 + 1.0)
     assert terms.q_upper(0.6, 0.5) == 0.0
-    assert terms.q_both(0.3, 0.25) == pytest.approx(0.05 ** 2 + 1.0)
-    assert terms.q_both(-0.3, 0.25) == pytest.approx(0.05 ** 2 + 1.0)
+    assert terms.q_both(0.3, 0.25) == pytest.approx(0.05**2 + 1.0)
+    assert terms.q_both(-0.3, 0.25) == pytest.approx(0.05**2 + 1.0)
     assert terms.q_both(0.1, 0.25) == 0.0
     assert terms.speed_objective(2.0) == pytest.approx(0.25)
     assert terms.energy_objective(np.array([[3.0, 4.0], [0.0, 0.0]])) == pytest.approx(12.5)
@@ -88,10 +92,10 @@ def test_soft_constraint_functions():
     assert terms.priority_term([(np.array([5.0]), np.array([2.0, -2.0]))]) == 0.0
     assert terms.priority_term([(np.array([1.0]), np.array([2.0, -2.0]))]) == pytest.approx(9.0 + 1.0)
     assert terms.mean_speed_term(np.array([2.5, 0.0, 0.0]), 2.0, 0.25, 0.25) == 0.0
-    assert terms.stance_contact_term(np.array([0.01, 0.004])) == pytest.approx(0.003 ** 2 + 1.0)
-    assert terms.stance_rise_term(0.005) == pytest.approx(0.015 ** 2 + 1.0)      # push-off rise below 2 cm
+    assert terms.stance_contact_term(np.array([0.01, 0.004])) == pytest.approx(0.003**2 + 1.0)
+    assert terms.stance_rise_term(0.005) == pytest.approx(0.015**2 + 1.0)  # push-off rise below 2 cm
     assert terms.stance_rise_term(0.03) == 0.0
-    assert terms.anti_stumble_term([0.9, 0.7, 0.8], [0.8, 0.8, 0.8]) == pytest.approx(0.1 ** 2 + 1.0)   # one sample
+    assert terms.anti_stumble_term([0.9, 0.7, 0.8], [0.8, 0.8, 0.8]) == pytest.approx(0.1**2 + 1.0)  # one sample
 
 
 def test_push_off_rise_counts_only_the_thesis_conditions():
@@ -101,7 +105,7 @@ def test_push_off_rise_counts_only_the_thesis_conditions():
     toe = np.r_[np.zeros(5), np.linspace(0.0, 0.03, 10)]
     heel = toe + 0.05
     assert terms.push_off_rise(com_vz, toe, heel, dt) == pytest.approx(0.03)
-    assert terms.push_off_rise(com_vz, toe, toe - 0.01, dt) == 0.0                 # heel below the toe
-    assert terms.push_off_rise(np.full(15, 0.5), toe, heel, dt) == 0.0              # the COM never fell
-    fast = np.r_[np.zeros(5), np.linspace(0.0, 0.3, 10)]                           # toe 3.3 m/s faster than the COM
+    assert terms.push_off_rise(com_vz, toe, toe - 0.01, dt) == 0.0  # heel below the toe
+    assert terms.push_off_rise(np.full(15, 0.5), toe, heel, dt) == 0.0  # the COM never fell
+    fast = np.r_[np.zeros(5), np.linspace(0.0, 0.3, 10)]  # toe 3.3 m/s faster than the COM
     assert terms.push_off_rise(com_vz, fast, fast + 0.05, dt) == 0.0

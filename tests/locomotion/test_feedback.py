@@ -9,8 +9,16 @@ import pytest
 
 from eigengait.control.closed_loop import ClosedLoopRunner, cycle_errors
 from eigengait.control.controller import load_controller, system_for, to_parameters
-from eigengait.control.feedback import (HIP_GAINS, FeedbackGains, StateRole, hip_motors, hip_torque, leg_root_joint,
-                                        root_tilt, state_roles)
+from eigengait.control.feedback import (
+    HIP_GAINS,
+    FeedbackGains,
+    StateRole,
+    hip_motors,
+    hip_torque,
+    leg_root_joint,
+    root_tilt,
+    state_roles,
+)
 from eigengait.control.library import resolve
 from eigengait.control.pulse import schedule
 
@@ -23,7 +31,7 @@ def quat(axis, angle):
 
 def test_root_tilt_reads_pitch_roll_and_world_rates():
     pitch, roll, _, _ = root_tilt(quat([0, 1, 0], 0.3), np.zeros(3))
-    assert pitch == pytest.approx(0.3) and roll == pytest.approx(0.0, abs=1e-12)    # nose down is positive
+    assert pitch == pytest.approx(0.3) and roll == pytest.approx(0.0, abs=1e-12)  # nose down is positive
     pitch, roll, _, _ = root_tilt(quat([1, 0, 0], -0.2), np.zeros(3))
     assert roll == pytest.approx(-0.2) and pitch == pytest.approx(0.0, abs=1e-12)
     # yawed by 90°, a spin about the body's x axis is a spin about world y: a pitch rate
@@ -54,16 +62,16 @@ def test_the_hips_are_the_thighs_and_their_pitch_axis_is_world_y(gait):
 
 def test_state_roles_and_hip_torque_follow_simbicon():
     roles = state_roles(schedule(["left", "right"], 0.6, 0.4, 0.1, 0.1))
-    assert roles[0] == StateRole(support="right", swing="left", stance=None)          # flight before left lands
+    assert roles[0] == StateRole(support="right", swing="left", stance=None)  # flight before left lands
     assert roles[1] == StateRole(support="left", swing="right", stance="left")
     motors = {"left": (0, 1), "right": (2, 3)}
     gains = np.arange(1.0, 9.0)
     dev = np.array([0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8])
     tau = hip_torque(gains, dev, roles[1], motors, 4)
-    assert tau[2] == pytest.approx(1 * 0.1 + 2 * 0.3)       # swing hip pitch ← dx, vx
-    assert tau[3] == pytest.approx(3 * 0.2 + 4 * 0.4)       # swing hip roll ← dy, vy
-    assert tau[0] == pytest.approx(5 * 0.5 + 6 * 0.7)       # stance hip pitch ← pitch, pitch rate
-    assert tau[1] == pytest.approx(7 * 0.6 + 8 * 0.8)       # stance hip roll ← roll, roll rate
+    assert tau[2] == pytest.approx(1 * 0.1 + 2 * 0.3)  # swing hip pitch ← dx, vx
+    assert tau[3] == pytest.approx(3 * 0.2 + 4 * 0.4)  # swing hip roll ← dy, vy
+    assert tau[0] == pytest.approx(5 * 0.5 + 6 * 0.7)  # stance hip pitch ← pitch, pitch rate
+    assert tau[1] == pytest.approx(7 * 0.6 + 8 * 0.8)  # stance hip roll ← roll, roll rate
 
 
 def test_first_cycle_is_open_loop_and_zero_gains_change_nothing(gait):
@@ -74,8 +82,8 @@ def test_first_cycle_is_open_loop_and_zero_gains_change_nothing(gait):
     closed = runner.run([p], 2, persistent=False)
     p.feedback = FeedbackGains()
     n = int(round(p.period / system.world.model.opt.timestep))
-    np.testing.assert_array_equal(open_loop.torques[0, :n], closed.torques[0, :n])   # the reference cycle
-    assert np.abs(open_loop.torques[0, n:] - closed.torques[0, n:]).max() > 1.0      # feedback acts after it
+    np.testing.assert_array_equal(open_loop.torques[0, :n], closed.torques[0, :n])  # the reference cycle
+    assert np.abs(open_loop.torques[0, n:] - closed.torques[0, n:]).max() > 1.0  # feedback acts after it
 
 
 def drift(runner, system, p, cycles=3):
@@ -85,7 +93,7 @@ def drift(runner, system, p, cycles=3):
         return 10.0
     blocks = cycle_errors(system, p, run.states[0], cycles)
     width = 2 * system.world.model.nv - 1
-    return float(np.abs(blocks[width:cycles * width]).max())
+    return float(np.abs(blocks[width : cycles * width]).max())
 
 
 @pytest.fixture(scope="module")
@@ -107,8 +115,7 @@ def test_optimized_hip_feedback_reduces_cycle_to_cycle_drift(hopper):
         p.feedback = FeedbackGains(hip=scale * np.asarray(x))
         return drift(runner, system, p)
 
-    es = cma.CMAEvolutionStrategy(np.zeros(len(HIP_GAINS)), 0.3, {"seed": 3, "popsize": 8, "maxiter": 6,
-                                                                    "verbose": -9})
+    es = cma.CMAEvolutionStrategy(np.zeros(len(HIP_GAINS)), 0.3, {"seed": 3, "popsize": 8, "maxiter": 6, "verbose": -9})
     es.optimize(objective)
     best = es.result.fbest
     p.feedback = FeedbackGains()

@@ -13,7 +13,7 @@ XML = """<mujoco><worldbody><body name="root"><freejoint/><geom type="box" size=
   <body name="b" pos=".2 0 0"><joint name="hinge" type="hinge" axis="0 1 0"/><geom type="box" size=".05 .05 .05"/>
   </body></body></worldbody></mujoco>"""
 FPS, PERIOD, R = 100.0, 0.8, 0.02
-CYCLE = int(PERIOD * FPS)     # 80 frames
+CYCLE = int(PERIOD * FPS)  # 80 frames
 CYCLES = 4
 
 
@@ -40,10 +40,10 @@ def foot(on, slide=(0.0, 0.0)):
     pts = np.zeros((len(on), 2, 3))
     pts[:, :, 2] = np.where(on, R, R + 0.05)[:, None]
     progress = np.zeros(len(on))
-    starts, = np.nonzero(np.diff(np.r_[0, on.astype(int)]) == 1)
-    ends, = np.nonzero(np.diff(np.r_[on.astype(int), 0]) == -1)
+    (starts,) = np.nonzero(np.diff(np.r_[0, on.astype(int)]) == 1)
+    (ends,) = np.nonzero(np.diff(np.r_[on.astype(int), 0]) == -1)
     for a, b in zip(starts, ends):
-        progress[a:b + 1] = np.linspace(0.0, 1.0, b - a + 1)
+        progress[a : b + 1] = np.linspace(0.0, 1.0, b - a + 1)
     pts[:, 1, :2] = progress[:, None] * np.array(slide)
     return pts
 
@@ -58,9 +58,15 @@ def axis_quat(axis, deg):
 def recording(model, feet, fps=FPS):
     frames = len(next(iter(feet.values())))
     t = np.arange(frames) / fps
-    com = np.stack([1.5 * t, np.zeros(frames), np.ones(frames)], axis=1)     # 1.5 m/s forward
-    return GaitRecording(fps=fps, period=PERIOD, qpos=still_pose(model, frames), com=com, foot_points=feet,
-                         foot_radius={f: R for f in feet})
+    com = np.stack([1.5 * t, np.zeros(frames), np.ones(frames)], axis=1)  # 1.5 m/s forward
+    return GaitRecording(
+        fps=fps,
+        period=PERIOD,
+        qpos=still_pose(model, frames),
+        com=com,
+        foot_points=feet,
+        foot_radius={f: R for f in feet},
+    )
 
 
 def biped(model):
@@ -71,7 +77,7 @@ def biped(model):
 
 def test_biped_cadence_flight_duty_footfall_slip_and_stride(model):
     m = gait_metrics(model, biped(model))
-    assert m["cadence_spm"] == pytest.approx(150.0)             # 8 touchdowns in 3.2 s
+    assert m["cadence_spm"] == pytest.approx(150.0)  # 8 touchdowns in 3.2 s
     assert m["flight_fraction"] == pytest.approx(0.4)
     assert m["duty_factor"] == pytest.approx({"left": 0.3, "right": 0.3})
     assert m["footfall"] == pytest.approx({"left": 0.1, "right": 0.6})
@@ -86,8 +92,12 @@ def test_biped_cadence_flight_duty_footfall_slip_and_stride(model):
 def test_trot_pairs_landing_within_the_window_count_as_one_step(model, lag, cadence):
     """Diagonal pairs land at phases 0.1 and 0.6, the second foot of a pair `lag` frames (lag / 100 s) later:
     0.02 s apart is one step, 0.1 s apart two."""
-    feet = {"lf": foot(stance(8, 31)), "rh": foot(stance(8, 31, lag)),
-            "rf": foot(stance(48, 71)), "lh": foot(stance(48, 71, lag))}
+    feet = {
+        "lf": foot(stance(8, 31)),
+        "rh": foot(stance(8, 31, lag)),
+        "rf": foot(stance(48, 71)),
+        "lh": foot(stance(48, 71, lag)),
+    }
     assert gait_metrics(model, recording(model, feet))["cadence_spm"] == pytest.approx(cadence)
 
 
@@ -95,7 +105,7 @@ def test_contacts_ignore_a_grazing_frame_and_bridge_a_one_frame_gap(model):
     """At 60 frames/s one frame lasts 1/60 s < 0.02 s: too short either as a contact or as a gap."""
     on = np.array([0, 0, 1, 0, 0, 1, 1, 1, 0, 1, 1, 1, 1, 0, 0], bool)
     feet = {"f": np.zeros((len(on), 1, 3))}
-    feet["f"][:, 0, 2] = np.where(on, R + 0.004, R + 0.05)      # bottom 4 mm up: within the 5 mm tolerance
+    feet["f"][:, 0, 2] = np.where(on, R + 0.004, R + 0.05)  # bottom 4 mm up: within the 5 mm tolerance
     expected = np.array([0, 0, 0, 0, 0, 1, 1, 1, 1, 1, 1, 1, 1, 0, 0], bool)
     np.testing.assert_array_equal(foot_contacts(recording(model, feet, fps=60.0))["f"], expected)
 
@@ -116,18 +126,24 @@ def test_slip_counts_only_travel_while_a_sphere_touches(model):
 def test_frame_jumps_take_the_largest_joint_rotation_and_root_translation(model):
     qpos = still_pose(model, 10)
     ball, hinge = (model.jnt_qposadr[model.joint(n).id] for n in ("ball", "hinge"))
-    qpos[6:, ball:ball + 4] = axis_quat([1, 1, 0], 20)   # the ball joint turns 20° in one frame
-    qpos[3:, hinge] = np.radians(-8)                     # the hinge turns 8° in one frame
-    qpos[8:, 0:2] += [0.06, 0.08]                        # the root jumps 10 cm
-    rec = GaitRecording(fps=FPS, period=PERIOD, qpos=qpos, com=np.zeros((10, 3)),
-                        foot_points={"f": np.full((10, 1, 3), 1.0)}, foot_radius={"f": R})
+    qpos[6:, ball : ball + 4] = axis_quat([1, 1, 0], 20)  # the ball joint turns 20° in one frame
+    qpos[3:, hinge] = np.radians(-8)  # the hinge turns 8° in one frame
+    qpos[8:, 0:2] += [0.06, 0.08]  # the root jumps 10 cm
+    rec = GaitRecording(
+        fps=FPS,
+        period=PERIOD,
+        qpos=qpos,
+        com=np.zeros((10, 3)),
+        foot_points={"f": np.full((10, 1, 3), 1.0)},
+        foot_radius={"f": R},
+    )
     m = gait_metrics(model, rec)
     assert m["max_frame_jump_deg"] == pytest.approx(20.0)
     assert m["max_root_jump_m"] == pytest.approx(0.1)
 
-    qpos[4:, hinge] = np.radians(27)                     # a 35° hinge jump now dominates
+    qpos[4:, hinge] = np.radians(27)  # a 35° hinge jump now dominates
     assert gait_metrics(model, rec)["max_frame_jump_deg"] == pytest.approx(35.0)
-    qpos[5:, 3:7] = axis_quat([0, 0, 1], 40)             # the root turns 40° about z in one frame
+    qpos[5:, 3:7] = axis_quat([0, 0, 1], 40)  # the root turns 40° about z in one frame
     assert gait_metrics(model, rec)["max_frame_jump_deg"] == pytest.approx(40.0)
 
 
@@ -141,9 +157,15 @@ def test_torso_pitch_and_roll_ignore_the_heading(model):
         mujoco.mju_mulQuat(qpos[i, 3:7], yaw_pitch, axis_quat([1, 0, 0], 7))
     nose_down = np.zeros(9)
     mujoco.mju_quat2Mat(nose_down, qpos[-1, 3:7])
-    assert nose_down[6] < 0                          # positive pitch: the body x axis points below the horizon
-    rec = GaitRecording(fps=FPS, period=PERIOD, qpos=qpos, com=np.zeros((frames, 3)),
-                        foot_points={"f": np.full((frames, 1, 3), 1.0)}, foot_radius={"f": R})
+    assert nose_down[6] < 0  # positive pitch: the body x axis points below the horizon
+    rec = GaitRecording(
+        fps=FPS,
+        period=PERIOD,
+        qpos=qpos,
+        com=np.zeros((frames, 3)),
+        foot_points={"f": np.full((frames, 1, 3), 1.0)},
+        foot_radius={"f": R},
+    )
     m = gait_metrics(model, rec)
     assert m["torso_pitch_deg"] == pytest.approx([-5.0, 12.0])
     assert m["torso_roll_deg"] == pytest.approx([7.0, 7.0])
@@ -159,7 +181,7 @@ def test_a_foot_that_never_lands_gives_nulls_and_valid_json(model):
     json.dumps(m, allow_nan=False)
 
     airborne = recording(model, {"f": np.full((20, 1, 3), 1.0)})
-    airborne.com[-1, 0] = np.nan                     # a diverged simulation: no figure may be NaN
+    airborne.com[-1, 0] = np.nan  # a diverged simulation: no figure may be NaN
     m = gait_metrics(model, airborne)
     assert m["cadence_spm"] == 0.0 and m["flight_fraction"] == 1.0
     assert m["footfall"] == {"f": None} and m["stance_slip_max_m"] is None and m["stride_m"] is None

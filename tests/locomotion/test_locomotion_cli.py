@@ -21,13 +21,16 @@ def write_sketch(tmp_path, **changes):
     return path
 
 
-@pytest.mark.parametrize("change, message", [
-    ({"air.priority": {99: 10.0}}, "mode 99 does not exist"),
-    ({"ground.excluded": [2]}, "both priority and excluded"),
-    ({"timing.period": 0.0}, "timing.period"),
-    ({"timing.air_ratio": 1.5}, "timing.air_ratio"),
-    ({"character": "dragon"}, "unknown character"),
-])
+@pytest.mark.parametrize(
+    "change, message",
+    [
+        ({"air.priority": {99: 10.0}}, "mode 99 does not exist"),
+        ({"ground.excluded": [2]}, "both priority and excluded"),
+        ({"timing.period": 0.0}, "timing.period"),
+        ({"timing.air_ratio": 1.5}, "timing.air_ratio"),
+        ({"character": "dragon"}, "unknown character"),
+    ],
+)
 def test_invalid_sketches_exit_2_with_one_message(tmp_path, eigengait_cli, change, message):
     path = write_sketch(tmp_path, **change)
     result = eigengait_cli("sketch", path, "--seconds", "0.2")
@@ -39,16 +42,22 @@ def test_optimize_resume_and_play(tmp_path, eigengait_cli):
     run = tmp_path / "run"
     first = eigengait_cli("optimize", "basic-run", "-o", run, "--max-evaluations", "40", "--seed", "2")
     assert first.returncode == 0, first.stderr
-    for name in ("sketch.yaml", "settings.json", "log.csv", "checkpoint.npz", "best_controller.json",
-                 "objective.png", "violation.png"):
+    for name in (
+        "sketch.yaml",
+        "settings.json",
+        "log.csv",
+        "checkpoint.npz",
+        "best_controller.json",
+        "objective.png",
+        "violation.png",
+    ):
         assert (run / name).exists(), name
     rows = (run / "log.csv").read_text().splitlines()
     before = (run / "best_controller.json").read_text()
     again = eigengait_cli("optimize", "basic-run", "-o", run, "--max-evaluations", "40")
     assert again.returncode == 2 and "--resume" in again.stderr and "--force" in again.stderr
-    assert (run / "best_controller.json").read_text() == before            # nothing overwritten
-    other_seed = eigengait_cli("optimize", "basic-run", "-o", run, "--max-evaluations", "80", "--resume",
-                               "--seed", "3")
+    assert (run / "best_controller.json").read_text() == before  # nothing overwritten
+    other_seed = eigengait_cli("optimize", "basic-run", "-o", run, "--max-evaluations", "80", "--resume", "--seed", "3")
     assert other_seed.returncode == 2 and "--seed 2" in other_seed.stderr
     other_sketch = eigengait_cli("optimize", "crouched", "-o", run, "--max-evaluations", "80", "--resume")
     assert other_sketch.returncode == 2 and "another sketch" in other_sketch.stderr
@@ -65,8 +74,7 @@ def test_optimize_resume_and_play(tmp_path, eigengait_cli):
     played = eigengait_cli("play", run / "best_controller.json", "--cycles", "2", "--json")
     assert played.returncode == 0, played.stderr
     out = json.loads(played.stdout)
-    for key in ("cycles_completed", "fell", "mean_speed_mps", "active_energy", "cost_of_transport",
-                "cycle_violation"):
+    for key in ("cycles_completed", "fell", "mean_speed_mps", "active_energy", "cost_of_transport", "cycle_violation"):
         assert key in out
     assert isinstance(out["fell"], bool) and out["cycles_completed"] <= 2
 

@@ -19,8 +19,16 @@ from eigengait.optimize.problem import Problem
 def toy_evaluate(X):
     """f = 0.01‖x − 0.2‖², cyclic constraint φ = x[:2] − 0.7 (the constrained optimum is x = (.7, .7, .2, …))."""
     X = np.atleast_2d(X)
-    return [Outcome(cost=0.01 * float(np.sum((x - 0.2) ** 2)), cycle=x[:2] - 0.7, fell=False,
-                    mean_velocity=np.zeros(3), energy=0.0) for x in X]
+    return [
+        Outcome(
+            cost=0.01 * float(np.sum((x - 0.2) ** 2)),
+            cycle=x[:2] - 0.7,
+            fell=False,
+            mean_velocity=np.zeros(3),
+            energy=0.0,
+        )
+        for x in X
+    ]
 
 
 def run_toy(settings, state, generations=None):
@@ -37,7 +45,7 @@ def test_method_of_multipliers_meets_the_cyclic_constraint():
     run_toy(settings, state)
     assert state.finished == "cyclic"
     np.testing.assert_allclose(state.best_x[:2], 0.7, atol=1e-3)
-    assert state.outer >= 1                                   # the first run (k = 0) ignores φ
+    assert state.outer >= 1  # the first run (k = 0) ignores φ
 
 
 @pytest.mark.parametrize("method", ["mom", "al"])
@@ -66,6 +74,7 @@ class _Payload:
 
 def test_damaged_or_foreign_checkpoints_are_refused_without_running_code(tmp_path):
     from eigengait.errors import UserInputError
+
     (tmp_path / "checkpoint.npz").write_bytes(b"not a checkpoint")
     with pytest.raises(UserInputError, match="corrupt"):
         load_state(tmp_path / "checkpoint.npz")
@@ -107,21 +116,21 @@ def test_batched_rollout_matches_plain_stepping(problem):
         data.qpos[:], data.qvel[:] = p.qpos0, p.qvel0
         for s in range(run.ended[i]):
             data.ctrl[:] = 0
-            data.ctrl[:problem.system.world.nmotor] = run.torques[i, s]
+            data.ctrl[: problem.system.world.nmotor] = run.torques[i, s]
             mujoco.mj_step(model, data)
-        np.testing.assert_allclose(data.qpos, run.states[i, run.ended[i] - 1, 1:1 + model.nq], atol=1e-6)
+        np.testing.assert_allclose(data.qpos, run.states[i, run.ended[i] - 1, 1 : 1 + model.nq], atol=1e-6)
 
 
 def test_a_falling_candidate_stops_early_and_still_ranks(problem):
     evaluator = BatchEvaluator(problem.system, problem.space, problem.sketch.targets, threads=2)
     x = problem.space.initial()
     params = problem.space.decode(x)
-    params.qpos0[2] -= 0.5      # start half a metre into the floor: the creature is thrown and falls
+    params.qpos0[2] -= 0.5  # start half a metre into the floor: the creature is thrown and falls
     params.qvel0[:3] = [0.0, 6.0, -3.0]
     run = evaluator.simulate([params, problem.space.decode(x)])
     assert run.fell[0] and run.ended[0] < run.steps[0]
     outcomes = evaluator.evaluate(np.stack([x, x]))
-    assert outcomes[0].cost == outcomes[1].cost               # same candidate, same result
+    assert outcomes[0].cost == outcomes[1].cost  # same candidate, same result
 
 
 def test_process_and_ray_evaluators_agree_with_threads(problem):
@@ -133,6 +142,7 @@ def test_process_and_ray_evaluators_agree_with_threads(problem):
     finally:
         processes.close()
     import ray
+
     ray_eval = RayEvaluator(problem.sketch, workers=2)
     try:
         by_ray = ray_eval(X)
@@ -151,7 +161,7 @@ def test_adaptive_augmented_lagrangian_meets_the_cyclic_constraint(tmp_path):
     generations = 0
     while optimizer.step() is not None:
         generations += 1
-        if generations == 5:                                  # checkpoints survive the AL's own state
+        if generations == 5:  # checkpoints survive the AL's own state
             save_state(state, tmp_path / "al.npz")
             state = load_state(tmp_path / "al.npz")
             optimizer = make_optimizer(toy_evaluate, settings, state)

@@ -9,8 +9,15 @@ from eigengait.control.library import gait_names, resolve
 from eigengait.control.playback import play
 
 REQUIRED = {"humanoid-basic-run", "monster-run", "kangaroo-hop", "dog-trot"}
-REPLAYED = ("cycles_completed", "fell", "mean_speed_mps", "flight_fraction", "max_frame_jump_deg",
-            "stance_slip_max_m", "cadence_spm")
+REPLAYED = (
+    "cycles_completed",
+    "fell",
+    "mean_speed_mps",
+    "flight_fraction",
+    "max_frame_jump_deg",
+    "stance_slip_max_m",
+    "cadence_spm",
+)
 
 
 def test_required_gaits_are_shipped(eigengait_cli):
@@ -32,7 +39,7 @@ def test_shipped_gait_replays_its_recorded_metrics_without_reset(name):
             assert summary[key] == pytest.approx(controller.metrics[key], rel=1e-3, abs=1e-3), key
         else:
             assert summary[key] == controller.metrics[key], key
-    assert result.mean_speed_mps > 0.2                                    # it goes forward
+    assert result.mean_speed_mps > 0.2  # it goes forward
 
 
 def test_play_json_contract_on_a_shipped_gait(eigengait_cli):
@@ -40,8 +47,17 @@ def test_play_json_contract_on_a_shipped_gait(eigengait_cli):
     assert result.returncode == 0, result.stderr
     out = json.loads(result.stdout)
     assert out["snap"] is False and out["pushes_survived"] in (0, 1)
-    for key in ("cadence_spm", "stride_m", "flight_fraction", "duty_factor", "stance_slip_m", "torso_pitch_deg",
-                "torso_roll_deg", "footfall", "max_frame_jump_deg"):
+    for key in (
+        "cadence_spm",
+        "stride_m",
+        "flight_fraction",
+        "duty_factor",
+        "stance_slip_m",
+        "torso_pitch_deg",
+        "torso_roll_deg",
+        "footfall",
+        "max_frame_jump_deg",
+    ):
         assert key in out
     assert set(out["duty_factor"]) == {"foot"}
 

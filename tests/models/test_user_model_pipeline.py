@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pytest
 
-MODELS = Path(__file__).resolve().parents[3] / "shared" / "data" / "models" / "dm_control"   # beside the repo
+MODELS = Path(__file__).resolve().parents[3] / "shared" / "data" / "models" / "dm_control"  # beside the repo
 
 
 @pytest.mark.parametrize("model", ["suite/walker.xml", "suite/humanoid_CMU.xml"])
@@ -25,12 +25,27 @@ def test_modes_palette_sketch_optimize_play(tmp_path, eigengait_cli, model):
     r = eigengait_cli("palette", side, "-o", tmp_path / "p.png", "--modes", "2", "--tile", "64")
     assert r.returncode == 0, r.stderr
     run = tmp_path / "run"
-    r = eigengait_cli("optimize", sketch, "-o", run, "--max-evaluations", "16", "--popsize", "8", "--workers", "1",
-                      "--max-outer", "1", "--inner-generations", "2")
+    r = eigengait_cli(
+        "optimize",
+        sketch,
+        "-o",
+        run,
+        "--max-evaluations",
+        "16",
+        "--popsize",
+        "8",
+        "--workers",
+        "1",
+        "--max-outer",
+        "1",
+        "--inner-generations",
+        "2",
+    )
     assert r.returncode == 0, r.stderr
-    video = ["--video", tmp_path / "v.gif"] if "walker" in model else []   # rendering 56 bodies takes ~10 s
-    r = eigengait_cli("play", run / "best_controller.json", "--cycles", "1", "--json", "--bvh", tmp_path / "m.bvh",
-                      *video)
+    video = ["--video", tmp_path / "v.gif"] if "walker" in model else []  # rendering 56 bodies takes ~10 s
+    r = eigengait_cli(
+        "play", run / "best_controller.json", "--cycles", "1", "--json", "--bvh", tmp_path / "m.bvh", *video
+    )
     assert r.returncode == 0, r.stderr
     assert json.loads(r.stdout.splitlines()[0])["character"] == str(side.resolve())
     assert (tmp_path / "m.bvh").exists() and all(p.stat().st_size > 0 for p in tmp_path.glob("v.gif"))

@@ -15,7 +15,7 @@ from eigengait.errors import UserInputError
 from eigengait.modal import compute_modes
 from eigengait.sim import build_world
 
-MODELS = Path(__file__).resolve().parents[3] / "shared" / "data" / "models" / "dm_control"   # beside the repo
+MODELS = Path(__file__).resolve().parents[3] / "shared" / "data" / "models" / "dm_control"  # beside the repo
 WALKER = MODELS / "suite" / "walker.xml"
 # model -> (internal DOF, rigid air modes, guessed feet)
 EXPECTED = {
@@ -58,24 +58,26 @@ def test_planar_root_gives_the_free_root_modes_of_a_planar_creature(tmp_path):
     assert (planar.rigid_modes, free.rigid_modes) == (3, 6)
     np.testing.assert_allclose(planar.frequencies_hz, free.frequencies_hz, rtol=1e-6)
     ground = compute_modes(load_character(WALKER, stiffness="auto"), "ground")
-    assert ground.rigid_modes == 1          # a pinned toe leaves the rotation about it, in the plane
+    assert ground.rigid_modes == 1  # a pinned toe leaves the rotation about it, in the plane
 
 
 def test_auto_stiffness_is_the_sag_rule_of_a_point_mass_pendulum(tmp_path):
     m, r = 2.0, 0.4
     path = tmp_path / "pendulum.xml"
-    path.write_text('<mujoco><worldbody><body><freejoint/><geom type="box" size=".1 .1 .1" mass="50"/>'
-                    '<body pos="0 0 -.1"><joint name="hinge" axis="0 1 0"/>'
-                    f'<geom type="sphere" size=".01" pos="0 0 -{r}" mass="{m}"/></body></body></worldbody></mujoco>')
+    path.write_text(
+        '<mujoco><worldbody><body><freejoint/><geom type="box" size=".1 .1 .1" mass="50"/>'
+        '<body pos="0 0 -.1"><joint name="hinge" axis="0 1 0"/>'
+        f'<geom type="sphere" size=".01" pos="0 0 -{r}" mass="{m}"/></body></body></worldbody></mujoco>'
+    )
     character = load_character(path, stiffness="auto")
     assert character.stiffness["hinge"][0] == pytest.approx(m * GRAVITY * r / np.deg2rad(SAG_DEG))
     assert character.stiffness_source == {"hinge": "auto"}
 
 
 def test_names_added_by_eigengait_do_not_clash_and_model_actuators_are_replaced():
-    character = load_character(MODELS / "suite" / "humanoid_CMU.xml")   # it has its own 'grid' texture
+    character = load_character(MODELS / "suite" / "humanoid_CMU.xml")  # it has its own 'grid' texture
     world = build_world(character)
-    assert world.model.nu == character.internal_dofs                      # eigengait's motors only
+    assert world.model.nu == character.internal_dofs  # eigengait's motors only
     assert world.model.sensor(0).name == "eigengait:com"
     assert "actuator" in character.scene.removed
 
@@ -90,8 +92,11 @@ def test_y_up_model_is_turned_to_stand_on_its_feet():
 
 
 def test_mirror_pairs_from_names():
-    assert mirror_pairs(["lfemurrx", "rfemurrx", "lowerback", "left_hip", "right_hip", "knee_l", "knee_r"]) == \
-        {"lfemurrx": "rfemurrx", "left_hip": "right_hip", "knee_l": "knee_r"}
+    assert mirror_pairs(["lfemurrx", "rfemurrx", "lowerback", "left_hip", "right_hip", "knee_l", "knee_r"]) == {
+        "lfemurrx": "rfemurrx",
+        "left_hip": "right_hip",
+        "knee_l": "knee_r",
+    }
 
 
 def test_body_choice_errors_name_the_fix():
@@ -104,8 +109,9 @@ def test_body_choice_errors_name_the_fix():
         load_character(quadruped)
 
 
-@pytest.mark.parametrize("model", ["suite/humanoid.xml", "suite/quadruped.xml", "suite/cheetah.xml",
-                                   "locomotion/humanoid_CMU_V2020.xml"])
+@pytest.mark.parametrize(
+    "model", ["suite/humanoid.xml", "suite/quadruped.xml", "suite/cheetah.xml", "locomotion/humanoid_CMU_V2020.xml"]
+)
 def test_cli_inspect_and_sketch_new(tmp_path, eigengait_cli, model):
     side = tmp_path / "c.eigengait.yaml"
     r = eigengait_cli("character", "inspect", MODELS / model, "--stiffness", "auto", "--json", "-o", side)
@@ -119,28 +125,47 @@ def test_cli_inspect_and_sketch_new(tmp_path, eigengait_cli, model):
 
 def test_root_layout_of_planar_and_free_roots():
     walker = build_world(load_character(WALKER, stiffness="auto"))
-    root = walker.root                       # walker.xml: rootz, rootx, rooty (axis +y)
-    assert (root.kind, root.height_qpos, root.forward_qpos, root.pitch_qpos, root.pitch_sign) == \
-        ("planar", 0, 1, 2, 1.0)
+    root = walker.root  # walker.xml: rootz, rootx, rooty (axis +y)
+    assert (root.kind, root.height_qpos, root.forward_qpos, root.pitch_qpos, root.pitch_sign) == (
+        "planar",
+        0,
+        1,
+        2,
+        1.0,
+    )
     assert root.translation_qvel == (0, 1)
     qpos = np.zeros(walker.model.nq)
     root.lift_and_pitch(qpos, 0.1, 0.3)
     assert qpos[:3] == pytest.approx([0.1, 0.0, 0.3]) and root.up_z(qpos) == pytest.approx(np.cos(0.3))
     free = build_world(load_character("humanoid")).root
-    assert (free.kind, free.translation_qvel, free.forward_qvel, free.vertical_qvel, free.quat_qpos) == \
-        ("free", (0, 1, 2), 0, 2, 3)
+    assert (free.kind, free.translation_qvel, free.forward_qvel, free.vertical_qvel, free.quat_qpos) == (
+        "free",
+        (0, 1, 2),
+        0,
+        2,
+        3,
+    )
     q = np.array([0, 0, 1.0, 1, 0, 0, 0])
-    free.lift_and_pitch(q, 0.1, np.pi)      # upside down about y
+    free.lift_and_pitch(q, 0.1, np.pi)  # upside down about y
     assert q[2] == pytest.approx(1.1) and free.up_z(q) == pytest.approx(-1.0)
 
 
-@pytest.mark.parametrize("xml, expected", [
-    ('<mujoco><worldbody><body><geom size=".1"/></body></worldbody></mujoco>', "the model has no joints"),
-    ('<mujoco><worldbody><body><joint type="slide"/><geom size=".1"/><body><joint name="h"/><geom size=".1"/>'
-     '</body></body></worldbody></mujoco>', "field 'the root body (unnamed)'"),
-    ('<mujoco><worldbody><body><freejoint/><geom size=".1"/><body><joint name="h"/><geom size=".1"/>'
-     '</body></body></worldbody><sensor><actuatorfrc actuator="none"/></sensor></mujoco>', "cannot compile"),
-])
+@pytest.mark.parametrize(
+    "xml, expected",
+    [
+        ('<mujoco><worldbody><body><geom size=".1"/></body></worldbody></mujoco>', "the model has no joints"),
+        (
+            '<mujoco><worldbody><body><joint type="slide"/><geom size=".1"/><body><joint name="h"/><geom size=".1"/>'
+            '</body></body></worldbody></mujoco>',
+            "field 'the root body (unnamed)'",
+        ),
+        (
+            '<mujoco><worldbody><body><freejoint/><geom size=".1"/><body><joint name="h"/><geom size=".1"/>'
+            '</body></body></worldbody><sensor><actuatorfrc actuator="none"/></sensor></mujoco>',
+            "cannot compile",
+        ),
+    ],
+)
 def test_unusable_models_give_one_clear_error(tmp_path, xml, expected):
     path = tmp_path / "m.xml"
     path.write_text(xml)

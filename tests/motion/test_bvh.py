@@ -8,9 +8,12 @@ import pytest
 from eigengait.errors import UserInputError
 from eigengait.motion.bvh import BvhClip, BvhJoint, axis_rotation, global_transforms, read_bvh, write_bvh
 
-MOCAP = Path(__file__).resolve().parents[3] / "shared" / "data" / "mocap"   # shared/ beside the repo
-CLIPS = {"cmu_02_01_walk.bvh": (31, 96, 344), "cmu_16_36_run_daz.bvh": (43, 132, 190),
-         "cmu_13_14_stand_laugh_daz.bvh": (43, 132, 2425)}
+MOCAP = Path(__file__).resolve().parents[3] / "shared" / "data" / "mocap"  # shared/ beside the repo
+CLIPS = {
+    "cmu_02_01_walk.bvh": (31, 96, 344),
+    "cmu_16_36_run_daz.bvh": (43, 132, 190),
+    "cmu_13_14_stand_laugh_daz.bvh": (43, 132, 2425),
+}
 
 
 @pytest.mark.parametrize("name", sorted(CLIPS))
@@ -46,8 +49,10 @@ def test_header_quirks_are_read():
 
 
 def _two_joint_clip(channels, values):
-    joints = [BvhJoint("root", -1, np.zeros(3), ["Xposition", "Yposition", "Zposition"] + channels),
-              BvhJoint("child", 0, np.array([0.0, 1.0, 0.0]), [], end_site=np.array([1.0, 0.0, 0.0]))]
+    joints = [
+        BvhJoint("root", -1, np.zeros(3), ["Xposition", "Yposition", "Zposition"] + channels),
+        BvhJoint("child", 0, np.array([0.0, 1.0, 0.0]), [], end_site=np.array([1.0, 0.0, 0.0])),
+    ]
     return BvhClip(joints, 0.01, np.array([[0.0, 0.0, 0.0] + list(values)]))
 
 
@@ -103,16 +108,28 @@ def test_truncated_hierarchy_and_cut_last_line(tmp_path):
     assert f"line {len(lines)}" in str(info.value) and "50 values" in str(info.value)
 
 
-@pytest.mark.parametrize("text, fragment", [
-    ("HIERARCHY\nROOT a\n{\nOFFSET 0 0\nCHANNELS 1 Xrotation\n}\nMOTION\nFrames: 1\nFrame Time: 0.1\n0\n", "number"),
-    ("HIERARCHY\nROOT a\n{\nOFFSET 0 0 0\nCHANNELS 1 Wrotation\n}\nMOTION\nFrames: 1\nFrame Time: 0.1\n0\n",
-     "Wrotation"),
-    ("HIERARCHY\nROOT a\n{\nOFFSET 0 0 0\nCHANNELS 1 Xrotation\n}\nMOTION\nFrames: x\nFrame Time: 0.1\n0\n",
-     "integer"),
-    ("HIERARCHY\nROOT a\n{\nOFFSET 0 0 0\nCHANNELS 1 Xrotation\n}\nMOTION\nFrames: 1\nFrame Time: 0.1\nabc\n",
-     "not a number"),
-    ("hello\n", "MOTION"),
-])
+@pytest.mark.parametrize(
+    "text, fragment",
+    [
+        (
+            "HIERARCHY\nROOT a\n{\nOFFSET 0 0\nCHANNELS 1 Xrotation\n}\nMOTION\nFrames: 1\nFrame Time: 0.1\n0\n",
+            "number",
+        ),
+        (
+            "HIERARCHY\nROOT a\n{\nOFFSET 0 0 0\nCHANNELS 1 Wrotation\n}\nMOTION\nFrames: 1\nFrame Time: 0.1\n0\n",
+            "Wrotation",
+        ),
+        (
+            "HIERARCHY\nROOT a\n{\nOFFSET 0 0 0\nCHANNELS 1 Xrotation\n}\nMOTION\nFrames: x\nFrame Time: 0.1\n0\n",
+            "integer",
+        ),
+        (
+            "HIERARCHY\nROOT a\n{\nOFFSET 0 0 0\nCHANNELS 1 Xrotation\n}\nMOTION\nFrames: 1\nFrame Time: 0.1\nabc\n",
+            "not a number",
+        ),
+        ("hello\n", "MOTION"),
+    ],
+)
 def test_malformed_files_raise_one_clear_error(tmp_path, text, fragment):
     bad = tmp_path / "bad.bvh"
     bad.write_text(text)

@@ -12,8 +12,8 @@ from eigengait.motion.retarget import builtin_mapping, retarget
 from eigengait.motion.skeleton_names import find_roles
 from eigengait.sim.world import build_world
 
-MOCAP = Path(__file__).resolve().parents[3] / "shared" / "data" / "mocap"   # shared/ beside the repo
-Z_UP = np.array([[1.0, 0, 0], [0, 0, -1.0], [0, 1.0, 0]])                  # new = Z_UP @ old: old +Y → new +Z
+MOCAP = Path(__file__).resolve().parents[3] / "shared" / "data" / "mocap"  # shared/ beside the repo
+Z_UP = np.array([[1.0, 0, 0], [0, 0, -1.0], [0, 1.0, 0]])  # new = Z_UP @ old: old +Y → new +Z
 
 
 @pytest.fixture(scope="module")
@@ -37,8 +37,12 @@ def test_motionbuilder_family(walk):
 
 def test_daz_family(run):
     roles = find_roles(run)
-    assert (roles["root"], roles["torso"], roles["right_thigh"], roles["right_foot"]) == ("hip", "chest", "rThigh",
-                                                                                          "rFoot")
+    assert (roles["root"], roles["torso"], roles["right_thigh"], roles["right_foot"]) == (
+        "hip",
+        "chest",
+        "rThigh",
+        "rFoot",
+    )
     conv = detect_conventions(run, roles)
     assert (conv.up, conv.forward, conv.unit) == ("+y", "+z", "cm")
     assert conv.rotation_orders == {"ZXY": 42, "ZYX": 1}
@@ -74,8 +78,11 @@ def test_z_up_metre_copy_is_detected_and_retargets_identically(run):
 
 
 def test_namespaced_common_names_map_like_the_originals(walk):
-    renamed = BvhClip([BvhJoint("mixamorig:" + j.name, j.parent, j.offset, j.channels, j.end_site)
-                       for j in walk.joints], walk.frame_time, walk.frames)
+    renamed = BvhClip(
+        [BvhJoint("mixamorig:" + j.name, j.parent, j.offset, j.channels, j.end_site) for j in walk.joints],
+        walk.frame_time,
+        walk.frames,
+    )
     original = builtin_mapping("walker", walk).joints
     mapped = builtin_mapping("walker", renamed).joints
     assert mapped == {"mixamorig:" + k: v for k, v in original.items()}

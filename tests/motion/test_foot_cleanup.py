@@ -13,7 +13,7 @@ from eigengait.motion.retarget import builtin_mapping, retarget
 from eigengait.motion.soles import sole_points
 from eigengait.sim.world import build_world
 
-MOCAP = Path(__file__).resolve().parents[3] / "shared" / "data" / "mocap"   # shared/ beside the repo
+MOCAP = Path(__file__).resolve().parents[3] / "shared" / "data" / "mocap"  # shared/ beside the repo
 SKATE_BOUND_M = 0.03
 
 

@@ -6,18 +6,18 @@ import pytest
 from eigengait.motion.foot_cleanup import foot_corrections
 from eigengait.motion.foot_metrics import foot_report, stance_skate, stances
 
-DT = 0.01   # s
+DT = 0.01  # s
 
 
 def _foot():
     """Heel and toe sole points (130, 2, 3): stance 0–49 (still, ending on a heel-to-toe roll), swing 50–79 (0.5 m
     forward, 0.10 m high, touching 2 frames mid-way), stance 80–129 sliding 6 cm forward, 5 mm into the floor."""
     heel = np.zeros((130, 3))
-    heel[40:50, 2] = np.linspace(0.005, 0.05, 10)            # heel lifts, toe stays put: a roll, no skate
+    heel[40:50, 2] = np.linspace(0.005, 0.05, 10)  # heel lifts, toe stays put: a roll, no skate
     swing = np.sin(np.linspace(0, np.pi, 32))[1:-1]
     heel[50:80, 0] = np.linspace(0.0, 0.5, 30)
     heel[50:80, 2] = 0.05 + 0.05 * swing
-    heel[64:66, 2] = 0.01                                    # a 2-frame scuff: too short for a stance
+    heel[64:66, 2] = 0.01  # a 2-frame scuff: too short for a stance
     heel[80:, 0] = 0.5 + np.linspace(0.0, 0.06, 50)
     heel[80:, 2] = -0.005
     toe = heel + [0.18, 0.0, 0.0]
@@ -49,7 +49,7 @@ def test_cleanup_plan_holds_the_sliding_stance_and_lifts_the_scuff():
     assert start <= 85 and end >= 125
     cleaned = points + correction[:, None, :]
     report = foot_report({"left": cleaned}, DT)
-    assert report.foot_skate_m < 0.002                    # was 0.03
-    assert report.floor_penetration_m < 1e-9               # was 0.005
-    assert cleaned[64:66, :, 2].min() > 0.02              # the scuff is lifted off the floor
-    np.testing.assert_allclose(correction[55:60], 0.0)     # mid-swing far from contact is untouched
+    assert report.foot_skate_m < 0.002  # was 0.03
+    assert report.floor_penetration_m < 1e-9  # was 0.005
+    assert cleaned[64:66, :, 2].min() > 0.02  # the scuff is lifted off the floor
+    np.testing.assert_allclose(correction[55:60], 0.0)  # mid-swing far from contact is untouched

@@ -54,14 +54,15 @@ def test_bvh_is_y_up_in_centimetres_with_end_sites_at_leaf_tips(tmp_path):
     data.qpos[:] = qpos[5]
     mujoco.mj_kinematics(world.model, data)
     root = world.root_body
-    np.testing.assert_allclose(positions[5, 0, 1], data.xpos[root, 2] * 100, atol=1e-6)   # height is BVH y
+    np.testing.assert_allclose(positions[5, 0, 1], data.xpos[root, 2] * 100, atol=1e-6)  # height is BVH y
     forearm = clip.joint_index("left_forearm")
     tips = end_site_positions(clip, rotations, positions)
     body = world.model.body("left_forearm").id
-    tip_world = data.xpos[body] + data.xmat[body].reshape(3, 3) @ np.array([0, 0, -0.26])   # box bottom face
+    tip_world = data.xpos[body] + data.xmat[body].reshape(3, 3) @ np.array([0, 0, -0.26])  # box bottom face
     np.testing.assert_allclose(tips[forearm][5], MUJOCO_TO_BVH @ tip_world * 100, atol=1e-5)
     leaves = {j.name for j in clip.joints if j.end_site is not None}
     assert leaves == {"head", "left_forearm", "right_forearm", "left_foot", "right_foot"}
     toe = world.model.site("left_toe").id
-    np.testing.assert_allclose(tips[clip.joint_index("left_foot")][5], MUJOCO_TO_BVH @ data.site_xpos[toe] * 100,
-                               atol=1e-5)
+    np.testing.assert_allclose(
+        tips[clip.joint_index("left_foot")][5], MUJOCO_TO_BVH @ data.site_xpos[toe] * 100, atol=1e-5
+    )

@@ -29,9 +29,29 @@ def exit_status(app, monkeypatch, *args) -> int:
 
 def test_animate_writes_bvh_and_gif(app, tmp_path):
     bvh, gif = tmp_path / "mix.bvh", tmp_path / "mix.gif"
-    result = CliRunner().invoke(app, ["animate", "humanoid", "--mix", "2:1,11:0.5@90", "--seconds", "0.2",
-                                      "--fps", "10", "--bvh", str(bvh), "--video", str(gif),
-                                      "--width", "64", "--height", "48", "--base-hz", "0.5"])
+    result = CliRunner().invoke(
+        app,
+        [
+            "animate",
+            "humanoid",
+            "--mix",
+            "2:1,11:0.5@90",
+            "--seconds",
+            "0.2",
+            "--fps",
+            "10",
+            "--bvh",
+            str(bvh),
+            "--video",
+            str(gif),
+            "--width",
+            "64",
+            "--height",
+            "48",
+            "--base-hz",
+            "0.5",
+        ],
+    )
     assert result.exit_code == 0, result.output
     assert bvh.read_text().startswith("HIERARCHY") and gif.stat().st_size > 0
     assert "loops every 1.000 s" in result.output
@@ -55,13 +75,16 @@ def test_existing_output_is_kept_unless_forced(app, tmp_path, monkeypatch, capsy
     assert out.read_bytes().startswith(b"\x89PNG")
 
 
-@pytest.mark.parametrize("args", [
-    ["animate", "humanoid", "--mix", "1:1"],                                  # nothing to write
-    ["animate", "humanoid", "--mix", "1:1", "--video", "out.avi"],
-    ["animate", "humanoid", "--mix", "1:one", "--bvh", "out.bvh"],
-    ["palette", "humanoid", "--modes", "40", "-o", "p.png"],
-    ["palette", "snake", "--phase", "sideways", "-o", "p.png"],
-])
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["animate", "humanoid", "--mix", "1:1"],  # nothing to write
+        ["animate", "humanoid", "--mix", "1:1", "--video", "out.avi"],
+        ["animate", "humanoid", "--mix", "1:one", "--bvh", "out.bvh"],
+        ["palette", "humanoid", "--modes", "40", "-o", "p.png"],
+        ["palette", "snake", "--phase", "sideways", "-o", "p.png"],
+    ],
+)
 def test_bad_input_exits_with_status_2(app, tmp_path, monkeypatch, args):
     monkeypatch.chdir(tmp_path)
     assert exit_status(app, monkeypatch, *args) == 2

@@ -14,8 +14,19 @@ def _commands(tmp: Path) -> list[list[str]]:
         ["modes", "kangaroo", "--json"],
         ["gaits", "--json"],
         ["sketch", "basic-run", "--seconds", "0.3", "--json", "--video", tmp / "sketch.gif", "--fps", "10"],
-        ["play", "humanoid-basic-run", "--cycles", "1", "--json", "--video", tmp / "play.gif", "--fps", "10",
-         "--bvh", tmp / "play.bvh"],
+        [
+            "play",
+            "humanoid-basic-run",
+            "--cycles",
+            "1",
+            "--json",
+            "--video",
+            tmp / "play.gif",
+            "--fps",
+            "10",
+            "--bvh",
+            tmp / "play.bvh",
+        ],
         ["track", WALK, "--json", "--video", tmp / "track.gif", "--bvh", tmp / "track.bvh", "--fps", "5"],
     ]
 
@@ -30,4 +41,4 @@ def test_json_commands_print_only_json(eigengait_cli, tmp_path, index):
     json.loads(run.stdout)
     written = [a for a in args if isinstance(a, Path) and a.parent == tmp_path]
     assert all(p.exists() and p.stat().st_size > 0 for p in written)
-    assert all(str(p) in run.stderr for p in written)      # status lines still reach the user, on stderr
+    assert all(str(p) in run.stderr for p in written)  # status lines still reach the user, on stderr

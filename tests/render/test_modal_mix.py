@@ -3,8 +3,16 @@ import numpy as np
 import pytest
 
 from eigengait.errors import UserInputError
-from eigengait.motion.modal_mix import (ModalMix, ModeTerm, build_mix, common_period, equal_energy_amplitudes,
-                                        joint_rotations, mix_trajectory, parse_mix)
+from eigengait.motion.modal_mix import (
+    ModalMix,
+    ModeTerm,
+    build_mix,
+    common_period,
+    equal_energy_amplitudes,
+    joint_rotations,
+    mix_trajectory,
+    parse_mix,
+)
 
 
 def test_single_mode_reaches_its_amplitude_at_a_quarter_period(humanoid):
@@ -33,8 +41,12 @@ def test_equal_energy_defaults_favour_low_modes_and_cap_the_rotation(humanoid):
 
 def test_mix_repeats_after_its_lowest_common_period_only():
     rng = np.random.default_rng(1)
-    mix = ModalMix(shapes=rng.normal(size=(8, 2)), amplitudes=np.array([0.3, 0.2]),
-                   frequencies_hz=np.array([1.5, 2.0]), phases_rad=np.array([0.0, 1.0]))
+    mix = ModalMix(
+        shapes=rng.normal(size=(8, 2)),
+        amplitudes=np.array([0.3, 0.2]),
+        frequencies_hz=np.array([1.5, 2.0]),
+        phases_rad=np.array([0.0, 1.0]),
+    )
     assert mix.period() == pytest.approx(2.0)
     t = np.linspace(0, 2, 57)
     np.testing.assert_allclose(mix.displacement(t + 2.0), mix.displacement(t), atol=1e-12)

@@ -14,12 +14,12 @@ def test_palette_has_one_tile_per_requested_mode(humanoid):
     tiles = []
     for index in range(6):
         top, left = layout.tile_origin(index)
-        tiles.append(image[top:top + 64, left:left + 64].astype(int))
+        tiles.append(image[top : top + 64, left : left + 64].astype(int))
     assert all(tile.std() > 10 for tile in tiles[:5])
-    assert np.all(tiles[5] == BACKGROUND)                       # the sixth cell stays empty
+    assert np.all(tiles[5] == BACKGROUND)  # the sixth cell stays empty
     for a in range(5):
         for b in range(a + 1, 5):
-            assert np.abs(tiles[a] - tiles[b]).mean() > 0.5     # every mode looks different
+            assert np.abs(tiles[a] - tiles[b]).mean() > 0.5  # every mode looks different
 
 
 def test_palette_refuses_more_modes_than_exist(humanoid):
@@ -38,11 +38,11 @@ def test_only_the_moving_parts_are_coloured(humanoid):
     body = model.body("left_forearm").id
     joint = model.body_jntadr[body]
     adr = model.jnt_qposadr[joint]
-    extreme[adr:adr + 4] = [np.cos(0.2), np.sin(0.2), 0, 0]           # the forearm turns 23°
+    extreme[adr : adr + 4] = [np.cos(0.2), np.sin(0.2), 0, 0]  # the forearm turns 23°
     with FrameRenderer(world, 32, 32) as renderer:
         opacity = _ghost_opacity(renderer, _corners(world, model.qpos0), extreme, 25.0)
         owner = model.geom_bodyid[renderer.geoms]
-    assert opacity[-1] == 0                                              # background pixels
+    assert opacity[-1] == 0  # background pixels
     assert np.all(opacity[:-1][owner == body] > 0.6)
     assert np.all(opacity[:-1][owner != body] == 0)
 
@@ -56,7 +56,7 @@ def test_ground_palette_marks_the_pinned_toe_and_both_show_the_facing(humanoid):
     def reds_and_darks(modes):
         tile = palette_image(world, modes, count=1, tile_px=128)[-128:].astype(int)
         red = (tile[..., 0] > 150) & (tile[..., 1] < 60) & (tile[..., 2] < 60)
-        dark = tile.max(axis=2) < 60                                     # the black facing arrow (and shadow)
+        dark = tile.max(axis=2) < 60  # the black facing arrow (and shadow)
         return red.sum(), dark.sum()
 
     red_air, dark_air = reds_and_darks(air)

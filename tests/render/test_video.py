@@ -20,15 +20,15 @@ def test_frames_show_the_character_and_its_motion(humanoid, leg_swing):
     with FrameRenderer(world, 160, 120) as renderer:
         first, moved = renderer.render(leg_swing[0]), renderer.render(leg_swing[1])
         empty = world.model.qpos0.copy()
-        empty[:3] += [0, 0, 50.0]      # lift the creature far above the camera: only the floor remains
+        empty[:3] += [0, 0, 50.0]  # lift the creature far above the camera: only the floor remains
         floor = renderer.render(empty)
     assert first.shape == (120, 160, 3) and first.dtype == np.uint8
     assert first.std() > 10
     character = np.abs(first.astype(int) - floor.astype(int)).max(axis=2) > 40
-    assert 0.02 < character.mean() < 0.5                                 # visible, and not filling the frame
+    assert 0.02 < character.mean() < 0.5  # visible, and not filling the frame
     rows, cols = np.nonzero(character)
-    assert 0.25 < cols.mean() / 160 < 0.75 and 0.25 < rows.mean() / 120 < 0.75   # framed near the centre
-    assert rows.max() > 0.6 * 120                                       # feet in the lower part, on the floor
+    assert 0.25 < cols.mean() / 160 < 0.75 and 0.25 < rows.mean() / 120 < 0.75  # framed near the centre
+    assert rows.max() > 0.6 * 120  # feet in the lower part, on the floor
     changed = np.abs(moved.astype(int) - first.astype(int)).max(axis=2) > 40
     assert changed.mean() > 0.005
 
@@ -67,26 +67,26 @@ def test_shadow_follows_a_character_far_from_the_origin():
     here = world.model.qpos0.copy()
     here[0] += 4.0
     away = here.copy()
-    away[2] += 50.0                     # above the light: no shadow, and out of the camera's view
+    away[2] += 50.0  # above the light: no shadow, and out of the camera's view
     with FrameRenderer(world, 160, 120, CameraView(azimuth_deg=100.0, elevation_deg=-24.0)) as renderer:
         image, floor = renderer.render(here).astype(int), renderer.render(away).astype(int)
         renderer.renderer.enable_segmentation_rendering()
         segments = renderer.render(here)
-    creature = np.isin(segments[..., 0], renderer.geoms) & (segments[..., 1] == 5)      # 5: mjOBJ_GEOM
+    creature = np.isin(segments[..., 0], renderer.geoms) & (segments[..., 1] == 5)  # 5: mjOBJ_GEOM
     shadow = ~creature & ((floor - image).sum(axis=2) > 60)
     rows, cols = np.nonzero(creature)
     feet = rows > rows.max() - 6
-    near_feet = shadow[rows.max() - 6:rows.max() + 6, cols[feet].min() - 6:cols[feet].max() + 6]
+    near_feet = shadow[rows.max() - 6 : rows.max() + 6, cols[feet].min() - 6 : cols[feet].max() + 6]
     assert near_feet.sum() >= 8
-    assert shadow.sum() < 0.05 * shadow.size       # a shadow, not a darkened frame
+    assert shadow.sum() < 0.05 * shadow.size  # a shadow, not a darkened frame
 
 
 def test_video_has_exactly_the_requested_frame_rate_and_speed(humanoid, tmp_path):
     import imageio.v2 as imageio
 
     world, _ = humanoid
-    source_fps = 1 / (33 * 0.0005)                 # 60.606…: a rounded stride of the 0.5 ms physics step
-    qpos = np.repeat(world.model.qpos0[None], 62, axis=0)   # 61 intervals ≈ 1.0065 s
+    source_fps = 1 / (33 * 0.0005)  # 60.606…: a rounded stride of the 0.5 ms physics step
+    qpos = np.repeat(world.model.qpos0[None], 62, axis=0)  # 61 intervals ≈ 1.0065 s
     assert render_video(world, qpos, source_fps, tmp_path / "a.mp4", 64, 48, fps=25) == 26
     reader = imageio.get_reader(tmp_path / "a.mp4")
     assert reader.get_meta_data()["fps"] == 25
@@ -103,15 +103,16 @@ def test_fixed_camera_shows_travel_and_frames_carry_time_and_contacts():
     qpos[1, 0] += 1.5
     fixed = list(iter_frames(world, qpos, 160, 120, CameraView(azimuth_deg=90.0, follow=False)))
     follow = list(iter_frames(world, qpos, 160, 120, CameraView(azimuth_deg=90.0)))
-    def centre_column(frame):                   # of the dark character on the light floor
+
+    def centre_column(frame):  # of the dark character on the light floor
         return np.nonzero(frame.astype(int).sum(axis=2) < 350)[1].mean()
 
-    assert centre_column(fixed[1]) - centre_column(fixed[0]) > 40          # crosses the fixed frame
-    assert abs(centre_column(follow[1]) - centre_column(follow[0])) < 3    # stays put in the following one
+    assert centre_column(fixed[1]) - centre_column(fixed[0]) > 40  # crosses the fixed frame
+    assert abs(centre_column(follow[1]) - centre_column(follow[0])) < 3  # stays put in the following one
     plain = next(iter_frames(world, qpos[:1], 160, 120))
     stamped = next(iter_frames(world, qpos[:1], 160, 120, times=np.array([0.0])))
     changed = np.abs(stamped.astype(int) - plain.astype(int)).max(axis=2) > 40
-    assert changed[:20, :60].mean() > 0.1 and changed[:20, 100:].mean() > 0.1   # time stamp and foot boxes
+    assert changed[:20, :60].mean() > 0.1 and changed[:20, 100:].mean() > 0.1  # time stamp and foot boxes
 
 
 def test_foot_contacts_and_the_footfall_diagram():
@@ -127,13 +128,13 @@ def test_foot_contacts_and_the_footfall_diagram():
     world = build_world(load_character("humanoid"))
     standing = world.model.qpos0.copy()
     hopping = standing.copy()
-    hopping[2] += 0.05                                   # 5 cm up: both feet in the air
+    hopping[2] += 0.05  # 5 cm up: both feet in the air
     qpos = np.array([standing, standing, hopping, hopping, standing])
     flags = foot_contacts(world, qpos)
     assert flags.tolist() == [[True, True]] * 2 + [[False, False]] * 2 + [[True, True]]
     fig, ax = plt.subplots()
     contact_diagram(ax, np.arange(5) * 0.1, flags, list(world.foot_spheres), period_s=0.2)
     bars = [patch for collection in ax.collections for patch in collection.get_paths()]
-    assert len(bars) == 4                                # two stance spans per foot
+    assert len(bars) == 4  # two stance spans per foot
     assert [t.get_text() for t in ax.get_yticklabels()] == ["left", "right"]
     plt.close(fig)

@@ -9,8 +9,16 @@ from studio_helpers import ARTIFACTS, gui_label
 
 CHROMIUM = "/usr/bin/chromium"
 MOCAP_WALK = Path(__file__).resolve().parents[3] / "shared" / "data" / "mocap" / "cmu_02_01_walk.bvh"
-CHROMIUM_ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
-                 "--disable-background-networking", "--disable-component-update", "--disable-sync"]
+CHROMIUM_ARGS = [
+    "--headless",
+    "--no-sandbox",
+    "--disable-gpu",
+    "--disable-quic",
+    "--no-first-run",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+]
 
 
 def free_port() -> int:
@@ -22,6 +30,7 @@ def free_port() -> int:
 @pytest.fixture(scope="module")
 def studio(tmp_path_factory):
     from eigengait.studio.app import Studio
+
     root = tmp_path_factory.mktemp("studio-folder")
     app = Studio(root, "humanoid", port=free_port())
     yield app
@@ -33,6 +42,7 @@ def browser():
     if not os.path.exists(CHROMIUM):
         pytest.skip("Debian chromium is not installed (scripts/install-system-deps.sh --with-browser)")
     from playwright.sync_api import sync_playwright
+
     with sync_playwright() as p:
         b = p.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS)
         yield b

@@ -1,4 +1,5 @@
-"""Only the studio's own page gets in: Host, Origin and token on HTTP and WebSocket; the port is exactly the one asked."""
+"""Only the studio's own page gets in: Host, Origin and token on HTTP and WebSocket; the port is exactly the one
+asked."""
 
 import http.client
 import socket
@@ -47,17 +48,20 @@ def test_the_printed_address_opens_the_page_and_hands_out_the_cookie(served):
     assert get(gate, "/", Cookie=f"other=1; {gate.cookie}={gate.token}")[0] == 200
 
 
-@pytest.mark.parametrize("path, headers", [
-    ("/", {}),
-    ("/?token=wrong", {}),
-    ("/", {"Cookie": "eigengait-studio-1=x"}),
-    ("/?token={token}", {"Origin": "http://evil.example.com"}),
-    ("/?token={token}", {"Origin": "null"}),
-    ("/?token={token}", {"Origin": "https://127.0.0.1:{port}"}),
-    ("/?token={token}", {"Host": "evil.example.com:{port}"}),
-    ("/?token={token}", {"Host": "127.0.0.1:1"}),
-    ("/?token={token}", {"Host": "localhost:{port}", "Origin": "http://127.0.0.1:{port}"}),
-])
+@pytest.mark.parametrize(
+    "path, headers",
+    [
+        ("/", {}),
+        ("/?token=wrong", {}),
+        ("/", {"Cookie": "eigengait-studio-1=x"}),
+        ("/?token={token}", {"Origin": "http://evil.example.com"}),
+        ("/?token={token}", {"Origin": "null"}),
+        ("/?token={token}", {"Origin": "https://127.0.0.1:{port}"}),
+        ("/?token={token}", {"Host": "evil.example.com:{port}"}),
+        ("/?token={token}", {"Host": "127.0.0.1:1"}),
+        ("/?token={token}", {"Host": "localhost:{port}", "Origin": "http://127.0.0.1:{port}"}),
+    ],
+)
 def test_http_without_own_host_origin_and_token_is_refused(served, path, headers):
     gate, _ = served
     values = {"token": gate.token, "port": gate.port}
@@ -74,13 +78,18 @@ def test_loopback_names_and_the_page_own_origin_are_accepted(served, host):
 
 def connect(gate, origin, token):
     return websockets.sync.client.connect(
-        f"ws://127.0.0.1:{gate.port}", origin=origin, open_timeout=10,
+        f"ws://127.0.0.1:{gate.port}",
+        origin=origin,
+        open_timeout=10,
         subprotocols=[f"viser-v{viser.__version__}"],
-        additional_headers={"Cookie": f"{gate.cookie}={token}"} if token else None)
+        additional_headers={"Cookie": f"{gate.cookie}={token}"} if token else None,
+    )
 
 
-@pytest.mark.parametrize("origin, token", [("http://evil.example.com", "right"), ("http://127.0.0.1:{port}", None),
-                                           ("http://127.0.0.1:{port}", "wrong")])
+@pytest.mark.parametrize(
+    "origin, token",
+    [("http://evil.example.com", "right"), ("http://127.0.0.1:{port}", None), ("http://127.0.0.1:{port}", "wrong")],
+)
 def test_websocket_handshakes_from_elsewhere_or_without_the_token_are_refused(served, origin, token):
     gate, server = served
     with pytest.raises(websockets.exceptions.InvalidStatus) as refused:
@@ -97,7 +106,7 @@ def test_the_page_own_websocket_is_accepted(served):
 
 def test_bound_to_all_interfaces_any_ip_address_is_the_studio_but_a_name_is_not():
     gate = AccessGate("0.0.0.0", 8080, token="t")
-    request = lambda host: Request("/?token=t", Headers(Host=host))       # noqa: E731
+    request = lambda host: Request("/?token=t", Headers(Host=host))  # noqa: E731
     assert gate.refusal(request("192.168.1.20:8080")) is None
     assert gate.refusal(request(f"{socket.gethostname()}:8080")) is None
     assert "evil.example.com" in gate.refusal(request("evil.example.com:8080"))

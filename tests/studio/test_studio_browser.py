@@ -25,7 +25,9 @@ def wait_until(predicate, timeout: float = 20.0, what: str = "condition"):
 
 def row(page, label: str):
     """The GUI row (label + control) whose label reads exactly `label`."""
-    return page.locator(f"xpath=//label[normalize-space(.)='{label}']/ancestor::div[contains(@class,'mantine-Flex-root')][1]")
+    return page.locator(
+        f"xpath=//label[normalize-space(.)='{label}']/ancestor::div[contains(@class,'mantine-Flex-root')][1]"
+    )
 
 
 def choose(page, label: str, option: str) -> None:
@@ -46,7 +48,9 @@ def screenshot(page, artifacts, name: str):
 
 
 def status_text(page) -> str:
-    return page.get_by_text(re.compile(r"^(Ready\.|Refused:|Loaded|Saved|Kept|Wrote|Playing|Optimiz|Resuming)")).first.inner_text()
+    return page.get_by_text(
+        re.compile(r"^(Ready\.|Refused:|Loaded|Saved|Kept|Wrote|Playing|Optimiz|Resuming)")
+    ).first.inner_text()
 
 
 def copy_color(studio, phase: str, mode: int) -> np.ndarray:
@@ -67,10 +71,13 @@ def test_palette_lists_every_mode_of_both_phases(studio, page, artifacts):
         assert hz == sorted(hz), "modes are listed in frequency order"
     assert len(studio.palette.copies) == 60
     positions = np.asarray(studio.palette.mesh.batched_positions).copy()
-    wait_until(lambda: not np.allclose(positions, studio.palette.mesh.batched_positions), timeout=10,
-               what="the palette copies to vibrate")
+    wait_until(
+        lambda: not np.allclose(positions, studio.palette.mesh.batched_positions),
+        timeout=10,
+        what="the palette copies to vibrate",
+    )
     expand(page, "Ground modes (30)")
-    page.get_by_label("animate palette").uncheck()      # software WebGL: keep the page responsive for the rest
+    page.get_by_label("animate palette").uncheck()  # software WebGL: keep the page responsive for the rest
     wait_until(lambda: not studio.palette.animate.value, what="the palette to pause")
 
 
@@ -107,7 +114,10 @@ def test_moving_a_slider_changes_the_sketch_motion(studio, page, artifacts):
     span = min(len(before), len(after))
     assert np.abs(after[:span] - before[:span]).max() > 0.01, "a larger activation moves the character more"
     assert latency < 3.0
-    print(f"slider → new sketch on stage: {latency * 1000:.0f} ms (server-side {studio.sketch_view.latency_s * 1000:.0f} ms)")
+    print(
+        f"slider → new sketch on stage: {latency * 1000:.0f} ms "
+        f"(server-side {studio.sketch_view.latency_s * 1000:.0f} ms)"
+    )
     save_doc_image(screenshot(page, artifacts, "sketch.png"), "studio_sketch.png")
 
 
@@ -120,8 +130,10 @@ def test_a_second_tab_sees_the_same_sketch(studio, browser, page):
         other.get_by_label(gui_label(studio, "air", 4)).wait_for(timeout=30_000)
         assert other.get_by_label(gui_label(studio, "air", 4)).input_value() == "excluded"
         choose(other, gui_label(studio, "air", 4), "allowed")
-        wait_until(lambda: page.get_by_label(gui_label(studio, "air", 4)).input_value() == "allowed",
-                   what="the first tab to follow the second")
+        wait_until(
+            lambda: page.get_by_label(gui_label(studio, "air", 4)).input_value() == "allowed",
+            what="the first tab to follow the second",
+        )
     finally:
         other.close()
 
@@ -156,6 +168,7 @@ OPEN_WEBSOCKET = """([url, protocol]) => new Promise(done => {
 @pytest.fixture
 def elsewhere():
     """Another site on this machine: an empty page at http://127.0.0.1:PORT/."""
+
     class Blank(http.server.BaseHTTPRequestHandler):
         def do_GET(self):
             self.send_response(200)
@@ -165,6 +178,7 @@ def elsewhere():
 
         def log_message(self, *args):
             pass
+
     server = http.server.ThreadingHTTPServer(("127.0.0.1", 0), Blank)
     threading.Thread(target=server.serve_forever, daemon=True).start()
     yield f"http://127.0.0.1:{server.server_address[1]}/"
@@ -174,13 +188,23 @@ def elsewhere():
 def test_a_page_from_another_origin_cannot_open_the_websocket(studio, browser, page, elsewhere):
     """The browser holds the token's cookie, sent along to the same site: only the Origin check stands in the way."""
     import viser
+
     port = studio.server.get_port()
     target = [f"ws://127.0.0.1:{port}", f"viser-v{viser.__version__}"]
     assert page.evaluate(OPEN_WEBSOCKET, target) == "open"
     context = browser.new_context()
     try:
-        context.add_cookies([{"name": studio.gate.cookie, "value": studio.gate.token, "url": f"http://127.0.0.1:{port}/",
-                              "httpOnly": True, "sameSite": "Strict"}])
+        context.add_cookies(
+            [
+                {
+                    "name": studio.gate.cookie,
+                    "value": studio.gate.token,
+                    "url": f"http://127.0.0.1:{port}/",
+                    "httpOnly": True,
+                    "sameSite": "Strict",
+                }
+            ]
+        )
         foreign = context.new_page()
         foreign.goto(elsewhere)
         assert foreign.evaluate(OPEN_WEBSOCKET, target) == "refused"
@@ -219,10 +243,13 @@ def test_optimization_runs_in_the_background_and_its_plot_advances(studio, page,
     progress = page.get_by_text(re.compile(r"^studio-runs/run-.*generation \d+"))
     progress.wait_for(timeout=30_000)
     first = int(re.search(r"generation (\d+)", progress.inner_text()).group(1))
-    page.get_by_label(gui_label(studio, "air", 1)).click()     # the page stays responsive during the run
+    page.get_by_label(gui_label(studio, "air", 1)).click()  # the page stays responsive during the run
     page.keyboard.press("Escape")
-    wait_until(lambda: int(re.search(r"generation (\d+)", progress.inner_text()).group(1)) > first,
-               timeout=40, what="the plot to advance")
+    wait_until(
+        lambda: int(re.search(r"generation (\d+)", progress.inner_text()).group(1)) > first,
+        timeout=40,
+        what="the plot to advance",
+    )
     assert page.locator(".uplot canvas").count() >= 2
     wait_until(lambda: not studio.optimize_panel.running, timeout=60, what="the run to finish")
     assert (studio.optimize_panel.folder / "best_controller.json").is_file()
@@ -242,6 +269,7 @@ def test_optimization_runs_in_the_background_and_its_plot_advances(studio, page,
 def test_a_mocap_clip_is_tracked_from_the_page(studio, page, artifacts):
     import shutil
     from conftest import MOCAP_WALK
+
     shutil.copy(MOCAP_WALK, studio.sandbox.root / "walk.bvh")
     expand(page, "Track mocap (gravity on)")
     clip = row(page, "BVH clip").locator("input")
@@ -251,5 +279,5 @@ def test_a_mocap_clip_is_tracked_from_the_page(studio, page, artifacts):
     page.get_by_role("button", name="Track in physics").click()
     page.get_by_text(re.compile(r"joint RMS")).wait_for(timeout=60_000)
     assert studio.stage.showing == "tracking" and studio.stage.follow
-    assert not studio.track_panel.result.fell                   # the walk at robustness 0.5
+    assert not studio.track_panel.result.fell  # the walk at robustness 0.5
     screenshot(page, artifacts, "tracking.png")

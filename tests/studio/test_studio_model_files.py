@@ -28,19 +28,23 @@ def humanoid_with(root, name, extra):
     return path
 
 
-@pytest.mark.parametrize("extra", [
-    '<include file="../outside/fragment.xml"/>',
-    '<include file="{outside}/fragment.xml"/>',
-    '<compiler meshdir="../outside"/><asset><mesh name="m" file="mesh.stl"/></asset>',
-    '<asset><mesh name="m" file="{outside}/mesh.stl"/></asset>',
-    '<asset><texture name="sky" type="skybox" fileright="/etc/hostname"/></asset>',
-    '<asset><hfield name="h" file="../../etc/hostname"/></asset>',
-    '<include file="parts/nested.xml"/>',
-])
+@pytest.mark.parametrize(
+    "extra",
+    [
+        '<include file="../outside/fragment.xml"/>',
+        '<include file="{outside}/fragment.xml"/>',
+        '<compiler meshdir="../outside"/><asset><mesh name="m" file="mesh.stl"/></asset>',
+        '<asset><mesh name="m" file="{outside}/mesh.stl"/></asset>',
+        '<asset><texture name="sky" type="skybox" fileright="/etc/hostname"/></asset>',
+        '<asset><hfield name="h" file="../../etc/hostname"/></asset>',
+        '<include file="parts/nested.xml"/>',
+    ],
+)
 def test_an_mjcf_that_reads_outside_the_folder_is_refused(folders, extra):
     root, outside = folders
     (root / "parts" / "nested.xml").write_text(
-        f"<mujoco><asset><mesh name='n' file='{outside}/mesh.stl'/></asset></mujoco>")
+        f"<mujoco><asset><mesh name='n' file='{outside}/mesh.stl'/></asset></mujoco>"
+    )
     path = humanoid_with(root, "creature.xml", extra.format(outside=outside))
     state = StudioState(Sandbox(root))
     with pytest.raises(UserInputError, match="outside the studio folder"):
@@ -74,8 +78,10 @@ def test_files_inside_the_folder_are_accepted_and_the_character_loads(folders):
     (root / "parts" / "options.xml").write_text("<mujoco><option timestep='0.002'/></mujoco>")
     (root / "parts" / "mesh.stl").write_bytes(b"solid x\nendsolid x\n")
     humanoid_with(root, "creature.xml", '<include file="parts/options.xml"/>')
-    confine_character(Sandbox(root), humanoid_with(
-        root, "meshed.xml", '<compiler meshdir="parts"/><asset><mesh name="m" file="mesh.stl"/></asset>'))
+    confine_character(
+        Sandbox(root),
+        humanoid_with(root, "meshed.xml", '<compiler meshdir="parts"/><asset><mesh name="m" file="mesh.stl"/></asset>'),
+    )
     state = StudioState(Sandbox(root))
     state.load_character("creature.xml")
     assert state.sketch.character == str((root / "creature.xml").resolve())

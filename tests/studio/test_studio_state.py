@@ -75,6 +75,7 @@ def test_tracking_panel_tracks_a_clip_inside_the_folder_only(tmp_path):
 
     from conftest import MOCAP_WALK, free_port
     from eigengait.studio.app import Studio
+
     shutil.copy(MOCAP_WALK, tmp_path / "walk.bvh")
     studio = Studio(tmp_path, "humanoid", port=free_port())
     try:
@@ -82,6 +83,6 @@ def test_tracking_panel_tracks_a_clip_inside_the_folder_only(tmp_path):
         assert not result.fell and result.com_error_m < 0.15 and studio.stage.showing == "tracking"
         assert "joint RMS" in studio.track_panel.report.content
         with pytest.raises(UserInputError):
-            studio.track_panel.track_file(str(MOCAP_WALK))           # outside the studio folder
+            studio.track_panel.track_file(str(MOCAP_WALK))  # outside the studio folder
     finally:
         studio.stop()

@@ -24,6 +24,7 @@ FOOT_SITE_PREFIX = "eigengait:foot:"
 @dataclass(frozen=True)
 class FootPoint:
     """A guessed foot: its body, the contact point in the body frame (m) and the contact sphere radius (m)."""
+
     body: str
     pos: tuple[float, float, float]
     radius: float
@@ -78,10 +79,14 @@ def find_feet(model: mujoco.MjModel, root: int) -> list[FootPoint]:
     if not bottoms:
         return []
     low = min(c[2] - r for c, r in bottoms.values())
-    high = max(data.geom_xpos[g][2] + model.geom_rbound[g] for g in range(model.ngeom)
-               if int(model.geom_bodyid[g]) in bodies)
-    leaves = [b for b in bodies if b in bottoms and model.body(b).name
-              and not any(model.body_parentid[c] == b for c in bodies if c != b)]
+    high = max(
+        data.geom_xpos[g][2] + model.geom_rbound[g] for g in range(model.ngeom) if int(model.geom_bodyid[g]) in bodies
+    )
+    leaves = [
+        b
+        for b in bodies
+        if b in bottoms and model.body(b).name and not any(model.body_parentid[c] == b for c in bodies if c != b)
+    ]
     feet = []
     for b in leaves:
         c, r = bottoms[b]

@@ -25,8 +25,12 @@ def resolve_character(name_or_path: str | Path) -> Path:
     path = Path(text)
     if path.suffix.lower() in (".xml", ".yaml") or path.exists():
         if not path.is_file():
-            raise UserInputError("file not found", file=path,
-                                 fix="give a path to an MJCF .xml file or a NAME.eigengait.yaml sidecar")
+            raise UserInputError(
+                "file not found", file=path, fix="give a path to an MJCF .xml file or a NAME.eigengait.yaml sidecar"
+            )
         return path
-    raise UserInputError(f"unknown character '{text}'", field="CHARACTER",
-                         fix=f"use a built-in name ({', '.join(builtin_names())}) or a path to an MJCF file")
+    raise UserInputError(
+        f"unknown character '{text}'",
+        field="CHARACTER",
+        fix=f"use a built-in name ({', '.join(builtin_names())}) or a path to an MJCF file",
+    )

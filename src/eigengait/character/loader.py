@@ -31,15 +31,16 @@ STIFFNESS_CHOICES = ("auto",)
 @dataclass
 class Character:
     """A validated character. `path` is its MJCF file; `joints` lists the internal joints in model order."""
+
     name: str
     path: Path
     meta: CharacterMetadata
     joints: list[str]
     joint_dofs: dict[str, int]
-    stiffness: dict[str, np.ndarray] = field(repr=False)   # joint -> (3,) or (1,) N·m/rad, joint frame
+    stiffness: dict[str, np.ndarray] = field(repr=False)  # joint -> (3,) or (1,) N·m/rad, joint frame
     scene: Scene = None
     guessed_feet: list[FootPoint] = field(default_factory=list)
-    stiffness_source: dict[str, str] = field(default_factory=dict)   # joint -> "sidecar", "mjcf" or "auto"
+    stiffness_source: dict[str, str] = field(default_factory=dict)  # joint -> "sidecar", "mjcf" or "auto"
     sidecar: Path | None = None
 
     @property
@@ -80,9 +81,6 @@ def _parse(path: Path) -> mujoco.MjSpec:
         raise UserInputError(f"malformed MJCF: {msg}", file=path, fix="fix the XML so MuJoCo can load it") from None
 
 
-
-
-
 def _add_foot_sites(spec: mujoco.MjSpec, feet: list[FootPoint]) -> None:
     for f in feet:
         spec.body(f.body).add_site(name=f.site, pos=list(f.pos), size=[f.radius, 0, 0])
@@ -94,12 +92,20 @@ def _locate(name_or_path: str | Path) -> tuple[Path, Path, CharacterMetadata]:
     if is_sidecar(path):
         meta = load_metadata(path)
         if not meta.model:
-            raise UserInputError("this sidecar does not name its model", file=path, field="model",
-                                 fix="add `model: path/to/creature.xml` (relative to the sidecar), or pass the MJCF")
+            raise UserInputError(
+                "this sidecar does not name its model",
+                file=path,
+                field="model",
+                fix="add `model: path/to/creature.xml` (relative to the sidecar), or pass the MJCF",
+            )
         mjcf = (path.parent / meta.model).resolve()
         if not mjcf.is_file():
-            raise UserInputError(f"model file '{mjcf}' not found", file=path, field="model",
-                                 fix="give the MJCF path relative to the sidecar")
+            raise UserInputError(
+                f"model file '{mjcf}' not found",
+                file=path,
+                field="model",
+                fix="give the MJCF path relative to the sidecar",
+            )
         return mjcf, path, meta
     side = sidecar_path(path)
     return path, side, (load_metadata(side) if side.exists() else CharacterMetadata())
@@ -123,8 +129,11 @@ def load_character(name_or_path: str | Path, body: str | None = None, stiffness:
 
     sites = {model.site(i).name for i in range(model.nsite)}
     guessed = []
-    named = [f.toe[len(FOOT_SITE_PREFIX):] for f in meta.feet.values()
-             if f.toe.startswith(FOOT_SITE_PREFIX) and f.toe not in sites]
+    named = [
+        f.toe[len(FOOT_SITE_PREFIX) :]
+        for f in meta.feet.values()
+        if f.toe.startswith(FOOT_SITE_PREFIX) and f.toe not in sites
+    ]
     if named:
         guessed = [_named_foot(model, body, side) for body in named]
         _add_foot_sites(spec, guessed)
@@ -155,29 +164,48 @@ def load_character(name_or_path: str | Path, body: str | None = None, stiffness:
         elif name in auto:
             k, source[name] = np.full(n, auto[name]), "auto"
         else:
-            raise UserInputError("joint has no stiffness", file=path, field=f"joint '{name}' stiffness",
-                                 fix='give it stiffness="..." (N·m/rad) in the MJCF or in the sidecar, '
-                                     'or use --stiffness auto')
+            raise UserInputError(
+                "joint has no stiffness",
+                file=path,
+                field=f"joint '{name}' stiffness",
+                fix='give it stiffness="..." (N·m/rad) in the MJCF or in the sidecar, or use --stiffness auto',
+            )
         dofs[name], k_of[name] = n, k[:n]
     if "auto" in source.values():
         ks = [k_of[j][0] for j in joints if source[j] == "auto"]
-        scene.notes.append(f"--stiffness auto: {len(ks)} joint(s) given k = m·g·r/θ_sag (θ_sag = {SAG_DEG:g}°), "
-                           f"{min(ks):.3g} to {max(ks):.3g} N·m/rad")
+        scene.notes.append(
+            f"--stiffness auto: {len(ks)} joint(s) given k = m·g·r/θ_sag (θ_sag = {SAG_DEG:g}°), "
+            f"{min(ks):.3g} to {max(ks):.3g} N·m/rad"
+        )
 
     _check_metadata(meta, side, joints, sites)
-    return Character(name=(side.name[:-len(".eigengait.yaml")] if meta.model else path.stem), path=path, meta=meta,
-                     joints=joints, joint_dofs=dofs, stiffness=k_of, scene=scene, guessed_feet=guessed,
-                     stiffness_source=source, sidecar=side if side.exists() else None)
+    return Character(
+        name=(side.name[: -len(".eigengait.yaml")] if meta.model else path.stem),
+        path=path,
+        meta=meta,
+        joints=joints,
+        joint_dofs=dofs,
+        stiffness=k_of,
+        scene=scene,
+        guessed_feet=guessed,
+        stiffness_source=source,
+        sidecar=side if side.exists() else None,
+    )
 
 
 def _named_foot(model: mujoco.MjModel, body: str, side: Path) -> FootPoint:
     if mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, body) < 0:
-        raise UserInputError(f"foot site names body '{body}', which is not in the MJCF", file=side, field="feet",
-                             fix=f"write toe: {FOOT_SITE_PREFIX}<body> with an existing body name")
+        raise UserInputError(
+            f"foot site names body '{body}', which is not in the MJCF",
+            file=side,
+            field="feet",
+            fix=f"write toe: {FOOT_SITE_PREFIX}<body> with an existing body name",
+        )
     point = foot_at(model, body)
     if point is None:
-        raise UserInputError(f"body '{body}' has no geom to stand on", file=side, field="feet",
-                             fix="name a body with a geom")
+        raise UserInputError(
+            f"body '{body}' has no geom to stand on", file=side, field="feet", fix="name a body with a geom"
+        )
     return point
 
 
@@ -193,12 +221,19 @@ def _internal_joints(model: mujoco.MjModel, root: int, scene: Scene, path: Path)
             continue
         jtype = mujoco.mjtJoint(model.jnt_type[j])
         if jtype not in JOINT_DOFS:
-            raise UserInputError(f"joint type {jtype.name} is not supported inside the creature", file=path,
-                                 field=f"joint '{name}'", fix="use ball or hinge joints")
+            raise UserInputError(
+                f"joint type {jtype.name} is not supported inside the creature",
+                file=path,
+                field=f"joint '{name}'",
+                fix="use ball or hinge joints",
+            )
         if not name:
-            raise UserInputError("every joint needs a name", file=path,
-                                 field=f"joint #{j} in body '{model.body(model.jnt_bodyid[j]).name}'",
-                                 fix='add name="..." to the joint')
+            raise UserInputError(
+                "every joint needs a name",
+                file=path,
+                field=f"joint #{j} in body '{model.body(model.jnt_bodyid[j]).name}'",
+                fix='add name="..." to the joint',
+            )
         joints.append(name)
     if not joints:
         raise UserInputError("the creature has no internal joints", file=path, fix="add ball or hinge joints")
@@ -207,13 +242,20 @@ def _internal_joints(model: mujoco.MjModel, root: int, scene: Scene, path: Path)
 
 def _check_metadata(meta: CharacterMetadata, side: Path, joints: list[str], sites: set[str]) -> None:
     if not meta.feet:
-        meta.feet = {s[: -len("_toe")]: Foot(toe=s, heel=(s[:-4] + "_heel") if s[:-4] + "_heel" in sites else None)
-                     for s in sorted(sites) if s.endswith("_toe")}
+        meta.feet = {
+            s[: -len("_toe")]: Foot(toe=s, heel=(s[:-4] + "_heel") if s[:-4] + "_heel" in sites else None)
+            for s in sorted(sites)
+            if s.endswith("_toe")
+        }
     for foot, f in meta.feet.items():
         for point in (f.toe, f.heel):
             if point is not None and point not in sites:
-                raise UserInputError(f"foot '{foot}' names site '{point}', which is not in the MJCF", file=side,
-                                     field=f"feet.{foot}", fix=f"add <site name=\"{point}\"/> or fix the name")
+                raise UserInputError(
+                    f"foot '{foot}' names site '{point}', which is not in the MJCF",
+                    file=side,
+                    field=f"feet.{foot}",
+                    fix=f"add <site name=\"{point}\"/> or fix the name",
+                )
     if not meta.gait_order:
         meta.gait_order = list(meta.feet)
     for foot in meta.gait_order:
@@ -224,11 +266,12 @@ def _check_metadata(meta: CharacterMetadata, side: Path, joints: list[str], site
             for j in (a, b):
                 if j not in joints:
                     raise UserInputError(f"mirror pair names unknown joint '{j}'", file=side, field="mirror.pairs")
-    for j in ({} if meta.stiffness == "auto" else meta.stiffness):
+    for j in {} if meta.stiffness == "auto" else meta.stiffness:
         if j not in joints:
             raise UserInputError(f"stiffness given for unknown joint '{j}'", file=side, field="stiffness")
     for pose, rot in meta.relax_poses.items():
         for j in rot:
             if j not in joints:
-                raise UserInputError(f"relax pose '{pose}' names unknown joint '{j}'", file=side,
-                                     field=f"relax_poses.{pose}")
+                raise UserInputError(
+                    f"relax pose '{pose}' names unknown joint '{j}'", file=side, field=f"relax_poses.{pose}"
+                )

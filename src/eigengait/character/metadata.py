@@ -49,6 +49,7 @@ class Mirror(BaseModel):
 
 class CharacterMetadata(BaseModel):
     """Validated content of a character sidecar file."""
+
     model_config = ConfigDict(extra="forbid")
     eigengait: int = FORMAT_VERSION
     model: str | None = None
@@ -100,13 +101,15 @@ def load_metadata(path: Path) -> CharacterMetadata:
     try:
         raw = yaml.safe_load(read_text(path)) or {}
     except yaml.YAMLError as exc:
-        raise UserInputError(f"not valid YAML ({exc.__class__.__name__}: {exc})", file=path,
-                             fix="check indentation and brackets") from None
+        raise UserInputError(
+            f"not valid YAML ({exc.__class__.__name__}: {exc})", file=path, fix="check indentation and brackets"
+        ) from None
     if not isinstance(raw, dict):
         raise UserInputError("expected a mapping at the top level", file=path)
     try:
         return CharacterMetadata.model_validate(raw)
     except ValidationError as err:
         field, msg = first_error(err)
-        raise UserInputError(msg, file=path, field=field,
-                             fix="see the sidecar format in the README (Characters)") from None
+        raise UserInputError(
+            msg, file=path, field=field, fix="see the sidecar format in the README (Characters)"
+        ) from None

@@ -33,8 +33,11 @@ def parse_relax_argument(text: str | None) -> str | dict[str, list[float]]:
             if not all(math.isfinite(v) and abs(v) <= 360 for v in rotations[joint.strip()]):
                 raise ValueError
         except ValueError:
-            raise UserInputError(f"cannot read rotation '{item}'", field="--relax",
-                                 fix="write JOINT=rx,ry,rz in degrees (finite, within ±360), items separated by ';'") from None
+            raise UserInputError(
+                f"cannot read rotation '{item}'",
+                field="--relax",
+                fix="write JOINT=rx,ry,rz in degrees (finite, within ±360), items separated by ';'",
+            ) from None
     return rotations
 
 
@@ -46,18 +49,29 @@ def pose_rotations(character: Character, pose: str | dict) -> dict[str, np.ndarr
         presets = character.meta.relax_poses
         if pose not in presets:
             known = ", ".join([DEFAULT_POSE, *presets]) or DEFAULT_POSE
-            raise UserInputError(f"unknown relax pose '{pose}'", file=character.path, field="relax_poses",
-                                 fix=f"use one of: {known}, or JOINT=rx,ry,rz rotations")
+            raise UserInputError(
+                f"unknown relax pose '{pose}'",
+                file=character.path,
+                field="relax_poses",
+                fix=f"use one of: {known}, or JOINT=rx,ry,rz rotations",
+            )
         pose = presets[pose]
     rotations = {}
     for joint, value in pose.items():
         if joint not in character.joint_dofs:
-            raise UserInputError(f"relax pose names unknown joint '{joint}'", file=character.path, field="relax pose",
-                                 fix=f"joints are: {', '.join(character.joints)}")
+            raise UserInputError(
+                f"relax pose names unknown joint '{joint}'",
+                file=character.path,
+                field="relax pose",
+                fix=f"joints are: {', '.join(character.joints)}",
+            )
         v = np.atleast_1d(np.asarray(value, dtype=float))
         if v.size != character.joint_dofs[joint]:
-            raise UserInputError(f"joint '{joint}' needs {character.joint_dofs[joint]} rotation value(s), got {v.size}",
-                                 file=character.path, field="relax pose")
+            raise UserInputError(
+                f"joint '{joint}' needs {character.joint_dofs[joint]} rotation value(s), got {v.size}",
+                file=character.path,
+                field="relax pose",
+            )
         rotations[joint] = np.deg2rad(v)
     return rotations
 

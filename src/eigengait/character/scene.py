@@ -27,16 +27,17 @@ from eigengait.errors import UserInputError
 RESERVED_PREFIXES = ("eigengait:", "motor:", "spring:", "contact:", "pos:")
 ROOT_JOINT_TYPES = (mujoco.mjtJoint.mjJNT_SLIDE, mujoco.mjtJoint.mjJNT_HINGE)
 ADDED_FREE_JOINT = "eigengait:root"
-UNNAMED_ROOT = "eigengait:body"    # the name given to an unnamed root body
+UNNAMED_ROOT = "eigengait:body"  # the name given to an unnamed root body
 
 
 @dataclass
 class Scene:
     """What preparing the spec found: the creature's root body, its rigid root joints, and notes for the user."""
+
     root: str
-    root_joints: list[str] = field(default_factory=list)   # planar root joints; empty for a free root
+    root_joints: list[str] = field(default_factory=list)  # planar root joints; empty for a free root
     added_free_joint: bool = False
-    removed: dict[str, int] = field(default_factory=dict)   # element kind -> how many of the model's were removed
+    removed: dict[str, int] = field(default_factory=dict)  # element kind -> how many of the model's were removed
     notes: list[str] = field(default_factory=list)
 
 
@@ -49,8 +50,11 @@ def compile_spec(spec: mujoco.MjSpec, path: Path | None = None) -> mujoco.MjMode
             return spec.compile()
         except ValueError as exc:
             msg = str(exc).strip().replace("\n", " ")
-            raise UserInputError(f"MuJoCo cannot compile the model: {msg}", file=path,
-                                 fix="fix the MJCF so that `mujoco.MjModel.from_xml_path` loads it") from None
+            raise UserInputError(
+                f"MuJoCo cannot compile the model: {msg}",
+                file=path,
+                fix="fix the MJCF so that `mujoco.MjModel.from_xml_path` loads it",
+            ) from None
 
 
 def _subtree(body) -> list:
@@ -77,35 +81,60 @@ def choose_root(spec: mujoco.MjSpec, path: Path, body: str | None):
     if body is not None:
         chosen = [b for b in spec.worldbody.bodies if b.name == body or (body == UNNAMED_ROOT and not b.name)]
         if not chosen:
-            raise UserInputError(f"no body '{body}' directly under <worldbody>", file=path, field="body",
-                                 fix=f"name one of the articulated bodies: {names}")
+            raise UserInputError(
+                f"no body '{body}' directly under <worldbody>",
+                file=path,
+                field="body",
+                fix=f"name one of the articulated bodies: {names}",
+            )
         return chosen[0]
     if not trees:
-        raise UserInputError("the model has no joints: nothing can move", file=path, field="worldbody",
-                             fix="add hinge or ball joints between the creature's bodies")
+        raise UserInputError(
+            "the model has no joints: nothing can move",
+            file=path,
+            field="worldbody",
+            fix="add hinge or ball joints between the creature's bodies",
+        )
     return max(trees, key=_tree_size)
 
 
 def _check_reserved_names(spec: mujoco.MjSpec, path: Path) -> None:
     model = compile_spec(spec, path)
-    for kind in (mujoco.mjtObj.mjOBJ_BODY, mujoco.mjtObj.mjOBJ_GEOM, mujoco.mjtObj.mjOBJ_SITE,
-                 mujoco.mjtObj.mjOBJ_JOINT, mujoco.mjtObj.mjOBJ_CAMERA, mujoco.mjtObj.mjOBJ_TEXTURE,
-                 mujoco.mjtObj.mjOBJ_MATERIAL, mujoco.mjtObj.mjOBJ_LIGHT, mujoco.mjtObj.mjOBJ_TENDON):
+    for kind in (
+        mujoco.mjtObj.mjOBJ_BODY,
+        mujoco.mjtObj.mjOBJ_GEOM,
+        mujoco.mjtObj.mjOBJ_SITE,
+        mujoco.mjtObj.mjOBJ_JOINT,
+        mujoco.mjtObj.mjOBJ_CAMERA,
+        mujoco.mjtObj.mjOBJ_TEXTURE,
+        mujoco.mjtObj.mjOBJ_MATERIAL,
+        mujoco.mjtObj.mjOBJ_LIGHT,
+        mujoco.mjtObj.mjOBJ_TENDON,
+    ):
         for i in range(_count(model, kind)):
             name = mujoco.mj_id2name(model, kind, i) or ""
             if name.startswith(RESERVED_PREFIXES):
-                what = kind.name[len("mjOBJ_"):].lower()
-                raise UserInputError(f"{what} name '{name}' uses a prefix eigengait reserves for what it adds",
-                                     file=path, field=f"{what} '{name}'",
-                                     fix=f"rename it without the prefixes {', '.join(RESERVED_PREFIXES)}")
+                what = kind.name[len("mjOBJ_") :].lower()
+                raise UserInputError(
+                    f"{what} name '{name}' uses a prefix eigengait reserves for what it adds",
+                    file=path,
+                    field=f"{what} '{name}'",
+                    fix=f"rename it without the prefixes {', '.join(RESERVED_PREFIXES)}",
+                )
 
 
 def _count(model: mujoco.MjModel, kind: mujoco.mjtObj) -> int:
-    return {mujoco.mjtObj.mjOBJ_BODY: model.nbody, mujoco.mjtObj.mjOBJ_GEOM: model.ngeom,
-            mujoco.mjtObj.mjOBJ_SITE: model.nsite, mujoco.mjtObj.mjOBJ_JOINT: model.njnt,
-            mujoco.mjtObj.mjOBJ_CAMERA: model.ncam, mujoco.mjtObj.mjOBJ_TEXTURE: model.ntex,
-            mujoco.mjtObj.mjOBJ_MATERIAL: model.nmat, mujoco.mjtObj.mjOBJ_LIGHT: model.nlight,
-            mujoco.mjtObj.mjOBJ_TENDON: model.ntendon}[kind]
+    return {
+        mujoco.mjtObj.mjOBJ_BODY: model.nbody,
+        mujoco.mjtObj.mjOBJ_GEOM: model.ngeom,
+        mujoco.mjtObj.mjOBJ_SITE: model.nsite,
+        mujoco.mjtObj.mjOBJ_JOINT: model.njnt,
+        mujoco.mjtObj.mjOBJ_CAMERA: model.ncam,
+        mujoco.mjtObj.mjOBJ_TEXTURE: model.ntex,
+        mujoco.mjtObj.mjOBJ_MATERIAL: model.nmat,
+        mujoco.mjtObj.mjOBJ_LIGHT: model.nlight,
+        mujoco.mjtObj.mjOBJ_TENDON: model.ntendon,
+    }[kind]
 
 
 def _is_y_up(spec: mujoco.MjSpec, root: str) -> bool:
@@ -147,8 +176,11 @@ def prepare(spec: mujoco.MjSpec, path: Path, body: str | None = None) -> Scene:
         if items:
             scene.removed[kind] = len(items)
     if scene.removed:
-        scene.notes.append("removed the model's " + ", ".join(f"{n} {k}(s)" for k, n in scene.removed.items())
-                           + ": eigengait drives every joint with its own motors and sensors")
+        scene.notes.append(
+            "removed the model's "
+            + ", ".join(f"{n} {k}(s)" for k, n in scene.removed.items())
+            + ": eigengait drives every joint with its own motors and sensors"
+        )
 
     joints = list(root.joints)
     if not joints:
@@ -163,18 +195,33 @@ def prepare(spec: mujoco.MjSpec, path: Path, body: str | None = None) -> Scene:
             scene.notes.append("the creature is longest along y (Y-up): turned +90° about x to stand along z")
     elif any(j.type == mujoco.mjtJoint.mjJNT_FREE for j in joints):
         if len(joints) != 1:
-            raise UserInputError("the root body has a free joint and other joints", file=path, field=where, fix="keep only the free joint on the root body")
+            raise UserInputError(
+                "the root body has a free joint and other joints",
+                file=path,
+                field=where,
+                fix="keep only the free joint on the root body",
+            )
     else:
         for j in joints:
             if j.type not in ROOT_JOINT_TYPES or not j.name:
-                raise UserInputError("a root joint must be a named slide or hinge (or one free joint)", file=path,
-                                     field=where, fix="name the root's slide/hinge joints")
+                raise UserInputError(
+                    "a root joint must be a named slide or hinge (or one free joint)",
+                    file=path,
+                    field=where,
+                    fix="name the root's slide/hinge joints",
+                )
         scene.root_joints = [j.name for j in joints]
-        scene.notes.append(f"root '{root.name}' moves by its own joints ({', '.join(scene.root_joints)}): "
-                           "kept as the character's rigid degrees of freedom")
+        scene.notes.append(
+            f"root '{root.name}' moves by its own joints ({', '.join(scene.root_joints)}): "
+            "kept as the character's rigid degrees of freedom"
+        )
     for b in _subtree(root)[1:]:
         for j in b.joints:
             if j.type == mujoco.mjtJoint.mjJNT_FREE:
-                raise UserInputError("only the root body may have a free joint", file=path,
-                                     field=f"joint '{j.name}' in body '{b.name}'", fix="remove the free joint")
+                raise UserInputError(
+                    "only the root body may have a free joint",
+                    file=path,
+                    field=f"joint '{j.name}' in body '{b.name}'",
+                    fix="remove the free joint",
+                )
     return scene

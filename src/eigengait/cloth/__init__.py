@@ -12,6 +12,23 @@ from eigengait.cloth.par import Script, SurfaceSpec, parse_par, read_par
 from eigengait.cloth.simulate import Frame, Simulation, run_frames
 from eigengait.cloth.stability import StepSizeWarning, stable_step
 
-__all__ = ["EXAMPLES", "ClothModel", "Frame", "Mesh", "Script", "Simulation", "StepSizeWarning", "SurfaceSpec",
-           "example_path", "parse_par", "read_obt", "read_par", "resolve_script", "run_frames", "script_model",
-           "stable_step", "surface_model", "write_obt"]
+__all__ = [
+    "EXAMPLES",
+    "ClothModel",
+    "Frame",
+    "Mesh",
+    "Script",
+    "Simulation",
+    "StepSizeWarning",
+    "SurfaceSpec",
+    "example_path",
+    "parse_par",
+    "read_obt",
+    "read_par",
+    "resolve_script",
+    "run_frames",
+    "script_model",
+    "stable_step",
+    "surface_model",
+    "write_obt",
+]

@@ -26,8 +26,11 @@ from eigengait.errors import UserInputError
 from eigengait.inputs import check_range
 from eigengait.outputs import check_output
 
-app = typer.Typer(help="Deformable surfaces (FLEX3D, Nedel 1993): run .PAR scripts, examples, vibration modes.",
-                  no_args_is_help=True, add_completion=False)
+app = typer.Typer(
+    help="Deformable surfaces (FLEX3D, Nedel 1993): run .PAR scripts, examples, vibration modes.",
+    no_args_is_help=True,
+    add_completion=False,
+)
 console = Console()
 errors = Console(stderr=True)
 
@@ -43,8 +46,9 @@ def _warn(caught) -> None:
 
 
 def _progress() -> Progress:
-    return Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeRemainingColumn(),
-                    console=errors)
+    return Progress(
+        TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeRemainingColumn(), console=errors
+    )
 
 
 @app.command("examples")
@@ -57,23 +61,26 @@ def examples() -> None:
 
 
 @app.command("run")
-def run(script: str = typer.Argument(..., help="a .PAR file or a shipped example name (see 'examples')"),
-        output: Path = typer.Option(..., "-o", "--output", help="folder for the frame set (new, empty, or --force)"),
-        integrator: str = typer.Option("euler", help=f"one of: {', '.join(INTEGRATORS)}"),
-        video: Optional[Path] = typer.Option(None, help="MP4 path (default: DIR/<script>.mp4)"),
-        duration: Optional[float] = typer.Option(None, help="simulate this many seconds instead of DURACAO"),
-        time_step: Optional[float] = typer.Option(None, "--time-step", help="override DELTA_t (s)"),
-        no_gravity: bool = typer.Option(False, "--no-gravity", help="switch gravity off"),
-        no_render: bool = typer.Option(False, "--no-render", help="write .OBT/.obj frames only"),
-        self_collision: bool = typer.Option(False, "--self-collision", help="collide surfaces with themselves"),
-        restitution: float = typer.Option(0.0, help="normal restitution at contacts, 0..1 (1 = FLEX3D elastic)"),
-        strain_limit: float = typer.Option(DEFAULT_BOUND, help="largest spring strain kept (0.1 = 10 %); 0 = off"),
-        thickness: Optional[float] = typer.Option(None, help="contact gap in m (default 5 % of the spacing)"),
-        floor: Optional[float] = typer.Option(None, help="floor plane at this height (m, world z; PISO in scripts)"),
-        dissertation: bool = typer.Option(False, "--dissertation",
-                                          help="FLEX3D as published: no strain limit, swept hits only"),
-        video_fps: float = typer.Option(30.0, help="video frames per second of simulated time (real-time playback)"),
-        force: bool = typer.Option(False, "--force", help="replace an earlier run's frame set in DIR")) -> None:
+def run(
+    script: str = typer.Argument(..., help="a .PAR file or a shipped example name (see 'examples')"),
+    output: Path = typer.Option(..., "-o", "--output", help="folder for the frame set (new, empty, or --force)"),
+    integrator: str = typer.Option("euler", help=f"one of: {', '.join(INTEGRATORS)}"),
+    video: Optional[Path] = typer.Option(None, help="MP4 path (default: DIR/<script>.mp4)"),
+    duration: Optional[float] = typer.Option(None, help="simulate this many seconds instead of DURACAO"),
+    time_step: Optional[float] = typer.Option(None, "--time-step", help="override DELTA_t (s)"),
+    no_gravity: bool = typer.Option(False, "--no-gravity", help="switch gravity off"),
+    no_render: bool = typer.Option(False, "--no-render", help="write .OBT/.obj frames only"),
+    self_collision: bool = typer.Option(False, "--self-collision", help="collide surfaces with themselves"),
+    restitution: float = typer.Option(0.0, help="normal restitution at contacts, 0..1 (1 = FLEX3D elastic)"),
+    strain_limit: float = typer.Option(DEFAULT_BOUND, help="largest spring strain kept (0.1 = 10 %); 0 = off"),
+    thickness: Optional[float] = typer.Option(None, help="contact gap in m (default 5 % of the spacing)"),
+    floor: Optional[float] = typer.Option(None, help="floor plane at this height (m, world z; PISO in scripts)"),
+    dissertation: bool = typer.Option(
+        False, "--dissertation", help="FLEX3D as published: no strain limit, swept hits only"
+    ),
+    video_fps: float = typer.Option(30.0, help="video frames per second of simulated time (real-time playback)"),
+    force: bool = typer.Option(False, "--force", help="replace an earlier run's frame set in DIR"),
+) -> None:
     """Simulate a script and write <NAME>_<frame>.OBT, obj/<NAME>_<frame>.obj, png/ frames, a real-time video,
     a contact sheet and run.json."""
     from eigengait.cloth.simulate import frame_steps, run_samples, video_steps
@@ -99,29 +106,57 @@ def run(script: str = typer.Argument(..., help="a .PAR file or a shipped example
             caught = stack.enter_context(warnings.catch_warnings(record=True))
             warnings.simplefilter("always")
             steps = frames if shots is None else np.union1d(frames, shots)
-            samples = run_samples(model, steps, time_step=h, integrator=integrator, source=str(path),
-                                  step_field=step_field,
-                                  self_collision=self_collision or parsed.self_collision, restitution=restitution,
-                                  strain_limit=strain_limit or None, thickness=thickness, floor=floor,
-                                  dissertation=dissertation)
-            states = _simulate(model, samples, steps, frames, staging, f"simulating {path.name} ({integrator})",
-                               caught)
-            summary = {"script": str(path), "integrator": integrator, "time_step_s": h, "duration_s": total,
-                       "floor_m": floor, "frames": {"count": len(frames), "per_second": parsed.frames_per_second},
-                       "video": None}
+            samples = run_samples(
+                model,
+                steps,
+                time_step=h,
+                integrator=integrator,
+                source=str(path),
+                step_field=step_field,
+                self_collision=self_collision or parsed.self_collision,
+                restitution=restitution,
+                strain_limit=strain_limit or None,
+                thickness=thickness,
+                floor=floor,
+                dissertation=dissertation,
+            )
+            states = _simulate(model, samples, steps, frames, staging, f"simulating {path.name} ({integrator})", caught)
+            summary = {
+                "script": str(path),
+                "integrator": integrator,
+                "time_step_s": h,
+                "duration_s": total,
+                "floor_m": floor,
+                "frames": {"count": len(frames), "per_second": parsed.frames_per_second},
+                "video": None,
+            }
             if target is not None:
-                staged = (staging / target.resolve().relative_to(output.resolve()) if _inside(target, output)
-                          else stack.enter_context(staged_file(target)))
+                staged = (
+                    staging / target.resolve().relative_to(output.resolve())
+                    if _inside(target, output)
+                    else stack.enter_context(staged_file(target))
+                )
                 _render(model, states, frames, shots, staging, staged, path.stem, video_fps, floor)
-                summary["video"] = {"path": str(target), "fps": video_fps, "frames": len(shots),
-                                    "duration_s": len(shots) / video_fps, "sheet": f"{path.stem}_sheet.png"}
+                summary["video"] = {
+                    "path": str(target),
+                    "fps": video_fps,
+                    "frames": len(shots),
+                    "duration_s": len(shots) / video_fps,
+                    "sheet": f"{path.stem}_sheet.png",
+                }
             write_manifest(staging, summary)
     except UserInputError as error:
         raise _fail(error) from None
-    console.print(f"wrote {len(frames)} frames ({parsed.frames_per_second:g} per simulated second, {total:g} s) of "
-                  f"{len(model.surfaces)} surface(s) to {output}" + ("" if target is None else
-                  f" and the video {target}: {len(shots)} frames at {video_fps:g} fps, "
-                  f"{len(shots) / video_fps:.2f} s (real time)"))
+    console.print(
+        f"wrote {len(frames)} frames ({parsed.frames_per_second:g} per simulated second, {total:g} s) of "
+        f"{len(model.surfaces)} surface(s) to {output}"
+        + (
+            ""
+            if target is None
+            else f" and the video {target}: {len(shots)} frames at {video_fps:g} fps, "
+            f"{len(shots) / video_fps:.2f} s (real time)"
+        )
+    )
 
 
 def _check_options(duration, time_step, restitution, strain_limit, thickness, integrator, video_fps) -> None:
@@ -133,8 +168,9 @@ def _check_options(duration, time_step, restitution, strain_limit, thickness, in
     check_range(thickness, "--thickness", 1e-9, unit="m")
     check_range(video_fps, "--video-fps", 1e-3, 1000, "frames/s")
     if integrator not in INTEGRATORS:
-        raise UserInputError(f"unknown integrator '{integrator}'.", field="--integrator",
-                             fix=f"use one of: {', '.join(INTEGRATORS)}.")
+        raise UserInputError(
+            f"unknown integrator '{integrator}'.", field="--integrator", fix=f"use one of: {', '.join(INTEGRATORS)}."
+        )
 
 
 def _inside(path: Path, folder: Path) -> bool:
@@ -165,22 +201,35 @@ def _render(model, states: dict, frames, shots, staging: Path, video: Path, name
     video.parent.mkdir(parents=True, exist_ok=True)
     with _progress() as progress:
         task = progress.add_task("rendering", total=len(set(frames.tolist()) | set(shots.tolist())))
-        render_run(model, states, frames.tolist(), shots.tolist(), staging / "png", video, fps=fps,
-                   camera=CAMERAS.get(name, (20, -60)), title=name, floor=floor,
-                   sheet=staging / f"{name}_sheet.png", on_frame=lambda: progress.advance(task))
+        render_run(
+            model,
+            states,
+            frames.tolist(),
+            shots.tolist(),
+            staging / "png",
+            video,
+            fps=fps,
+            camera=CAMERAS.get(name, (20, -60)),
+            title=name,
+            floor=floor,
+            sheet=staging / f"{name}_sheet.png",
+            on_frame=lambda: progress.advance(task),
+        )
 
 
 _SIZE = re.compile(r"^(\d+)x(\d+)$")
 
 
 @app.command("modes")
-def modes(target: str = typer.Argument(..., help="a .PAR file, an example name, or a size like 20x20"),
-          palette: Optional[Path] = typer.Option(None, help="PNG with one tile per mode"),
-          count: int = typer.Option(9, help="number of modes"),
-          stretch: float = typer.Option(1.05, help="pre-stretch of a size-given membrane (boundary pinned)"),
-          spacing: float = typer.Option(1.0, help="rest spacing (m) of a size-given membrane"),
-          mass: float = typer.Option(0.01, help="mass per point (kg) of a size-given membrane"),
-          stiffness: float = typer.Option(100.0, help="spring constant (N/m) of a size-given membrane")) -> None:
+def modes(
+    target: str = typer.Argument(..., help="a .PAR file, an example name, or a size like 20x20"),
+    palette: Optional[Path] = typer.Option(None, help="PNG with one tile per mode"),
+    count: int = typer.Option(9, help="number of modes"),
+    stretch: float = typer.Option(1.05, help="pre-stretch of a size-given membrane (boundary pinned)"),
+    spacing: float = typer.Option(1.0, help="rest spacing (m) of a size-given membrane"),
+    mass: float = typer.Option(0.01, help="mass per point (kg) of a size-given membrane"),
+    stiffness: float = typer.Option(100.0, help="spring constant (N/m) of a size-given membrane"),
+) -> None:
     """Vibration modes: a pinned pre-stretched membrane (SIZE) or a script's surfaces hanging at equilibrium."""
     from eigengait.cloth.modes import draw_palette, equilibrium, membrane, vibration_modes
 
@@ -199,8 +248,12 @@ def modes(target: str = typer.Argument(..., help="a .PAR file, an example name, 
             model = script_model(parsed, [read_obt(p) for p in parsed.obstacles])
             x = equilibrium(model)
         result = vibration_modes(model, x, count)
-        table = Table("mode", "frequency (Hz)", "period (s)", title=f"{len(result.frequencies)} lowest modes "
-                      f"({result.zero_modes} zero modes dropped)")
+        table = Table(
+            "mode",
+            "frequency (Hz)",
+            "period (s)",
+            title=f"{len(result.frequencies)} lowest modes ({result.zero_modes} zero modes dropped)",
+        )
         for k, f in enumerate(result.frequencies, start=1):
             table.add_row(str(k), f"{f:.5g}", f"{1 / f:.4g}")
         console.print(table)

@@ -87,8 +87,16 @@ def segment_triangle(p0, p1, a, b, c, eps: float = 1e-12):
     return hit, s, normal
 
 
-def collide_with_obstacles(soup: TriangleSoup, x0: np.ndarray, x1: np.ndarray, v: np.ndarray, movable: np.ndarray,
-                           *, thickness: float, restitution: float) -> int:
+def collide_with_obstacles(
+    soup: TriangleSoup,
+    x0: np.ndarray,
+    x1: np.ndarray,
+    v: np.ndarray,
+    movable: np.ndarray,
+    *,
+    thickness: float,
+    restitution: float,
+) -> int:
     """Resolve hits of the segments x0→x1 of ``movable`` points in place (x1, v); returns the number of hits."""
     idx = np.flatnonzero(movable)
     points, tris = soup.candidates(x0[idx], x1[idx])
@@ -121,8 +129,17 @@ def collide_with_obstacles(soup: TriangleSoup, x0: np.ndarray, x1: np.ndarray, v
     return len(who)
 
 
-def collide_self(x0: np.ndarray, x1: np.ndarray, v: np.ndarray, mass: np.ndarray, triangles: np.ndarray,
-                 movable: np.ndarray, *, thickness: float, restitution: float) -> int:
+def collide_self(
+    x0: np.ndarray,
+    x1: np.ndarray,
+    v: np.ndarray,
+    mass: np.ndarray,
+    triangles: np.ndarray,
+    movable: np.ndarray,
+    *,
+    thickness: float,
+    restitution: float,
+) -> int:
     """Push points away from cloth triangles they come within ``thickness`` of; returns the number of contacts."""
     corners = x1[triangles]
     centroids = corners.mean(axis=1)
@@ -153,7 +170,7 @@ def collide_self(x0: np.ndarray, x1: np.ndarray, v: np.ndarray, mass: np.ndarray
     vt = (w[:, :, None] * v[triangles[tri]]).sum(axis=1)
     approach = np.minimum(((v[point] - vt) * n).sum(axis=1), 0.0)
     m_tri = mass[triangles[tri]]
-    impulse = (1.0 + restitution) * approach / (1.0 / mass[point] + (w ** 2 / m_tri).sum(axis=1))
+    impulse = (1.0 + restitution) * approach / (1.0 / mass[point] + (w**2 / m_tri).sum(axis=1))
     np.add.at(v, point, -(impulse / mass[point])[:, None] * n)
     for k in range(3):
         np.add.at(v, triangles[tri, k], (w[:, k] * impulse / m_tri[:, k])[:, None] * n)

@@ -23,7 +23,7 @@ from __future__ import annotations
 import numba as nb
 import numpy as np
 
-_MAX_CELLS = 64 ** 3
+_MAX_CELLS = 64**3
 
 
 # Small 3-vectors are tuples inside the kernels: they live in registers, where arrays would be heap-allocated.
@@ -61,11 +61,16 @@ def _store(a, i, value):
 @nb.njit(cache=True)
 def _cell_range(lo, hi, origin, cell, dims):
     """First and last cell (i, j, k) of the box [lo, hi], clipped to the grid."""
-    a = (max(int(np.floor((lo[0] - origin[0]) / cell)), 0), max(int(np.floor((lo[1] - origin[1]) / cell)), 0),
-         max(int(np.floor((lo[2] - origin[2]) / cell)), 0))
-    b = (min(int(np.floor((hi[0] - origin[0]) / cell)), dims[0] - 1),
-         min(int(np.floor((hi[1] - origin[1]) / cell)), dims[1] - 1),
-         min(int(np.floor((hi[2] - origin[2]) / cell)), dims[2] - 1))
+    a = (
+        max(int(np.floor((lo[0] - origin[0]) / cell)), 0),
+        max(int(np.floor((lo[1] - origin[1]) / cell)), 0),
+        max(int(np.floor((lo[2] - origin[2]) / cell)), 0),
+    )
+    b = (
+        min(int(np.floor((hi[0] - origin[0]) / cell)), dims[0] - 1),
+        min(int(np.floor((hi[1] - origin[1]) / cell)), dims[1] - 1),
+        min(int(np.floor((hi[2] - origin[2]) / cell)), dims[2] - 1),
+    )
     return a, b
 
 
@@ -195,8 +200,9 @@ def collide_edges(samples, directions, x, v, movable, triangles, origin, cell, d
                     c = (i * dims[1] + j) * dims[2] + k
                     for slot in range(start[c], start[c + 1]):
                         t = items[slot]
-                        hit, s, u, w = _ray_triangle(p, d, _row(x, triangles[t, 0]), _row(x, triangles[t, 1]),
-                                                     _row(x, triangles[t, 2]))
+                        hit, s, u, w = _ray_triangle(
+                            p, d, _row(x, triangles[t, 0]), _row(x, triangles[t, 1]), _row(x, triangles[t, 2])
+                        )
                         if hit and -depth <= s < best_s:
                             best_s, best_t, best_u, best_v = s, t, u, w
         if best_t < 0:
@@ -277,8 +283,9 @@ def collide_self(x0, x1, v, mass, movable, triangles, origin, cell, dims, start,
                             impulse = (1.0 + restitution) * approach / share
                             _store(v, p, _axpy(-impulse / mass[p], normal, _row(v, p)))
                             for q in range(3):
-                                _store(v, nodes[q], _axpy(weights[q] * impulse / mass[nodes[q]], normal,
-                                                          _row(v, nodes[q])))
+                                _store(
+                                    v, nodes[q], _axpy(weights[q] * impulse / mass[nodes[q]], normal, _row(v, nodes[q]))
+                                )
                         contacts += 1
     return contacts
 

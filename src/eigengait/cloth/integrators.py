@@ -46,8 +46,7 @@ def rk4(accel: Acceleration, x, v, t: float, h: float):
     k2x, k2v = v + 0.5 * h * k1v, accel(x + 0.5 * h * k1x, v + 0.5 * h * k1v, t + 0.5 * h)
     k3x, k3v = v + 0.5 * h * k2v, accel(x + 0.5 * h * k2x, v + 0.5 * h * k2v, t + 0.5 * h)
     k4x, k4v = v + h * k3v, accel(x + h * k3x, v + h * k3v, t + h)
-    return (x + h / 6.0 * (k1x + 2 * k2x + 2 * k3x + k4x),
-            v + h / 6.0 * (k1v + 2 * k2v + 2 * k3v + k4v))
+    return (x + h / 6.0 * (k1x + 2 * k2x + 2 * k3x + k4x), v + h / 6.0 * (k1v + 2 * k2v + 2 * k3v + k4v))
 
 
 EXPLICIT = {"euler": forward_euler, "symplectic": symplectic_euler, "rk4": rk4}
@@ -64,10 +63,24 @@ class CompiledExplicit:
     def __call__(self, x: np.ndarray, v: np.ndarray, t: float):
         m = self.model
         x, v = x.copy(), v.copy()
-        kernels.explicit_step(x, v, self.h, self.method, m.mass, m.springs, m.spring_rest, m.spring_k, m.bend,
-                              m.bend_coef, m.gravity, m.external_force, m.friction, m.fixed, self._force)
+        kernels.explicit_step(
+            x,
+            v,
+            self.h,
+            self.method,
+            m.mass,
+            m.springs,
+            m.spring_rest,
+            m.spring_k,
+            m.bend,
+            m.bend_coef,
+            m.gravity,
+            m.external_force,
+            m.friction,
+            m.fixed,
+            self._force,
+        )
         return x, v
-
 
 
 def friction_drag(model: ClothModel, force: np.ndarray, v: np.ndarray, h: float) -> np.ndarray:
@@ -76,6 +89,7 @@ def friction_drag(model: ClothModel, force: np.ndarray, v: np.ndarray, h: float)
     speed = np.linalg.norm(v, axis=1)
     magnitude = np.linalg.norm(force, axis=1)
     return model.friction * magnitude / np.maximum(np.maximum(speed, h * magnitude / model.mass), 1e-300)
+
 
 class CompiledBackwardEuler:
     """Matrix-free backward Euler: per-spring Jacobian blocks and warm-started Jacobi-PCG, all compiled."""
@@ -106,8 +120,19 @@ class CompiledBackwardEuler:
             rhs = np.where(m.fixed[:, None], dv_fixed, rhs + (h * h) * self._kv)
             self._guess[m.fixed] = dv_fixed[m.fixed]
         self.cg_iterations += kernels.solve_backward_euler(
-            rhs, self._guess, m.mass + h * drag, h * h, m.springs, self._blocks, m.bend, self._bend_quarter, m.free,
-            self.tolerance, self.max_iterations, self._scratch)
+            rhs,
+            self._guess,
+            m.mass + h * drag,
+            h * h,
+            m.springs,
+            self._blocks,
+            m.bend,
+            self._bend_quarter,
+            m.free,
+            self.tolerance,
+            self.max_iterations,
+            self._scratch,
+        )
         v_next = v + self._guess
         return x + h * v_next, v_next
 

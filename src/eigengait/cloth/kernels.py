@@ -48,8 +48,7 @@ def internal_forces(x, springs, rest, k, bend, bend_coef, out):
 
 
 @nb.njit(cache=True)
-def explicit_step(x, v, h, method, mass, springs, rest, k, bend, bend_coef, gravity, external, friction, fixed,
-                  force):
+def explicit_step(x, v, h, method, mass, springs, rest, k, bend, bend_coef, gravity, external, friction, fixed, force):
     """One forward-Euler (``method`` 0) or symplectic-Euler (1) step of every free point, in place.
 
     Forces include gravity, the external force and FLEX3D's friction ``-min(μ|F|, m|v|/h) v̂``; fixed points are
@@ -94,9 +93,9 @@ def _run_forces(X, runs, rest, k, T, F):
     t0, t1, t2 = T[0], T[1], T[2]
     for run in range(runs.shape[0]):
         s0, a0, b0, count = runs[run, 0], runs[run, 1], runs[run, 2], runs[run, 3]
-        xa0, xa1, xa2 = X[0, a0:a0 + count], X[1, a0:a0 + count], X[2, a0:a0 + count]
-        xb0, xb1, xb2 = X[0, b0:b0 + count], X[1, b0:b0 + count], X[2, b0:b0 + count]
-        rs, ks = rest[s0:s0 + count], k[s0:s0 + count]
+        xa0, xa1, xa2 = X[0, a0 : a0 + count], X[1, a0 : a0 + count], X[2, a0 : a0 + count]
+        xb0, xb1, xb2 = X[0, b0 : b0 + count], X[1, b0 : b0 + count], X[2, b0 : b0 + count]
+        rs, ks = rest[s0 : s0 + count], k[s0 : s0 + count]
         for r in range(count):
             d0 = xb0[r] - xa0[r]
             d1 = xb1[r] - xa1[r]
@@ -105,7 +104,7 @@ def _run_forces(X, runs, rest, k, T, F):
             t = ks[r] * (length - rs[r]) / max(length, 1e-12)
             t0[r], t1[r], t2[r] = t * d0, t * d1, t * d2
         for c in range(3):
-            fa, fb, tc = F[c, a0:a0 + count], F[c, b0:b0 + count], T[c]
+            fa, fb, tc = F[c, a0 : a0 + count], F[c, b0 : b0 + count], T[c]
             for r in range(count):
                 fa[r] += tc[r]
             for r in range(count):
@@ -165,9 +164,9 @@ def _overstretched(X, runs, rest, bound, flags):
     """Set ``flags[s]`` to whether spring ``s`` is longer than ``(1 + bound)·rest`` at ``X`` (3, N) m."""
     for run in range(runs.shape[0]):
         s0, a0, b0, count = runs[run, 0], runs[run, 1], runs[run, 2], runs[run, 3]
-        xa0, xa1, xa2 = X[0, a0:a0 + count], X[1, a0:a0 + count], X[2, a0:a0 + count]
-        xb0, xb1, xb2 = X[0, b0:b0 + count], X[1, b0:b0 + count], X[2, b0:b0 + count]
-        rs, out = rest[s0:s0 + count], flags[s0:s0 + count]
+        xa0, xa1, xa2 = X[0, a0 : a0 + count], X[1, a0 : a0 + count], X[2, a0 : a0 + count]
+        xb0, xb1, xb2 = X[0, b0 : b0 + count], X[1, b0 : b0 + count], X[2, b0 : b0 + count]
+        rs, out = rest[s0 : s0 + count], flags[s0 : s0 + count]
         for r in range(count):
             d0 = xb0[r] - xa0[r]
             d1 = xb1[r] - xa1[r]
@@ -209,8 +208,28 @@ def _sweep(X, V, springs, rest, weights, bound, h, flags, touch_start, touching)
 
 
 @nb.njit(cache=True)
-def explicit_steps(x, v, steps, h, method, mass, springs, rest, k, weights, bend, bend_coef, gravity, external,
-                   friction, free, bound, runs, touch_start, touching):
+def explicit_steps(
+    x,
+    v,
+    steps,
+    h,
+    method,
+    mass,
+    springs,
+    rest,
+    k,
+    weights,
+    bend,
+    bend_coef,
+    gravity,
+    external,
+    friction,
+    free,
+    bound,
+    runs,
+    touch_start,
+    touching,
+):
     """``steps`` forward- (``method`` 0) or symplectic-Euler (1) steps, each followed by a strain-limiting sweep
     when ``bound`` ≥ 0, in one compiled loop, in place on ``x`` (N, 3) m and ``v`` m/s.
 
@@ -239,8 +258,11 @@ class SpringRuns:
     loops over them run in SIMD lanes; plus, for each point, the sweep positions of the springs at it."""
 
     def __init__(self, springs: np.ndarray, size: int):
-        first = np.r_[True, (np.diff(springs[:, 0]) != 1) | (np.diff(springs[:, 1]) != 1)] if len(springs) else \
-            np.zeros(0, bool)
+        first = (
+            np.r_[True, (np.diff(springs[:, 0]) != 1) | (np.diff(springs[:, 1]) != 1)]
+            if len(springs)
+            else np.zeros(0, bool)
+        )
         starts = np.flatnonzero(first)
         counts = np.diff(np.r_[starts, len(springs)])
         self.runs = np.stack([starts, springs[starts, 0], springs[starts, 1], counts], axis=1).astype(np.int64)
@@ -325,8 +347,7 @@ def _system_times(z, diag_mass, h2, springs, blocks, bend, bend_quarter, free, o
 
 
 @nb.njit(cache=True)
-def solve_backward_euler(rhs, guess, diag_mass, h2, springs, blocks, bend, bend_quarter, free, rtol, max_iter,
-                         scratch):
+def solve_backward_euler(rhs, guess, diag_mass, h2, springs, blocks, bend, bend_quarter, free, rtol, max_iter, scratch):
     """Solve ``(M' - h²K) Δv = rhs`` on the free points by Jacobi-preconditioned conjugate gradients.
 
     ``diag_mass`` (N,) is m + h·drag (kg); fixed rows are identity, so their ``rhs`` entries are returned as is.

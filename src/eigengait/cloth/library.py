@@ -21,8 +21,11 @@ EXAMPLES = {
 def example_path(name: str) -> Path:
     """Path of the shipped script ``name``."""
     if name not in EXAMPLES:
-        raise UserInputError(f"no shipped example named '{name}'.", field="SCRIPT",
-                             fix=f"use a .PAR path or one of: {', '.join(EXAMPLES)}.")
+        raise UserInputError(
+            f"no shipped example named '{name}'.",
+            field="SCRIPT",
+            fix=f"use a .PAR path or one of: {', '.join(EXAMPLES)}.",
+        )
     return Path(str(files("eigengait.cloth").joinpath("examples", EXAMPLES[name][0])))
 
 
@@ -31,7 +34,10 @@ def resolve_script(script: str) -> Path:
     path = Path(script)
     if path.suffix or path.exists() or script not in EXAMPLES:
         if not path.exists() and script not in EXAMPLES:
-            raise UserInputError("the script does not exist and is not a shipped example name.", file=script,
-                                 fix=f"give a .PAR path or one of: {', '.join(EXAMPLES)}.")
+            raise UserInputError(
+                "the script does not exist and is not a shipped example name.",
+                file=script,
+                fix=f"give a .PAR path or one of: {', '.join(EXAMPLES)}.",
+            )
         return path
     return example_path(script)

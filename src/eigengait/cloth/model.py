@@ -108,8 +108,8 @@ class ClothModel:
         n, s, b = len(self.mass), len(self.springs), len(self.bend)
         # Incidence matrices scatter per-spring / per-angular-spring forces onto points with one sparse product.
         self._spring_scatter = sp.csr_matrix(
-            (np.r_[np.ones(s), -np.ones(s)], (self.springs.T.ravel(), np.r_[np.arange(s), np.arange(s)])),
-            shape=(n, s))
+            (np.r_[np.ones(s), -np.ones(s)], (self.springs.T.ravel(), np.r_[np.arange(s), np.arange(s)])), shape=(n, s)
+        )
         self._bend_scatter = sp.csr_matrix((np.ones(b), (self.bend[:, 1], np.arange(b))), shape=(n, b))
         self.free = ~self.fixed
         self.bend_coef = 0.5 * self.bend_k * self.bend_r
@@ -127,8 +127,7 @@ class ClothModel:
         off, then the NumPy reference below)."""
         if self.compiled:
             force = np.empty_like(x)
-            kernels.internal_forces(x, self.springs, self.spring_rest, self.spring_k, self.bend, self.bend_coef,
-                                    force)
+            kernels.internal_forces(x, self.springs, self.spring_rest, self.spring_k, self.bend, self.bend_coef, force)
             return force
         return self.internal_forces_reference(x)
 
@@ -199,7 +198,7 @@ class ClothModel:
     def energy(self, x: np.ndarray, v: np.ndarray) -> float:
         """Kinetic + spring + gravity + external-force potential energy in J (angular springs excluded)."""
         length = np.linalg.norm(x[self.springs[:, 1]] - x[self.springs[:, 0]], axis=1)
-        kinetic = 0.5 * float((self.mass * (v ** 2).sum(axis=1)).sum())
+        kinetic = 0.5 * float((self.mass * (v**2).sum(axis=1)).sum())
         elastic = 0.5 * float((self.spring_k * (length - self.spring_rest) ** 2).sum())
         potential = -float((self.mass[:, None] * self.gravity * x).sum()) - float((self.external_force * x).sum())
         return kinetic + elastic + potential
@@ -223,7 +222,7 @@ def grid_positions(rows: int, cols: int, spacing: float, position, normal) -> np
     """(rows·cols, 3) row-major points ``spacing`` m apart, centred on ``position``, facing ``normal``."""
     row_dir, col_dir = surface_frame(np.asarray(normal, float) / np.linalg.norm(normal))
     i, j = np.meshgrid(np.arange(rows) - (rows - 1) / 2, np.arange(cols) - (cols - 1) / 2, indexing="ij")
-    return (np.asarray(position, float) + spacing * (i.ravel()[:, None] * row_dir + j.ravel()[:, None] * col_dir))
+    return np.asarray(position, float) + spacing * (i.ravel()[:, None] * row_dir + j.ravel()[:, None] * col_dir)
 
 
 def grid_springs(rows: int, cols: int, start: int, spacing: float, stiffness) -> tuple[np.ndarray, ...]:
@@ -235,7 +234,7 @@ def grid_springs(rows: int, cols: int, start: int, spacing: float, stiffness) ->
         if r1 <= 0 or c1 <= c0:
             continue
         a = idx[:r1, c0:c1]
-        b = idx[di:r1 + di, c0 + dj:c1 + dj]
+        b = idx[di : r1 + di, c0 + dj : c1 + dj]
         pairs.append(np.stack([a.ravel(), b.ravel()], axis=1))
         rest.append(np.full(a.size, spacing * (np.sqrt(2.0) if kind == 2 else 1.0)))
         k.append(np.full(a.size, float(stiffness[kind])))
@@ -252,8 +251,8 @@ def grid_bending(rows: int, cols: int, start: int, constants) -> tuple[np.ndarra
         if r1 <= r0 or c1 <= c0:
             continue
         centre = idx[r0:r1, c0:c1]
-        before = idx[r0 - di:r1 - di, c0 - dj:c1 - dj]
-        after = idx[r0 + di:r1 + di, c0 + dj:c1 + dj]
+        before = idx[r0 - di : r1 - di, c0 - dj : c1 - dj]
+        after = idx[r0 + di : r1 + di, c0 + dj : c1 + dj]
         triples.append(np.stack([before.ravel(), centre.ravel(), after.ravel()], axis=1))
         k.append(np.full(centre.size, float(constants[kind])))
     if not triples:
@@ -261,9 +260,17 @@ def grid_bending(rows: int, cols: int, start: int, constants) -> tuple[np.ndarra
     return np.concatenate(triples), np.concatenate(k)
 
 
-def surface_model(surfaces: list[SurfaceSpec], *, frames_per_second: float = 1.0, stretch: float = 1.0,
-                  gravity=(0.0, 0.0, 0.0), external_force=(0.0, 0.0, 0.0), friction: float = 0.0,
-                  obstacles: list[Mesh] | None = None, source: str = "<script>") -> ClothModel:
+def surface_model(
+    surfaces: list[SurfaceSpec],
+    *,
+    frames_per_second: float = 1.0,
+    stretch: float = 1.0,
+    gravity=(0.0, 0.0, 0.0),
+    external_force=(0.0, 0.0, 0.0),
+    friction: float = 0.0,
+    obstacles: list[Mesh] | None = None,
+    source: str = "<script>",
+) -> ClothModel:
     """Pack ``surfaces`` into one :class:`ClothModel`.
 
     ``stretch`` scales the initial spacing (1.05 starts every spring 5 % longer than rest: a pre-tensioned
@@ -290,20 +297,33 @@ def surface_model(surfaces: list[SurfaceSpec], *, frames_per_second: float = 1.0
             mask[i * spec.cols + j] = True
         fixed.append(mask)
         if spec.translations and mask.any():
-            motions.append(KinematicMotion(
-                indices=start + np.flatnonzero(mask),
-                velocity=np.array([t.step * frames_per_second for t in spec.translations]),
-                start=np.array([t.start for t in spec.translations], float),
-                end=np.array([t.end for t in spec.translations], float)))
+            motions.append(
+                KinematicMotion(
+                    indices=start + np.flatnonzero(mask),
+                    velocity=np.array([t.step * frames_per_second for t in spec.translations]),
+                    start=np.array([t.start for t in spec.translations], float),
+                    end=np.array([t.end for t in spec.translations], float),
+                )
+            )
         layouts.append(SurfaceLayout(spec.name, start, spec.rows, spec.cols))
         start += count
     model = ClothModel(
-        rest_positions=np.concatenate(positions), mass=np.concatenate(mass),
-        springs=np.concatenate(springs).astype(np.int64), spring_rest=np.concatenate(rest),
-        spring_k=np.concatenate(k), bend=np.concatenate(bend).astype(np.int64).reshape(-1, 3),
-        bend_k=np.concatenate(bend_k), bend_r=np.concatenate(bend_r), fixed=np.concatenate(fixed),
-        surfaces=layouts, motions=motions, gravity=np.asarray(gravity, float),
-        external_force=np.asarray(external_force, float), friction=friction, obstacles=list(obstacles or []))
+        rest_positions=np.concatenate(positions),
+        mass=np.concatenate(mass),
+        springs=np.concatenate(springs).astype(np.int64),
+        spring_rest=np.concatenate(rest),
+        spring_k=np.concatenate(k),
+        bend=np.concatenate(bend).astype(np.int64).reshape(-1, 3),
+        bend_k=np.concatenate(bend_k),
+        bend_r=np.concatenate(bend_r),
+        fixed=np.concatenate(fixed),
+        surfaces=layouts,
+        motions=motions,
+        gravity=np.asarray(gravity, float),
+        external_force=np.asarray(external_force, float),
+        friction=friction,
+        obstacles=list(obstacles or []),
+    )
     _add_point_constraints(model, surfaces, source)
     return model
 
@@ -324,21 +344,27 @@ def _add_point_constraints(model: ClothModel, surfaces: list[SurfaceSpec], sourc
             if attached.point is not None and other is not None:
                 k, l_ = attached.point
                 if not (0 <= k < other.rows and 0 <= l_ < other.cols):
-                    raise UserInputError(f"point ({k} {l_}) is outside surface '{other.name}' "
-                                         f"({other.rows}x{other.cols}).", file=source,
-                                         field=f"line {attached.line}: {attached.body}")
+                    raise UserInputError(
+                        f"point ({k} {l_}) is outside surface '{other.name}' ({other.rows}x{other.cols}).",
+                        file=source,
+                        field=f"line {attached.line}: {attached.body}",
+                    )
                 links.append((point, starts[other.name] + k * other.cols + l_))
             elif attached.point is None and attached.body in meshes:
                 mesh = meshes[attached.body]
-                model.rest_positions[point] = contact.closest_surface_point(model.rest_positions[point],
-                                                                            mesh.vertices[mesh.triangles])
+                model.rest_positions[point] = contact.closest_surface_point(
+                    model.rest_positions[point], mesh.vertices[mesh.triangles]
+                )
                 model.fixed[point] = True
             else:
                 kind = "surface" if attached.point is not None else "obstacle"
                 names = sorted(starts) if attached.point is not None else sorted(meshes)
-                raise UserInputError(f"there is no {kind} named '{attached.body}' to attach to.", file=source,
-                                     field=f"line {attached.line}: {attached.body}",
-                                     fix=f"use one of: {', '.join(names) or '(none in this scene)'}.")
+                raise UserInputError(
+                    f"there is no {kind} named '{attached.body}' to attach to.",
+                    file=source,
+                    field=f"line {attached.line}: {attached.body}",
+                    fix=f"use one of: {', '.join(names) or '(none in this scene)'}.",
+                )
     model.targets = np.array(targets, np.int64)
     model.target_positions = np.array(positions, float).reshape(-1, 3)
     model.target_radius = np.array(radius, float)
@@ -349,6 +375,12 @@ def _add_point_constraints(model: ClothModel, surfaces: list[SurfaceSpec], sourc
 def script_model(script: Script, obstacles: list[Mesh] | None = None, *, gravity: bool = True) -> ClothModel:
     """The model a ``.PAR`` script describes; ``gravity=False`` drops gravity whatever GRAVIDADE says."""
     g = np.array([0.0, 0.0, -script.gravity]) if gravity else np.zeros(3)
-    return surface_model(script.surfaces, frames_per_second=script.frames_per_second, gravity=g,
-                         external_force=script.external_force, friction=script.friction, obstacles=obstacles,
-                         source=script.path)
+    return surface_model(
+        script.surfaces,
+        frames_per_second=script.frames_per_second,
+        gravity=g,
+        external_force=script.external_force,
+        friction=script.friction,
+        obstacles=obstacles,
+        source=script.path,
+    )

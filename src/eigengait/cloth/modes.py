@@ -35,20 +35,42 @@ class ModeSet:
     zero_modes: int
 
 
-def string(points: int, *, spacing: float = 1.0, mass: float = 0.01, stiffness: float = 100.0,
-           stretch: float = 1.1) -> ClothModel:
+def string(
+    points: int, *, spacing: float = 1.0, mass: float = 0.01, stiffness: float = 100.0, stretch: float = 1.1
+) -> ClothModel:
     """A 1×``points`` chain along x, ends pinned, every spring stretched by ``stretch`` (tension k r (s-1) N)."""
-    spec = SurfaceSpec("string", 1, points, spacing, np.zeros(3), np.array([0.0, -1.0, 0.0]), mass,
-                       (stiffness,) * 3, (0.0,) * 3, fixed=[(0, 0), (0, points - 1)])
+    spec = SurfaceSpec(
+        "string",
+        1,
+        points,
+        spacing,
+        np.zeros(3),
+        np.array([0.0, -1.0, 0.0]),
+        mass,
+        (stiffness,) * 3,
+        (0.0,) * 3,
+        fixed=[(0, 0), (0, points - 1)],
+    )
     return surface_model([spec], stretch=stretch)
 
 
-def membrane(rows: int, cols: int, *, spacing: float = 1.0, mass: float = 0.01, stiffness: float = 100.0,
-             stretch: float = 1.05) -> ClothModel:
+def membrane(
+    rows: int, cols: int, *, spacing: float = 1.0, mass: float = 0.01, stiffness: float = 100.0, stretch: float = 1.05
+) -> ClothModel:
     """A horizontal rows×cols grid, boundary pinned, uniformly pre-stretched by ``stretch``."""
     fixed = [(i, j) for i in range(rows) for j in range(cols) if i in (0, rows - 1) or j in (0, cols - 1)]
-    spec = SurfaceSpec("membrane", rows, cols, spacing, np.zeros(3), np.array([0.0, 0.0, 1.0]), mass,
-                       (stiffness,) * 3, (0.0,) * 3, fixed=fixed)
+    spec = SurfaceSpec(
+        "membrane",
+        rows,
+        cols,
+        spacing,
+        np.zeros(3),
+        np.array([0.0, 0.0, 1.0]),
+        mass,
+        (stiffness,) * 3,
+        (0.0,) * 3,
+        fixed=fixed,
+    )
     return surface_model([spec], stretch=stretch)
 
 
@@ -59,8 +81,11 @@ def equilibrium(model: ClothModel, *, iterations: int = 400, tolerance: float = 
         UserInputError: when no equilibrium is reached (e.g. a surface with no fixed point falls forever).
     """
     if not model.fixed.any():
-        raise UserInputError("a surface with no fixed point has no equilibrium to vibrate about.",
-                             field="PONTOS_FIXOS", fix="fix some points, or use a size like 20x20.")
+        raise UserInputError(
+            "a surface with no fixed point has no equilibrium to vibrate about.",
+            field="PONTOS_FIXOS",
+            fix="fix some points, or use a size like 20x20.",
+        )
     assembler = StiffnessAssembler(model)
     x = model.rest_positions.copy()
     free = np.repeat(model.free, 3)
@@ -74,8 +99,10 @@ def equilibrium(model: ClothModel, *, iterations: int = 400, tolerance: float = 
         A = sp.diags(np.repeat(model.mass[model.free], 3) / tau2) - K
         x[model.free] += spla.spsolve(A.tocsc(), force).reshape(-1, 3)
         tau2 = min(tau2 * 1.5, 1e6)
-    raise UserInputError("the surface did not settle to an equilibrium for the modal analysis.",
-                         fix="check that the fixed points can carry the load.")
+    raise UserInputError(
+        "the surface did not settle to an equilibrium for the modal analysis.",
+        fix="check that the fixed points can carry the load.",
+    )
 
 
 def vibration_modes(model: ClothModel, positions: np.ndarray | None = None, count: int = 12) -> ModeSet:
@@ -98,7 +125,7 @@ def vibration_modes(model: ClothModel, positions: np.ndarray | None = None, coun
     nonzero = w2 > threshold
     zero_modes = int((~nonzero).sum())
     w2, vec = w2[nonzero][:count], vec[:, nonzero][:, :count]
-    vec = vec / np.sqrt((m[:, None] * vec ** 2).sum(axis=0))
+    vec = vec / np.sqrt((m[:, None] * vec**2).sum(axis=0))
     shapes = np.zeros((len(w2), model.size * 3))
     shapes[:, free] = vec.T
     return ModeSet(np.sqrt(w2) / (2 * np.pi), shapes.reshape(len(w2), model.size, 3), x.copy(), zero_modes)
@@ -108,7 +135,7 @@ def out_of_plane_fraction(modes: ModeSet, normal=(0.0, 0.0, 1.0)) -> np.ndarray:
     """(K,) share of each mode's squared amplitude along ``normal`` (1 = purely transverse)."""
     n = np.asarray(normal, float) / np.linalg.norm(normal)
     along = ((modes.shapes @ n) ** 2).sum(axis=1)
-    return along / np.maximum((modes.shapes ** 2).sum(axis=(1, 2)), 1e-300)
+    return along / np.maximum((modes.shapes**2).sum(axis=(1, 2)), 1e-300)
 
 
 def draw_palette(model: ClothModel, modes: ModeSet, path: str | Path, *, columns: int | None = None) -> None:
@@ -144,8 +171,7 @@ def draw_palette(model: ClothModel, modes: ModeSet, path: str | Path, *, columns
             base = plt.cm.viridis(amplitude / max(float(amplitude.max()), 1e-300))[:, :3]
             colours = shade(quads, (1.0, 1.0, 1.0))
             colours[:, :3] *= base
-            ax.add_collection3d(Poly3DCollection(quads, facecolors=colours, edgecolors=(0, 0, 0, 0.1),
-                                                 linewidths=0.2))
+            ax.add_collection3d(Poly3DCollection(quads, facecolors=colours, edgecolors=(0, 0, 0, 0.1), linewidths=0.2))
         ax.set_xlim(lo[0], hi[0]), ax.set_ylim(lo[1], hi[1]), ax.set_zlim(lo[2], hi[2])
         ax.set_box_aspect(np.maximum(hi - lo, 1e-3 * size), zoom=1.5)
         ax.view_init(25, -60)

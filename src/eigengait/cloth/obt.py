@@ -54,8 +54,9 @@ def read_obt(path: str | Path) -> Mesh:
         UserInputError: a missing file or a malformed section, naming the line.
     """
     path = Path(path)
-    text = read_legacy_text(path, "the obstacle file",
-                            "put the .OBT file next to the script or fix its name in OBJETOS_NA_CENA.")
+    text = read_legacy_text(
+        path, "the obstacle file", "put the .OBT file next to the script or fix its name in OBJETOS_NA_CENA."
+    )
     rows = [(n, line.split()) for n, line in enumerate(text.splitlines(), start=1) if line.split()]
     cursor = 0
 
@@ -104,7 +105,7 @@ def read_obt(path: str | Path) -> Mesh:
         nv = ints[0] if ints else 0
         if nv < 3 or len(ints) < nv + 1:
             raise fail("a face is '<nv> <v1> ... <vn> <material>' with nv >= 3.", fn)
-        polygon = ints[1:nv + 1]
+        polygon = ints[1 : nv + 1]
         if min(polygon) < 0 or max(polygon) >= len(vertices):
             raise fail(f"a face uses vertex {max(polygon)} but there are {len(vertices)} vertices (0-based).", fn)
         faces.append(polygon)

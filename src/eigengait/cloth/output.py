@@ -54,16 +54,23 @@ def check_replaceable(directory: Path, force: bool) -> None:
     if not directory.exists():
         return
     if not directory.is_dir():
-        raise UserInputError("the output path is a file, not a folder.", file=directory,
-                             fix="name a new folder for the frames.")
+        raise UserInputError(
+            "the output path is a file, not a folder.", file=directory, fix="name a new folder for the frames."
+        )
     if not any(directory.iterdir()):
         return
     if not (directory / MANIFEST).is_file():
-        raise UserInputError(f"the output folder holds files that are not a frame set (no {MANIFEST}); it was left "
-                             "untouched.", file=directory, fix="name a new or empty folder for the frames.")
+        raise UserInputError(
+            f"the output folder holds files that are not a frame set (no {MANIFEST}); it was left untouched.",
+            file=directory,
+            fix="name a new or empty folder for the frames.",
+        )
     if not force:
-        raise UserInputError("the output folder holds an earlier run's frames; it was left untouched.",
-                             file=directory, fix="pass --force to replace that run, or name another folder.")
+        raise UserInputError(
+            "the output folder holds an earlier run's frames; it was left untouched.",
+            file=directory,
+            fix="pass --force to replace that run, or name another folder.",
+        )
 
 
 @contextmanager

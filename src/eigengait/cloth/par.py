@@ -44,7 +44,7 @@ def zup_to_yup(vector) -> np.ndarray:
     return np.stack([v[..., 0], v[..., 2], -v[..., 1]], axis=-1)
 
 
-MAX_NODES = 250_000   # nodes per surface (about 500×500): beyond this a run needs gigabytes and hours
+MAX_NODES = 250_000  # nodes per surface (about 500×500): beyond this a run needs gigabytes and hours
 
 _WORD = re.compile(r"[A-Za-z0-9_.+-]{1,32}")
 
@@ -129,11 +129,34 @@ _SYNONYMS = {
     "GRAVITY": "GRAVIDADE",
 }
 _GLOBAL_SCALARS = {"DURACAO", "QUADROS_SEG", "DELTA_T", "ATRITO", "GRAVIDADE", "PISO", "AUTOCOLISAO"}
-_SURFACE_KEYWORDS = {"MALHA", "DENSIDADE", "POSIC_NO_SRU", "VETOR_NORMAL", "MASSA", "CONST_ELASTICIDADE",
-                     "CONST_CURVATURA", "RESTRICOES", "FIM_SUPERFICIE"}
-_KEYWORDS = (_GLOBAL_SCALARS | _SURFACE_KEYWORDS | {
-    "FORCA_EXTERNA", "OBJETOS_NA_CENA", "NUM_SUPERFICIES", "SUPERFICIE", "PONTOS_FIXOS", "TRANSLACAO",
-    "INI_TRANSL", "FIM_TRANSL", "FIM_RESTRICOES", "PONTOS_ALVO", "PONTOS_PRESOS"})
+_SURFACE_KEYWORDS = {
+    "MALHA",
+    "DENSIDADE",
+    "POSIC_NO_SRU",
+    "VETOR_NORMAL",
+    "MASSA",
+    "CONST_ELASTICIDADE",
+    "CONST_CURVATURA",
+    "RESTRICOES",
+    "FIM_SUPERFICIE",
+}
+_KEYWORDS = (
+    _GLOBAL_SCALARS
+    | _SURFACE_KEYWORDS
+    | {
+        "FORCA_EXTERNA",
+        "OBJETOS_NA_CENA",
+        "NUM_SUPERFICIES",
+        "SUPERFICIE",
+        "PONTOS_FIXOS",
+        "TRANSLACAO",
+        "INI_TRANSL",
+        "FIM_TRANSL",
+        "FIM_RESTRICOES",
+        "PONTOS_ALVO",
+        "PONTOS_PRESOS",
+    }
+)
 _REQUIRED_GLOBALS = ("DURACAO", "QUADROS_SEG", "DELTA_T")
 
 
@@ -181,8 +204,12 @@ class _Reader:
         token = self.peek()
         if token is None:
             last = self.tokens[-1] if self.tokens else _Token("", 1)
-            raise UserInputError(f"the script ends where {what} was expected.", file=self.path,
-                                 field=f"line {last.line}: end of file", fix=f"add {what}.")
+            raise UserInputError(
+                f"the script ends where {what} was expected.",
+                file=self.path,
+                field=f"line {last.line}: end of file",
+                fix=f"add {what}.",
+            )
         self.pos += 1
         return token
 
@@ -191,8 +218,10 @@ class _Reader:
         try:
             value = kind(token.text)
         except ValueError:
-            raise self.error(f"{keyword.text} expects {'an integer' if kind is int else 'a number'}, "
-                             f"got '{shown(token.text)}'.", token) from None
+            raise self.error(
+                f"{keyword.text} expects {'an integer' if kind is int else 'a number'}, got '{shown(token.text)}'.",
+                token,
+            ) from None
         if not np.isfinite(value):
             raise self.error(f"{keyword.text} must be finite, got '{shown(token.text)}'.", token)
         return value
@@ -239,29 +268,52 @@ def parse_par(text: str, path: str | Path = "<script>") -> Script:
         elif key == "SUPERFICIE":
             surfaces.append(_parse_surface(reader, token, len(surfaces)))
         else:
-            raise reader.error(f"unknown keyword '{shown(token.text)}'.", token,
-                               fix="check the spelling against the FLEX3D grammar (docs/cloth.md).")
+            raise reader.error(
+                f"unknown keyword '{shown(token.text)}'.",
+                token,
+                fix="check the spelling against the FLEX3D grammar (docs/cloth.md).",
+            )
     for key in _REQUIRED_GLOBALS:
         if key not in values:
-            raise UserInputError(f"the script has no {key} line.", file=path, field=key,
-                                 fix=f"add '{key} = <value>' at the top of the script.")
+            raise UserInputError(
+                f"the script has no {key} line.",
+                file=path,
+                field=key,
+                fix=f"add '{key} = <value>' at the top of the script.",
+            )
     if expected_surfaces is not None and expected_surfaces[0] != len(surfaces):
-        raise reader.error(f"NUM_SUPERFICIES says {expected_surfaces[0]} but {len(surfaces)} SUPERFICIE blocks "
-                           "follow.", expected_surfaces[1])
+        raise reader.error(
+            f"NUM_SUPERFICIES says {expected_surfaces[0]} but {len(surfaces)} SUPERFICIE blocks follow.",
+            expected_surfaces[1],
+        )
     if not surfaces:
-        raise UserInputError("the script defines no surface.", file=path, field="SUPERFICIE",
-                             fix="add a SUPERFICIE ... FIM_SUPERFICIE block.")
+        raise UserInputError(
+            "the script defines no surface.",
+            file=path,
+            field="SUPERFICIE",
+            fix="add a SUPERFICIE ... FIM_SUPERFICIE block.",
+        )
     for key, low in (("DURACAO", 0.0), ("QUADROS_SEG", 0.0), ("DELTA_T", 0.0)):
         if values[key] <= low:
-            raise UserInputError(f"{key} must be positive, got {values[key]}.", file=path,
-                                 field=f"line {lines[key]}: {key}")
+            raise UserInputError(
+                f"{key} must be positive, got {values[key]}.", file=path, field=f"line {lines[key]}: {key}"
+            )
     if values.get("ATRITO", 0.0) < 0:
         raise UserInputError("ATRITO must not be negative.", file=path, field=f"line {lines['ATRITO']}: ATRITO")
-    return Script(duration=values["DURACAO"], frames_per_second=values["QUADROS_SEG"],
-                  time_step=values["DELTA_T"], external_force=force, friction=values.get("ATRITO", 0.0),
-                  obstacles=obstacles, surfaces=surfaces, gravity=values.get("GRAVIDADE", STANDARD_GRAVITY),
-                  floor=values.get("PISO"), self_collision=bool(values.get("AUTOCOLISAO", 0.0)),
-                  path=path, lines=lines)
+    return Script(
+        duration=values["DURACAO"],
+        frames_per_second=values["QUADROS_SEG"],
+        time_step=values["DELTA_T"],
+        external_force=force,
+        friction=values.get("ATRITO", 0.0),
+        obstacles=obstacles,
+        surfaces=surfaces,
+        gravity=values.get("GRAVIDADE", STANDARD_GRAVITY),
+        floor=values.get("PISO"),
+        self_collision=bool(values.get("AUTOCOLISAO", 0.0)),
+        path=path,
+        lines=lines,
+    )
 
 
 def _parse_surface(reader: _Reader, opener: _Token, index: int) -> SurfaceSpec:
@@ -283,8 +335,12 @@ def _parse_surface(reader: _Reader, opener: _Token, index: int) -> SurfaceSpec:
             fields[key] = (reader.number(token, int), reader.number(token, int), token)
             nodes = fields[key][0] * fields[key][1]
             if nodes > MAX_NODES:
-                raise reader.error(f"a {fields[key][0]}×{fields[key][1]} mesh has {nodes:,} nodes; one surface may "
-                                   f"have at most {MAX_NODES:,}.", token, fix="use a coarser MALHA (e.g. 300 300).")
+                raise reader.error(
+                    f"a {fields[key][0]}×{fields[key][1]} mesh has {nodes:,} nodes; one surface may "
+                    f"have at most {MAX_NODES:,}.",
+                    token,
+                    fix="use a coarser MALHA (e.g. 300 300).",
+                )
         elif key in ("DENSIDADE", "MASSA"):
             fields[key] = reader.number(token)
         elif key in ("POSIC_NO_SRU", "VETOR_NORMAL"):
@@ -301,12 +357,18 @@ def _parse_surface(reader: _Reader, opener: _Token, index: int) -> SurfaceSpec:
             fields[key] = tuple(k * 3 if len(k) == 1 else k)
         elif key == "RESTRICOES":
             if "MALHA" not in fields:
-                raise reader.error("RESTRICOES comes before MALHA, so fixed points cannot be checked.", token,
-                                   fix="put MALHA (<m> <n>) first in the surface block.")
+                raise reader.error(
+                    "RESTRICOES comes before MALHA, so fixed points cannot be checked.",
+                    token,
+                    fix="put MALHA (<m> <n>) first in the surface block.",
+                )
             _parse_constraints(reader, fields, spec_fixed, translations, targets, attachments)
         else:
-            raise reader.error(f"unknown keyword '{shown(token.text)}' inside SUPERFICIE.", token,
-                               fix="check the spelling against the FLEX3D grammar (docs/cloth.md).")
+            raise reader.error(
+                f"unknown keyword '{shown(token.text)}' inside SUPERFICIE.",
+                token,
+                fix="check the spelling against the FLEX3D grammar (docs/cloth.md).",
+            )
     for key in ("MALHA", "DENSIDADE", "MASSA", "CONST_ELASTICIDADE"):
         if key not in fields:
             raise reader.error(f"surface '{name}' has no {key}.", opener, fix=f"add {key} to the surface block.")
@@ -319,11 +381,22 @@ def _parse_surface(reader: _Reader, opener: _Token, index: int) -> SurfaceSpec:
     normal = fields.get("VETOR_NORMAL", np.array([0.0, -1.0, 0.0]))
     if np.linalg.norm(normal) == 0:
         raise reader.error(f"VETOR_NORMAL of surface '{name}' is the zero vector.", opener)
-    return SurfaceSpec(name=name or f"SUPERFICIE{index + 1}", rows=rows, cols=cols, spacing=fields["DENSIDADE"],
-                       position=fields.get("POSIC_NO_SRU", np.zeros(3)), normal=normal / np.linalg.norm(normal),
-                       mass=fields["MASSA"], stiffness=fields["CONST_ELASTICIDADE"],
-                       bending=fields.get("CONST_CURVATURA", (0.0, 0.0, 0.0)), fixed=spec_fixed,
-                       translations=translations, line=opener.line, targets=targets, attachments=attachments)
+    return SurfaceSpec(
+        name=name or f"SUPERFICIE{index + 1}",
+        rows=rows,
+        cols=cols,
+        spacing=fields["DENSIDADE"],
+        position=fields.get("POSIC_NO_SRU", np.zeros(3)),
+        normal=normal / np.linalg.norm(normal),
+        mass=fields["MASSA"],
+        stiffness=fields["CONST_ELASTICIDADE"],
+        bending=fields.get("CONST_CURVATURA", (0.0, 0.0, 0.0)),
+        fixed=spec_fixed,
+        translations=translations,
+        line=opener.line,
+        targets=targets,
+        attachments=attachments,
+    )
 
 
 def _grid_point(reader: _Reader, keyword: _Token, rows: int, cols: int, what: str) -> tuple[int, int, _Token]:
@@ -332,24 +405,34 @@ def _grid_point(reader: _Reader, keyword: _Token, rows: int, cols: int, what: st
     try:
         i = int(first.text)
     except ValueError:
-        raise reader.error(f"{keyword.text} expects 'i j' integers, got '{first.text}'.", first,
-                           fix=f"check that {keyword.text} counts the lines that follow.") from None
+        raise reader.error(
+            f"{keyword.text} expects 'i j' integers, got '{first.text}'.",
+            first,
+            fix=f"check that {keyword.text} counts the lines that follow.",
+        ) from None
     j = reader.number(keyword, int)
     if not (0 <= i < rows and 0 <= j < cols):
-        raise reader.error(f"{what} ({i} {j}) is outside the {rows}x{cols} grid.", first,
-                           fix=f"use 0 <= i < {rows} and 0 <= j < {cols}.")
+        raise reader.error(
+            f"{what} ({i} {j}) is outside the {rows}x{cols} grid.",
+            first,
+            fix=f"use 0 <= i < {rows} and 0 <= j < {cols}.",
+        )
     return i, j, first
 
 
-def _parse_constraints(reader: _Reader, fields: dict, fixed: list, translations: list, targets: list,
-                       attachments: list) -> None:
+def _parse_constraints(
+    reader: _Reader, fields: dict, fixed: list, translations: list, targets: list, attachments: list
+) -> None:
     rows, cols, _ = fields["MALHA"]
     pending: dict[str, object] = {}
 
     def close_translation():
         if pending:
-            translations.append(Translation(step=pending["step"], start=pending.get("INI_TRANSL", 0.0),
-                                            end=pending.get("FIM_TRANSL", 0.0)))
+            translations.append(
+                Translation(
+                    step=pending["step"], start=pending.get("INI_TRANSL", 0.0), end=pending.get("FIM_TRANSL", 0.0)
+                )
+            )
             pending.clear()
 
     while True:
@@ -370,12 +453,18 @@ def _parse_constraints(reader: _Reader, fields: dict, fixed: list, translations:
                     else:
                         i, j = divmod(int(first.text), cols)
                 except ValueError:
-                    raise reader.error(f"a fixed point must be 'i j' integers, got '{first.text}'.", first,
-                                       fix="check that PONTOS_FIXOS counts the points that follow.") from None
+                    raise reader.error(
+                        f"a fixed point must be 'i j' integers, got '{first.text}'.",
+                        first,
+                        fix="check that PONTOS_FIXOS counts the points that follow.",
+                    ) from None
                 if not (0 <= i < rows and 0 <= j < cols):
-                    raise reader.error(f"fixed point ({first.text}{' ' + second.text if pair else ''}) is "
-                                       f"outside the {rows}x{cols} grid.", first,
-                                       fix=f"use 0 <= i < {rows} and 0 <= j < {cols}.")
+                    raise reader.error(
+                        f"fixed point ({first.text}{' ' + second.text if pair else ''}) is "
+                        f"outside the {rows}x{cols} grid.",
+                        first,
+                        fix=f"use 0 <= i < {rows} and 0 <= j < {cols}.",
+                    )
                 fixed.append((i, j))
         elif key == "PONTOS_ALVO":
             for _ in range(reader.number(token, int)):
@@ -387,8 +476,11 @@ def _parse_constraints(reader: _Reader, fields: dict, fixed: list, translations:
                 i, j, first = _grid_point(reader, token, rows, cols, "attached point")
                 body = reader.next("the name of a surface or obstacle")
                 if body.line != first.line or body.keyword in _KEYWORDS:
-                    raise reader.error("an attached point needs 'i j <surface> k l' or 'i j <obstacle>' on one "
-                                       "line.", first, fix="name the surface or obstacle it is held to.")
+                    raise reader.error(
+                        "an attached point needs 'i j <surface> k l' or 'i j <obstacle>' on one line.",
+                        first,
+                        fix="name the surface or obstacle it is held to.",
+                    )
                 point = None
                 following = reader.peek()
                 if following is not None and following.line == first.line and following.keyword not in _KEYWORDS:
@@ -401,13 +493,18 @@ def _parse_constraints(reader: _Reader, fields: dict, fixed: list, translations:
             if "step" not in pending:
                 pending["step"] = np.zeros(3)
             if key in pending:
-                raise reader.error(f"{token.text} appears twice for one TRANSLACAO.", token,
-                                   fix="start each motion with its own TRANSLACAO line.")
+                raise reader.error(
+                    f"{token.text} appears twice for one TRANSLACAO.",
+                    token,
+                    fix="start each motion with its own TRANSLACAO line.",
+                )
             pending[key] = reader.number(token)
         else:
-            raise reader.error(f"unknown keyword '{shown(token.text)}' inside RESTRICOES.", token,
-                               fix="only PONTOS_FIXOS, PONTOS_ALVO, PONTOS_PRESOS, TRANSLACAO, INI_TRANSL and "
-                                   "FIM_TRANSL belong here.")
+            raise reader.error(
+                f"unknown keyword '{shown(token.text)}' inside RESTRICOES.",
+                token,
+                fix="only PONTOS_FIXOS, PONTOS_ALVO, PONTOS_PRESOS, TRANSLACAO, INI_TRANSL and FIM_TRANSL belong here.",
+            )
 
 
 def read_legacy_text(path: Path, what: str, fix: str) -> str:
@@ -425,5 +522,7 @@ def read_legacy_text(path: Path, what: str, fix: str) -> str:
 def read_par(path: str | Path) -> Script:
     """Read a ``.PAR`` file (UTF-8 or Latin-1)."""
     path = Path(path)
-    text = read_legacy_text(path, "the script", "check the path, or run 'eigengait cloth examples' for the shipped ones.")
+    text = read_legacy_text(
+        path, "the script", "check the path, or run 'eigengait cloth examples' for the shipped ones."
+    )
     return parse_par(text, path)

@@ -26,8 +26,14 @@ from eigengait.cloth.model import ClothModel  # noqa: E402
 LIGHT = np.array([0.4, -0.6, 0.7]) / np.linalg.norm([0.4, -0.6, 0.7])
 SURFACE_COLOURS = [(0.75, 0.12, 0.15), (0.15, 0.35, 0.75), (0.9, 0.75, 0.2), (0.2, 0.6, 0.3)]
 #: (elevation, azimuth) in degrees per example; vertical surfaces are seen from their front (-y).
-CAMERAS = {"curtain": (12, -75), "theatre": (12, -80), "paper": (15, -55), "cardboard": (15, -55),
-           "wind": (20, -35), "tablecloth": (24, -55)}
+CAMERAS = {
+    "curtain": (12, -75),
+    "theatre": (12, -80),
+    "paper": (15, -55),
+    "cardboard": (15, -55),
+    "wind": (20, -35),
+    "tablecloth": (24, -55),
+}
 #: pieces per grid-cell side in smooth shading; the floor's tile colours; contact-sheet tiles (columns, rows, px).
 SMOOTH = 3
 FLOOR_COLOURS = ((0.82, 0.82, 0.8), (0.7, 0.7, 0.68))
@@ -63,16 +69,18 @@ def _bilinear(corners: np.ndarray, u: np.ndarray, v: np.ndarray) -> np.ndarray:
     return np.einsum("sk,qkd->qsd", w, corners)
 
 
-def smooth_quads(positions: np.ndarray, normals: np.ndarray, quads: np.ndarray, colour,
-                 pieces: int = SMOOTH) -> tuple[np.ndarray, np.ndarray]:
+def smooth_quads(
+    positions: np.ndarray, normals: np.ndarray, quads: np.ndarray, colour, pieces: int = SMOOTH
+) -> tuple[np.ndarray, np.ndarray]:
     """Cut each grid cell into ``pieces``² quads; returns them (Q·pieces², 4, 3) and RGBA shaded at their centres
     with the bilinearly interpolated vertex normal."""
     i, j = np.meshgrid(np.arange(pieces), np.arange(pieces), indexing="ij")
     u, v = i.ravel() / pieces, j.ravel() / pieces
     step = 1.0 / pieces
     corners = positions[quads]
-    sub = np.stack([_bilinear(corners, u + du, v + dv) for du, dv in ((0, 0), (step, 0), (step, step), (0, step))],
-                   axis=2)
+    sub = np.stack(
+        [_bilinear(corners, u + du, v + dv) for du, dv in ((0, 0), (step, 0), (step, step), (0, step))], axis=2
+    )
     centre_normals = _bilinear(normals[quads], u + step / 2, v + step / 2)
     return sub.reshape(-1, 4, 3), lambert(centre_normals.reshape(-1, 3), colour)
 
@@ -84,8 +92,9 @@ def floor_tiles(bounds: np.ndarray, level: float, size: float) -> tuple[np.ndarr
     counts = np.maximum(1, np.ceil((hi - lo) / size)).astype(int)
     xs, ys = (np.linspace(lo[k], hi[k], counts[k] + 1) for k in range(2))
     i, j = (a.ravel() for a in np.meshgrid(np.arange(counts[0]), np.arange(counts[1]), indexing="ij"))
-    tiles = [np.stack([xs[i + a], ys[j + b], np.full(len(i), level)], axis=1)
-             for a, b in ((0, 0), (1, 0), (1, 1), (0, 1))]
+    tiles = [
+        np.stack([xs[i + a], ys[j + b], np.full(len(i), level)], axis=1) for a, b in ((0, 0), (1, 0), (1, 1), (0, 1))
+    ]
     return np.stack(tiles, axis=1), (i + j) % 2
 
 
@@ -111,8 +120,15 @@ class FrameRenderer:
     """Draws frames of one model with a fixed camera; ``bounds`` (2, 3) m fixes the view box (see
     :func:`frame_bounds`); ``floor`` (m, world z) draws a checkered floor plane over the box's x–y extent."""
 
-    def __init__(self, model: ClothModel, bounds: np.ndarray, camera=(20, -60), size=(800, 600), title="",
-                 floor: float | None = None):
+    def __init__(
+        self,
+        model: ClothModel,
+        bounds: np.ndarray,
+        camera=(20, -60),
+        size=(800, 600),
+        title="",
+        floor: float | None = None,
+    ):
         self.model = model
         self.fig = plt.figure(figsize=(size[0] / 100, size[1] / 100), dpi=100)
         self.ax = self.fig.add_subplot(projection="3d")
@@ -151,8 +167,9 @@ class FrameRenderer:
         tiles, parity = floor_tiles(bounds, level, tile)
         colours = np.array(FLOOR_COLOURS)[parity]
         self.ax.computed_zorder = False
-        self.ax.add_collection3d(Poly3DCollection(tiles, facecolors=colours, edgecolors=colours, linewidths=0.3,
-                                                  zorder=0))
+        self.ax.add_collection3d(
+            Poly3DCollection(tiles, facecolors=colours, edgecolors=colours, linewidths=0.3, zorder=0)
+        )
 
     def draw(self, positions: np.ndarray, time: float) -> np.ndarray:
         """RGB image (H, W, 3) of the surfaces at ``positions`` (N, 3)."""
@@ -175,8 +192,9 @@ class FrameRenderer:
         collection = Poly3DCollection(polygons, facecolors=faces, edgecolors=faces, linewidths=0.3, zorder=1)
         self.ax.add_collection3d(collection)
         self.dynamic.append(collection)
-        self.dynamic.append(self.ax.text2D(0.02, 0.95, f"{self.title}  t = {time:6.2f} s",
-                                           transform=self.ax.transAxes, fontsize=11))
+        self.dynamic.append(
+            self.ax.text2D(0.02, 0.95, f"{self.title}  t = {time:6.2f} s", transform=self.ax.transAxes, fontsize=11)
+        )
         buffer = io.BytesIO()
         self.fig.savefig(buffer, format="png")
         buffer.seek(0)
@@ -204,7 +222,7 @@ def contact_sheet(images: Sequence[np.ndarray], columns: int = SHEET[0], tile=SH
     for k, image in enumerate(images):
         small = np.asarray(Image.fromarray(image).resize(tile, Image.LANCZOS))
         r, c = divmod(k, columns)
-        sheet[r * tile[1]:(r + 1) * tile[1], c * tile[0]:(c + 1) * tile[0]] = small
+        sheet[r * tile[1] : (r + 1) * tile[1], c * tile[0] : (c + 1) * tile[0]] = small
     return sheet
 
 
@@ -213,10 +231,21 @@ def sheet_picks(count: int, tiles: int = SHEET[0] * SHEET[1]) -> np.ndarray:
     return np.unique(np.linspace(0, count - 1, min(tiles, count)).round().astype(int))
 
 
-def render_run(model: ClothModel, states: Mapping[int, tuple[float, np.ndarray]], png_steps: Sequence[int],
-               video_steps: Sequence[int], png_dir: Path | None, video: Path | None, *, fps: float,
-               camera=(20, -60), title: str = "", floor: float | None = None, sheet: Path | None = None,
-               on_frame=None) -> None:
+def render_run(
+    model: ClothModel,
+    states: Mapping[int, tuple[float, np.ndarray]],
+    png_steps: Sequence[int],
+    video_steps: Sequence[int],
+    png_dir: Path | None,
+    video: Path | None,
+    *,
+    fps: float,
+    camera=(20, -60),
+    title: str = "",
+    floor: float | None = None,
+    sheet: Path | None = None,
+    on_frame=None,
+) -> None:
     """Render the states {step: (time s, positions (N, 3) m)} once each, in step order.
 
     The state at ``png_steps[k]`` becomes ``png_dir/frame_{k:04d}.png``; the video at ``fps`` frames per second

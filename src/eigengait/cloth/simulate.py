@@ -40,12 +40,25 @@ class Simulation:
             or obstacle-edge test), thickness 2 % — for reproducing the dissertation's results.
     """
 
-    def __init__(self, model: ClothModel, time_step: float, integrator: str = "euler", *,
-                 thickness: float | None = None, restitution: float = 0.0, self_collision: bool = False,
-                 strain_limit: float | None = DEFAULT_BOUND, floor: float | None = None, dissertation: bool = False):
+    def __init__(
+        self,
+        model: ClothModel,
+        time_step: float,
+        integrator: str = "euler",
+        *,
+        thickness: float | None = None,
+        restitution: float = 0.0,
+        self_collision: bool = False,
+        strain_limit: float | None = DEFAULT_BOUND,
+        floor: float | None = None,
+        dissertation: bool = False,
+    ):
         if integrator not in INTEGRATORS:
-            raise UserInputError(f"unknown integrator '{integrator}'.", field="--integrator",
-                                 fix=f"use one of: {', '.join(INTEGRATORS)}.")
+            raise UserInputError(
+                f"unknown integrator '{integrator}'.",
+                field="--integrator",
+                fix=f"use one of: {', '.join(INTEGRATORS)}.",
+            )
         if len(model.targets):
             model = replace(model, fixed=model.fixed.copy(), rest_positions=model.rest_positions.copy())
         self.model = model
@@ -77,24 +90,49 @@ class Simulation:
         t_new = self.steps * self.h
         m.apply_constraints(x_new, v_new, t_new)
         if self.strain_limit is not None:
-            limit_strain(x_new, v_new, self._strain_springs, self._strain_rest, self._strain_weights,
-                         self.strain_limit, self.h)
+            limit_strain(
+                x_new, v_new, self._strain_springs, self._strain_rest, self._strain_weights, self.strain_limit, self.h
+            )
         movable = m.free
         if self.obstacles is not None:
             if self.dissertation:
-                self.contacts += collide_with_obstacles(self.obstacles.soup, self.x, x_new, v_new, movable,
-                                                        thickness=self.thickness, restitution=self.restitution)
+                self.contacts += collide_with_obstacles(
+                    self.obstacles.soup,
+                    self.x,
+                    x_new,
+                    v_new,
+                    movable,
+                    thickness=self.thickness,
+                    restitution=self.restitution,
+                )
             else:
                 self.contacts += self.obstacles.collide(self.x, x_new, v_new, movable, self.restitution)
         if self.floor is not None:
             self.contacts += rest_on_floor(x_new, v_new, movable, self.floor + self.thickness, self.restitution)
         if self.self_collision and m.compiled:
             grid = self._cloth_grid.build(x_new, self.thickness)
-            self.contacts += contact.collide_self(self.x, x_new, v_new, m.mass, movable, self._cloth_grid.triangles,
-                                                  *grid, self.thickness, self.restitution)
+            self.contacts += contact.collide_self(
+                self.x,
+                x_new,
+                v_new,
+                m.mass,
+                movable,
+                self._cloth_grid.triangles,
+                *grid,
+                self.thickness,
+                self.restitution,
+            )
         elif self.self_collision:
-            self.contacts += collide_self(self.x, x_new, v_new, m.mass, m.triangles, movable,
-                                          thickness=self.thickness, restitution=self.restitution)
+            self.contacts += collide_self(
+                self.x,
+                x_new,
+                v_new,
+                m.mass,
+                m.triangles,
+                movable,
+                thickness=self.thickness,
+                restitution=self.restitution,
+            )
         if len(m.links):
             m.join_links(x_new, v_new)
         if len(m.targets) and not self._reached.all():
@@ -135,10 +173,28 @@ class Simulation:
         m = self.model
         bound = -1.0 if self.strain_limit is None else self.strain_limit
         runs = self._runs
-        kernels.explicit_steps(self.x, self.v, steps, self.h, self._fused, m.mass, self._strain_springs,
-                               self._strain_rest, self._strain_k, self._strain_weights, m.bend, m.bend_coef,
-                               m.gravity, m.external_force, m.friction, m.free, bound, runs.runs, runs.touch_start,
-                               runs.touching)
+        kernels.explicit_steps(
+            self.x,
+            self.v,
+            steps,
+            self.h,
+            self._fused,
+            m.mass,
+            self._strain_springs,
+            self._strain_rest,
+            self._strain_k,
+            self._strain_weights,
+            m.bend,
+            m.bend_coef,
+            m.gravity,
+            m.external_force,
+            m.friction,
+            m.free,
+            bound,
+            runs.runs,
+            runs.touch_start,
+            runs.touching,
+        )
         self.steps += steps
         self.t = self.steps * self.h
 
@@ -147,8 +203,15 @@ class Simulation:
         """The fused kernel's method code when whole runs of steps can stay compiled, else None: an explicit
         Euler method, compiled model, and no moving constraint, contact or link to resolve between steps."""
         m = self.model
-        simple = (m.compiled and not m.motions and not m.obstacles and not len(m.links) and not len(m.targets)
-                  and self.floor is None and not self.self_collision)
+        simple = (
+            m.compiled
+            and not m.motions
+            and not m.obstacles
+            and not len(m.links)
+            and not len(m.targets)
+            and self.floor is None
+            and not self.self_collision
+        )
         return kernels.FUSED.get(self.integrator) if simple else None
 
 
@@ -188,12 +251,26 @@ class Obstacles:
 
     def collide(self, x0: np.ndarray, x1: np.ndarray, v: np.ndarray, movable: np.ndarray, restitution: float) -> int:
         """Crossing, resting and edge contacts, in place on (x1, v); returns the number of contacts."""
-        count = contact.collide_points(x0, x1, v, movable, self.soup.corners, self.soup.normals, self.origin,
-                                       self.cell, self.dims, self.start, self.items, self.thickness, restitution)
+        count = contact.collide_points(
+            x0,
+            x1,
+            v,
+            movable,
+            self.soup.corners,
+            self.soup.normals,
+            self.origin,
+            self.cell,
+            self.dims,
+            self.start,
+            self.items,
+            self.thickness,
+            restitution,
+        )
         if len(self.samples) and len(self.cloth.triangles):
             grid = self.cloth.build(x1, 0.0)
-            count += contact.collide_edges(self.samples, self.directions, x1, v, movable, self.cloth.triangles,
-                                           *grid, self.thickness, self.depth)
+            count += contact.collide_edges(
+                self.samples, self.directions, x1, v, movable, self.cloth.triangles, *grid, self.thickness, self.depth
+            )
         return count
 
 
@@ -205,8 +282,9 @@ def rest_on_floor(x: np.ndarray, v: np.ndarray, movable: np.ndarray, level: floa
     return int(below.sum())
 
 
-def frame_steps(time_step: float, duration: float, frames_per_second: float, source: str = "<script>",
-                step_field: str = "DELTA_T") -> np.ndarray:
+def frame_steps(
+    time_step: float, duration: float, frames_per_second: float, source: str = "<script>", step_field: str = "DELTA_T"
+) -> np.ndarray:
     """Step counts of the script's frames 0 … floor(duration·fps): frame k after k·round(1/(fps·h)) steps of h s.
 
     Raises:
@@ -214,8 +292,12 @@ def frame_steps(time_step: float, duration: float, frames_per_second: float, sou
     """
     steps_per_frame = round(1.0 / (frames_per_second * time_step))
     if steps_per_frame < 1:
-        raise UserInputError(f"DELTA_t = {time_step:g} s is longer than one frame (1/{frames_per_second:g} s).",
-                             file=source, field=step_field, fix="make DELTA_t at most 1/QUADROS_SEG.")
+        raise UserInputError(
+            f"DELTA_t = {time_step:g} s is longer than one frame (1/{frames_per_second:g} s).",
+            file=source,
+            field=step_field,
+            fix="make DELTA_t at most 1/QUADROS_SEG.",
+        )
     return steps_per_frame * np.arange(int(np.floor(duration * frames_per_second + 1e-9)) + 1)
 
 
@@ -225,9 +307,17 @@ def video_steps(time_step: float, duration: float, fps: float) -> np.ndarray:
     return np.rint(np.arange(count) / (fps * time_step)).astype(int)
 
 
-def run_samples(model: ClothModel, steps: np.ndarray, *, time_step: float, integrator: str = "euler",
-                source: str = "<script>", step_field: str = "DELTA_T", warn: bool = True,
-                **options) -> Iterator[Frame]:
+def run_samples(
+    model: ClothModel,
+    steps: np.ndarray,
+    *,
+    time_step: float,
+    integrator: str = "euler",
+    source: str = "<script>",
+    step_field: str = "DELTA_T",
+    warn: bool = True,
+    **options,
+) -> Iterator[Frame]:
     """Yield the state after each of the increasing step counts ``steps`` (h = ``time_step`` s), numbered from 0.
 
     Raises:
@@ -241,13 +331,24 @@ def run_samples(model: ClothModel, steps: np.ndarray, *, time_step: float, integ
         if not np.isfinite(sim.x).all() or np.abs(sim.x).max() > 1e6:
             raise SimulationBlowUp(
                 f"the simulation diverged before t = {sim.t:.3f} s (positions became NaN or ran away) with the "
-                f"'{integrator}' integrator at DELTA_t = {time_step:g} s.", file=source, field=step_field,
-                fix="use a smaller DELTA_t, more ATRITO, or --integrator implicit.")
+                f"'{integrator}' integrator at DELTA_t = {time_step:g} s.",
+                file=source,
+                field=step_field,
+                fix="use a smaller DELTA_t, more ATRITO, or --integrator implicit.",
+            )
         yield Frame(index, sim.t, sim.x.copy(), sim.v.copy())
 
 
-def run_frames(model: ClothModel, *, time_step: float, duration: float, frames_per_second: float,
-               source: str = "<script>", step_field: str = "DELTA_T", **options) -> Iterator[Frame]:
+def run_frames(
+    model: ClothModel,
+    *,
+    time_step: float,
+    duration: float,
+    frames_per_second: float,
+    source: str = "<script>",
+    step_field: str = "DELTA_T",
+    **options,
+) -> Iterator[Frame]:
     """Yield the script's frames 0 … floor(duration·fps), frame k at t ≈ k/fps s (see :func:`frame_steps`)."""
     steps = frame_steps(time_step, duration, frames_per_second, source, step_field)
     yield from run_samples(model, steps, time_step=time_step, source=source, step_field=step_field, **options)

@@ -64,7 +64,11 @@ def check_step(model: ClothModel, integrator: str, h: float, duration: float) ->
     """Warn with :class:`StepSizeWarning` when ``h`` exceeds :func:`stable_step`; returns the estimate."""
     limit = stable_step(model, integrator, duration)
     if h > limit:
-        warnings.warn(f"DELTA_t = {h:g} s is above the estimated stable step {limit:.3g} s for the '{integrator}' "
-                      f"integrator (ω_max ≈ {max_frequency(model):.3g} rad/s); the run will likely blow up. Use a "
-                      "smaller DELTA_t or --integrator implicit.", StepSizeWarning, stacklevel=2)
+        warnings.warn(
+            f"DELTA_t = {h:g} s is above the estimated stable step {limit:.3g} s for the '{integrator}' "
+            f"integrator (ω_max ≈ {max_frequency(model):.3g} rad/s); the run will likely blow up. Use a "
+            "smaller DELTA_t or --integrator implicit.",
+            StepSizeWarning,
+            stacklevel=2,
+        )
     return limit

@@ -40,9 +40,9 @@ class StiffnessAssembler:
         pc = np.tile(tri, (1, 3))
         bend_rows = (3 * pr[:, :, None] + np.arange(3)).ravel()
         bend_cols = (3 * pc[:, :, None] + np.arange(3)).ravel()
-        self._bend_values = (-(model.bend_k / 4.0)[:, None, None]
-                             * np.outer(_BEND_S, _BEND_S).ravel()[None, :, None]
-                             * np.ones(3)).ravel()
+        self._bend_values = (
+            -(model.bend_k / 4.0)[:, None, None] * np.outer(_BEND_S, _BEND_S).ravel()[None, :, None] * np.ones(3)
+        ).ravel()
         all_rows = np.r_[rows, bend_rows]
         all_cols = np.r_[cols, bend_cols]
         keys = all_rows.astype(np.int64) * n3 + all_cols
@@ -64,6 +64,5 @@ class StiffnessAssembler:
         outer = u[:, :, None] * u[:, None, :]
         block = m.spring_k[:, None, None] * (outer + alpha[:, None, None] * (np.eye(3) - outer))
         spring_values = (self._spring_sign[None, :, None, None] * block[:, None, :, :]).ravel()
-        values = np.bincount(self._slot, weights=np.r_[spring_values, self._bend_values],
-                             minlength=len(self._indices))
+        values = np.bincount(self._slot, weights=np.r_[spring_values, self._bend_values], minlength=len(self._indices))
         return sp.csr_matrix((values, self._indices, self._indptr), shape=self._shape)

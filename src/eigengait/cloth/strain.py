@@ -68,13 +68,13 @@ def projection_order(springs: np.ndarray, mass: np.ndarray, fixed: np.ndarray) -
     depth = np.full(n, np.inf)
     if fixed.any():
         graph = sp.coo_matrix((np.ones(len(springs)), (springs[:, 0], springs[:, 1])), shape=(n, n))
-        depth = csgraph.dijkstra(graph, directed=False, indices=np.flatnonzero(fixed), unweighted=True,
-                                 min_only=True)
+        depth = csgraph.dijkstra(graph, directed=False, indices=np.flatnonzero(fixed), unweighted=True, min_only=True)
     di, dj = depth[springs[:, 0]], depth[springs[:, 1]]
     order = np.argsort(np.minimum(di, dj), kind="stable")
     inverse = np.where(fixed, 0.0, 1.0 / mass)
-    weights = np.stack([np.where(di >= dj, inverse[springs[:, 0]], 0.0),
-                        np.where(dj >= di, inverse[springs[:, 1]], 0.0)], axis=1)
+    weights = np.stack(
+        [np.where(di >= dj, inverse[springs[:, 0]], 0.0), np.where(dj >= di, inverse[springs[:, 1]], 0.0)], axis=1
+    )
     return order, weights[order]
 
 

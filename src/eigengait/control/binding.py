@@ -18,10 +18,21 @@ def sketch_system(sketch: Sketch, gravity: bool = True, source: str | Path | Non
     feet = sketch.feet or character.meta.gait_order
     unknown = [f for f in feet if f not in character.feet]
     if unknown:
-        raise UserInputError(f"character '{character.name}' has no foot '{unknown[0]}'", file=source, field="feet",
-                             fix=f"use feet among: {', '.join(character.feet) or '(none)'}")
-    return GaitSystem(character, sketch.relax_pose, feet, sketch.symmetric, sketch.basis, sketch.torque_limit,
-                      WorldOptions(gravity=gravity))
+        raise UserInputError(
+            f"character '{character.name}' has no foot '{unknown[0]}'",
+            file=source,
+            field="feet",
+            fix=f"use feet among: {', '.join(character.feet) or '(none)'}",
+        )
+    return GaitSystem(
+        character,
+        sketch.relax_pose,
+        feet,
+        sketch.symmetric,
+        sketch.basis,
+        sketch.torque_limit,
+        WorldOptions(gravity=gravity),
+    )
 
 
 def mode_counts(system: GaitSystem) -> dict[str, int]:

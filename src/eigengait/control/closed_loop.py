@@ -17,37 +17,45 @@ import mujoco
 import numpy as np
 from mujoco import rollout
 
-from eigengait.control.feedback import (FEEDBACK_DT, MIRROR_SIGNS, FeatureReader, FeedbackGains, hip_motors,
-                                        hip_torque, state_roles)
+from eigengait.control.feedback import (
+    FEEDBACK_DT,
+    MIRROR_SIGNS,
+    FeatureReader,
+    FeedbackGains,
+    hip_motors,
+    hip_torque,
+    state_roles,
+)
 from eigengait.control.gait import GaitParameters, GaitSystem
 from eigengait.sim.root import RootLayout
 from eigengait.sim.stepping import first_blow_up
 
-PUSH_SECONDS = 0.1   # s, duration of every push
+PUSH_SECONDS = 0.1  # s, duration of every push
 
 
 @dataclass(frozen=True)
 class Push:
-    time: float      # s from the start of the playback
-    force: float     # N along world +y on the root body
+    time: float  # s from the start of the playback
+    force: float  # N along world +y on the root body
 
 
 @dataclass
 class BatchRun:
     """Recorded batch: every array is candidates × steps × …; rows past `ended[i]` are unused."""
-    states: np.ndarray       # MuJoCo full physics states after each step
-    sensors: np.ndarray      # sensordata after each step
-    torques: np.ndarray      # applied motor torques (pulses + feedback, clipped), N·m
-    ended: np.ndarray        # steps simulated per candidate
-    fell: np.ndarray         # bool per candidate
-    steps: np.ndarray        # steps asked for per candidate
-    fell_time: np.ndarray    # s, when each fallen candidate fell (nan if it did not)
-    blow_up: list = None     # per candidate: (time s, dof) of a blow-up, or None
+
+    states: np.ndarray  # MuJoCo full physics states after each step
+    sensors: np.ndarray  # sensordata after each step
+    torques: np.ndarray  # applied motor torques (pulses + feedback, clipped), N·m
+    ended: np.ndarray  # steps simulated per candidate
+    fell: np.ndarray  # bool per candidate
+    steps: np.ndarray  # steps asked for per candidate
+    fell_time: np.ndarray  # s, when each fallen candidate fell (nan if it did not)
+    blow_up: list = None  # per candidate: (time s, dof) of a blow-up, or None
 
 
 def fallen(states: np.ndarray, sensors: np.ndarray, root: RootLayout, nq: int, standing_com: float) -> np.ndarray:
     """Per row: COM below half its standing height, root upside down, or a non-finite state."""
-    up_z = root.up_z(states[..., 1:1 + nq])
+    up_z = root.up_z(states[..., 1 : 1 + nq])
     finite = np.isfinite(states[..., 1:]).all(axis=-1) & (np.abs(states[..., 1:]) < 1e6).all(axis=-1)
     return (sensors[..., 2] < 0.5 * standing_com) | (up_z < 0) | ~finite
 
@@ -59,8 +67,8 @@ def cycle_errors(system: GaitSystem, p: GaitParameters, states: np.ndarray, cycl
     symmetric gaits one more block: the mirrored state at T/2 of the first cycle against (q₀, q̇₀).
     """
     nq, nv, dt = system.world.model.nq, system.world.model.nv, system.world.model.opt.timestep
-    q = lambda k: states[k, 1:1 + nq]                 # noqa: E731
-    v = lambda k: states[k, 1 + nq:1 + nq + nv]       # noqa: E731
+    q = lambda k: states[k, 1 : 1 + nq]  # noqa: E731
+    v = lambda k: states[k, 1 + nq : 1 + nq + nv]  # noqa: E731
     errors, start = [], None
     for c in range(1, cycles + 1):
         k = int(round(c * p.period / dt)) - 1
@@ -93,7 +101,7 @@ class FeedbackPlan:
                 G[k] = system.mirror.dofs(G[k].T).T * MIRROR_SIGNS
         self.G = G
         self.enabled = gains.enabled
-        self.ref_phase: list[float] = []             # first-cycle readings: phase (s) and features
+        self.ref_phase: list[float] = []  # first-cycle readings: phase (s) and features
         self.ref_value: list[np.ndarray] = []
 
     def record(self, t: float, features: np.ndarray) -> bool:
@@ -149,8 +157,9 @@ class ClosedLoopRunner:
     def close(self) -> None:
         rollout.shutdown_persistent_pool()
 
-    def run(self, params: list[GaitParameters], cycles: float, pushes: tuple[Push, ...] = (),
-            persistent: bool = True) -> BatchRun:
+    def run(
+        self, params: list[GaitParameters], cycles: float, pushes: tuple[Push, ...] = (), persistent: bool = True
+    ) -> BatchRun:
         model, system, dt = self.model, self.system, self.model.opt.timestep
         nq, nv, nu, n_motor = model.nq, model.nv, model.nu, system.world.nmotor
         P = len(params)
@@ -184,7 +193,7 @@ class ClosedLoopRunner:
                 tau_fb = self._feedback(plans[i], t, state[i], sensors_now[i])
                 u = ff[i][a:upto].copy()
                 u[:, :n_motor] = np.clip(u[:, :n_motor] + tau_fb, -limit, limit)
-                control[k, :upto - a, :nu] = u
+                control[k, : upto - a, :nu] = u
             idx, control = self._drop_bad_controls(idx, control, a, blow_up, fell, alive, ended, fell_time)
             if idx.size == 0:
                 break
@@ -192,8 +201,9 @@ class ClosedLoopRunner:
                 on = (np.arange(a, b) * dt >= push.time) & (np.arange(a, b) * dt < push.time + PUSH_SECONDS)
                 control[:, on, nu + 1] = push.force
             state_before = state[idx]
-            s, d = rollout.rollout(model, self.datas, state_before, control, control_spec=spec,
-                                   persistent_pool=persistent)
+            s, d = rollout.rollout(
+                model, self.datas, state_before, control, control_spec=spec, persistent_pool=persistent
+            )
             self.steps_simulated += idx.size * (b - a)
             states[idx, a:b], sensors[idx, a:b] = s, d
             torques[idx, a:b] = control[:, :, :n_motor]
@@ -201,8 +211,13 @@ class ClosedLoopRunner:
             bad = fallen(s, d, system.world.root, nq, self.standing_com)
             for k, i in enumerate(idx):
                 upto = min(b, steps[i]) - a
-                health = first_blow_up(s[k, :upto, 1 + nq:1 + nq + nv], np.zeros((upto, 0)), self.motor_dofs,
-                                       np.concatenate([[state_before[k, 0]], s[k, :upto, 0]]), dt)
+                health = first_blow_up(
+                    s[k, :upto, 1 + nq : 1 + nq + nv],
+                    np.zeros((upto, 0)),
+                    self.motor_dofs,
+                    np.concatenate([[state_before[k, 0]], s[k, :upto, 0]]),
+                    dt,
+                )
                 if health is not None:
                     blow_up[i] = ((a + health[0] + 1) * dt, health[1])
                     bad[k, health[0]] = True
@@ -213,8 +228,16 @@ class ClosedLoopRunner:
                     fell_time[i] = ended[i] * dt
                 elif steps[i] <= b:
                     alive[i] = False
-        return BatchRun(states=states, sensors=sensors, torques=torques, ended=ended, fell=fell, steps=steps,
-                        fell_time=fell_time, blow_up=blow_up)
+        return BatchRun(
+            states=states,
+            sensors=sensors,
+            torques=torques,
+            ended=ended,
+            fell=fell,
+            steps=steps,
+            fell_time=fell_time,
+            blow_up=blow_up,
+        )
 
     def _drop_bad_controls(self, idx, control, a, blow_up, fell, alive, ended, fell_time):
         """Candidates whose next torques are not finite or beyond what MuJoCo accepts blow up before stepping."""

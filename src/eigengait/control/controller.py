@@ -27,6 +27,7 @@ FINGERPRINT_MODES = 6
 
 class FeedbackFile(BaseModel):
     """Balance-feedback gains (N·m per normalized feature unit, see control/feedback.py); empty: open loop."""
+
     model_config = ConfigDict(extra="forbid", allow_inf_nan=False)
     hip: dict[Literal[HIP_GAINS], float] | None = None
     modal: dict[Literal["air", "ground"], dict[int, list[float]]] = Field(default_factory=dict)
@@ -55,13 +56,15 @@ class FeedbackFile(BaseModel):
     @classmethod
     def of(cls, gains: FeedbackGains) -> "FeedbackFile":
         hip = {g: float(x) for g, x in zip(HIP_GAINS, gains.hip)} if gains.hip is not None else None
-        modal = {ph: {int(m): [float(x) for x in row] for m, row in zip(modes, K)}
-                 for ph, (modes, K) in gains.modal.items()}
+        modal = {
+            ph: {int(m): [float(x) for x in row] for m, row in zip(modes, K)} for ph, (modes, K) in gains.modal.items()
+        }
         return cls(hip=hip, modal=modal)
 
 
 class ControllerFile(BaseModel):
     """Every number finite; torques and initial speeds within what the simulation can take."""
+
     model_config = ConfigDict(extra="forbid", allow_inf_nan=False)
     eigengait_controller: int = FORMAT_VERSION
     name: str = ""
@@ -75,10 +78,10 @@ class ControllerFile(BaseModel):
     air_ratio: float = Field(ge=0, le=1)
     pulse_air: float = Field(gt=0)
     pulse_ground: float = Field(gt=0)
-    activations: dict[str, dict[str, dict[int, float]]]     # foot -> phase -> mode number -> ψ (N·m)
+    activations: dict[str, dict[str, dict[int, float]]]  # foot -> phase -> mode number -> ψ (N·m)
     initial_qpos: list[float]
     initial_qvel: list[Annotated[float, Field(ge=-MAX_SPEED, le=MAX_SPEED)]]
-    air_frequencies_hz: list[float]                          # fingerprint of the character at its relax pose
+    air_frequencies_hz: list[float]  # fingerprint of the character at its relax pose
     feedback: FeedbackFile = Field(default_factory=lambda: FeedbackFile())
     metrics: dict[str, float | bool | int] = Field(default_factory=dict)
 
@@ -87,19 +90,30 @@ def to_file(system: GaitSystem, p: GaitParameters, name: str = "", metrics: dict
     acts: dict[str, dict[str, dict[int, float]]] = {}
     for (foot, phase), psi in p.activations.items():
         acts.setdefault(foot, {})[phase] = {int(i + 1): float(v) for i, v in enumerate(psi) if v != 0}
-    return ControllerFile(name=name, character=system.character.name if _is_builtin(system) else str(system.character.reference.resolve()),
-                          relax_pose=system.pose, feet=system.feet, symmetric=system.mirror is not None,
-                          basis=system.basis, torque_limit=system.torque_limit, period=p.period,
-                          air_ratio=p.air_ratio, pulse_air=p.pulse_air, pulse_ground=p.pulse_ground,
-                          activations=acts, initial_qpos=[float(v) for v in p.qpos0],
-                          initial_qvel=[float(v) for v in p.qvel0],
-                          air_frequencies_hz=[float(f) for f in system.air_modes.frequencies_hz[:FINGERPRINT_MODES]],
-                          feedback=FeedbackFile.of(p.feedback),
-                          metrics={k: v for k, v in finite(metrics or {}).items() if v is not None})
+    return ControllerFile(
+        name=name,
+        character=system.character.name if _is_builtin(system) else str(system.character.reference.resolve()),
+        relax_pose=system.pose,
+        feet=system.feet,
+        symmetric=system.mirror is not None,
+        basis=system.basis,
+        torque_limit=system.torque_limit,
+        period=p.period,
+        air_ratio=p.air_ratio,
+        pulse_air=p.pulse_air,
+        pulse_ground=p.pulse_ground,
+        activations=acts,
+        initial_qpos=[float(v) for v in p.qpos0],
+        initial_qvel=[float(v) for v in p.qvel0],
+        air_frequencies_hz=[float(f) for f in system.air_modes.frequencies_hz[:FINGERPRINT_MODES]],
+        feedback=FeedbackFile.of(p.feedback),
+        metrics={k: v for k, v in finite(metrics or {}).items() if v is not None},
+    )
 
 
 def _is_builtin(system: GaitSystem) -> bool:
     from eigengait.character.library import library_dir
+
     return system.character.path.parent == library_dir()
 
 
@@ -111,8 +125,11 @@ def load_controller(path: str | Path) -> ControllerFile:
     path = Path(path)
     data = read_mapping(path)
     if data.get("eigengait_controller") not in (None, FORMAT_VERSION):
-        raise UserInputError(f"unsupported controller version {data.get('eigengait_controller')}", file=path,
-                             field="eigengait_controller")
+        raise UserInputError(
+            f"unsupported controller version {data.get('eigengait_controller')}",
+            file=path,
+            field="eigengait_controller",
+        )
     return validate(ControllerFile, data, path, "regenerate it with `eigengait optimize`")
 
 
@@ -122,33 +139,56 @@ def to_parameters(controller: ControllerFile, system: GaitSystem, source: str | 
     freqs = system.air_modes.frequencies_hz[:FINGERPRINT_MODES]
     same_pose = controller.relax_pose == system.pose
     if not same_pose or not np.allclose(freqs, controller.air_frequencies_hz, rtol=1e-4):
-        raise UserInputError(f"this controller was made for character '{controller.character}' at relax pose "
-                             f"'{controller.relax_pose}', not for '{system.character.name}' at '{system.pose}'",
-                             file=source, field="character / relax_pose",
-                             fix="load it with its own character and relax pose, or optimize a new one")
-    for field, values, size in (("initial_qpos", controller.initial_qpos, model.nq),
-                                ("initial_qvel", controller.initial_qvel, model.nv)):
+        raise UserInputError(
+            f"this controller was made for character '{controller.character}' at relax pose "
+            f"'{controller.relax_pose}', not for '{system.character.name}' at '{system.pose}'",
+            file=source,
+            field="character / relax_pose",
+            fix="load it with its own character and relax pose, or optimize a new one",
+        )
+    for field, values, size in (
+        ("initial_qpos", controller.initial_qpos, model.nq),
+        ("initial_qvel", controller.initial_qvel, model.nv),
+    ):
         if len(values) != size:
-            raise UserInputError(f"{field} has {len(values)} values; character '{system.character.name}' needs {size}",
-                                 file=source, field=field, fix="regenerate the controller with `eigengait optimize`")
+            raise UserInputError(
+                f"{field} has {len(values)} values; character '{system.character.name}' needs {size}",
+                file=source,
+                field=field,
+                fix="regenerate the controller with `eigengait optimize`",
+            )
     activations = {}
     for foot in system.active_feet:
         for phase in ("air", "ground"):
             psi = np.zeros(system.mode_count(phase))
             for m, v in controller.activations.get(foot, {}).get(phase, {}).items():
                 if not 1 <= m <= len(psi):
-                    raise UserInputError(f"mode {m} does not exist ({len(psi)} modes)", file=source,
-                                         field=f"activations.{foot}.{phase}")
+                    raise UserInputError(
+                        f"mode {m} does not exist ({len(psi)} modes)", file=source, field=f"activations.{foot}.{phase}"
+                    )
                 psi[m - 1] = v
             activations[(foot, phase)] = psi
-    return GaitParameters(period=controller.period, air_ratio=controller.air_ratio, pulse_air=controller.pulse_air,
-                          pulse_ground=controller.pulse_ground, activations=activations,
-                          qpos0=np.array(controller.initial_qpos), qvel0=np.array(controller.initial_qvel),
-                          feedback=controller.feedback.gains())
+    return GaitParameters(
+        period=controller.period,
+        air_ratio=controller.air_ratio,
+        pulse_air=controller.pulse_air,
+        pulse_ground=controller.pulse_ground,
+        activations=activations,
+        qpos0=np.array(controller.initial_qpos),
+        qvel0=np.array(controller.initial_qvel),
+        feedback=controller.feedback.gains(),
+    )
 
 
 def system_for(controller: ControllerFile) -> GaitSystem:
     """Build the gait system a controller names."""
     from eigengait.character import load_character
-    return GaitSystem(load_character(controller.character), controller.relax_pose, controller.feet,
-                      controller.symmetric, controller.basis, controller.torque_limit)
+
+    return GaitSystem(
+        load_character(controller.character),
+        controller.relax_pose,
+        controller.feet,
+        controller.symmetric,
+        controller.basis,
+        controller.torque_limit,
+    )

@@ -34,18 +34,27 @@ import numpy as np
 from eigengait.control.pulse import State
 from eigengait.sim.world import GRAVITY, World
 
-FEEDBACK_DT = 0.01                 # s between feature readings (feedback torques are held in between)
+FEEDBACK_DT = 0.01  # s between feature readings (feedback torques are held in between)
 FEATURES = ("dx", "dy", "vx", "vy", "pitch", "roll", "pitch_rate", "roll_rate")
 MIRROR_SIGNS = np.array([1.0, -1.0, 1.0, -1.0, 1.0, -1.0, 1.0, -1.0])
-HIP_GAINS = ("swing_pitch_dx", "swing_pitch_vx", "swing_roll_dy", "swing_roll_vy",
-             "stance_pitch_pitch", "stance_pitch_rate", "stance_roll_roll", "stance_roll_rate")
+HIP_GAINS = (
+    "swing_pitch_dx",
+    "swing_pitch_vx",
+    "swing_roll_dy",
+    "swing_roll_vy",
+    "stance_pitch_pitch",
+    "stance_pitch_rate",
+    "stance_roll_roll",
+    "stance_roll_rate",
+)
 
 
 @dataclass
 class FeedbackGains:
     """Gains of the enabled mechanisms (empty: open loop). Units: N·m per normalized feature unit."""
-    hip: np.ndarray | None = None                                        # (8,) in HIP_GAINS order
-    modal: dict[str, tuple[list[int], np.ndarray]] = field(default_factory=dict)   # phase -> (modes, K m×8)
+
+    hip: np.ndarray | None = None  # (8,) in HIP_GAINS order
+    modal: dict[str, tuple[list[int], np.ndarray]] = field(default_factory=dict)  # phase -> (modes, K m×8)
 
     @property
     def enabled(self) -> bool:
@@ -76,21 +85,22 @@ class FeatureReader:
         self.com, self.comvel = world.com_sensor, world.comvel_sensor
         self.toe = {f: world.foot_sensor[p.toe] for f, p in world.character.feet.items()}
         h = world.standing_com_height
-        self.scale = np.array([h, h, np.sqrt(GRAVITY * h), np.sqrt(GRAVITY * h), 1, 1,
-                               np.sqrt(GRAVITY / h), np.sqrt(GRAVITY / h)])
+        self.scale = np.array(
+            [h, h, np.sqrt(GRAVITY * h), np.sqrt(GRAVITY * h), 1, 1, np.sqrt(GRAVITY / h), np.sqrt(GRAVITY / h)]
+        )
 
     def _tilt(self, state: np.ndarray) -> np.ndarray:
         nq = self.nq
         if self.root.quat_qpos is not None:
             a = self.root.quat_qpos
-            return root_tilt(state[..., 1 + a:1 + a + 4], state[..., 1 + nq + 3:1 + nq + 6])
+            return root_tilt(state[..., 1 + a : 1 + a + 4], state[..., 1 + nq + 3 : 1 + nq + 6])
         return planar_tilt(self.root, state, nq)
 
     def read(self, state: np.ndarray, sensors: np.ndarray, support: str) -> np.ndarray:
         """Features (…×8) with the COM offset taken from `support`'s toe."""
-        com = sensors[..., self.com:self.com + 3]
-        toe = sensors[..., self.toe[support]:self.toe[support] + 3]
-        vel = sensors[..., self.comvel:self.comvel + 3]
+        com = sensors[..., self.com : self.com + 3]
+        toe = sensors[..., self.toe[support] : self.toe[support] + 3]
+        vel = sensors[..., self.comvel : self.comvel + 3]
         tilt = self._tilt(state)
         raw = np.concatenate([com[..., :2] - toe[..., :2], vel[..., :2], tilt], axis=-1)
         return raw / self.scale
@@ -129,7 +139,7 @@ def hip_motors(world: World, foot: str) -> tuple[int, int]:
     body = model.jnt_bodyid[j]
     dof = model.jnt_dofadr[j]
     if model.jnt_type[j] == mujoco.mjtJoint.mjJNT_BALL:
-        axes = data.xmat[body].reshape(3, 3).T          # rows: the child body's local axes in world
+        axes = data.xmat[body].reshape(3, 3).T  # rows: the child body's local axes in world
         dofs = dof + np.arange(3)
     else:
         axes = (data.xmat[body].reshape(3, 3) @ model.jnt_axis[j])[None]
@@ -143,6 +153,7 @@ def hip_motors(world: World, foot: str) -> tuple[int, int]:
 @dataclass
 class StateRole:
     """Which feet a state reads and drives: support toe for features, swing and stance hips for `hip`."""
+
     support: str
     swing: str | None
     stance: str | None
@@ -161,8 +172,9 @@ def state_roles(states: list[State]) -> list[StateRole]:
     return roles
 
 
-def hip_torque(gains: np.ndarray, dev: np.ndarray, role: StateRole, motors: dict[str, tuple[int, int]],
-               n_motor: int) -> np.ndarray:
+def hip_torque(
+    gains: np.ndarray, dev: np.ndarray, role: StateRole, motors: dict[str, tuple[int, int]], n_motor: int
+) -> np.ndarray:
     """SIMBICON-style torque (n_motor,) from a feature deviation `dev` (8,) and the state's roles."""
     tau = np.zeros(n_motor)
     if role.swing is not None:

@@ -22,8 +22,11 @@ def read_mapping(path: Path) -> dict:
     try:
         data = json.loads(text) if path.suffix.lower() == ".json" else yaml.safe_load(text)
     except (json.JSONDecodeError, yaml.YAMLError) as exc:
-        raise UserInputError(f"cannot parse the file ({exc.__class__.__name__}: {exc})".replace("\n", " "),
-                             file=path, fix="check the JSON/YAML syntax") from None
+        raise UserInputError(
+            f"cannot parse the file ({exc.__class__.__name__}: {exc})".replace("\n", " "),
+            file=path,
+            fix="check the JSON/YAML syntax",
+        ) from None
     if not isinstance(data, dict):
         raise UserInputError("expected a mapping at the top level", file=path)
     return data

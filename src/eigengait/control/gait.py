@@ -20,13 +20,14 @@ from eigengait.modal.analysis import compute_modes
 from eigengait.sim.world import World, WorldOptions, build_world
 
 
-VELOCITY_WEIGHT = 0.1   # s: a velocity mismatch of 1 rad/s counts as 0.1 rad in the cyclic constraint
+VELOCITY_WEIGHT = 0.1  # s: a velocity mismatch of 1 rad/s counts as 0.1 rad in the cyclic constraint
 
 
 @dataclass
 class GaitParameters:
     """One controller: timing (s), activations ψ (N·m) per (foot, phase) over ALL modes of that basis, q₀, q̇₀,
     and the balance-feedback gains (none: open loop)."""
+
     period: float
     air_ratio: float
     pulse_air: float
@@ -50,8 +51,12 @@ class GaitSystem:
     def __post_init__(self):
         for foot in self.feet:
             if foot not in self.character.feet:
-                raise UserInputError(f"unknown foot '{foot}'", file=self.character.path, field="feet",
-                                     fix=f"use feet among: {', '.join(self.character.feet) or '(none)'}")
+                raise UserInputError(
+                    f"unknown foot '{foot}'",
+                    file=self.character.path,
+                    field="feet",
+                    fix=f"use feet among: {', '.join(self.character.feet) or '(none)'}",
+                )
         if not self.feet:
             raise UserInputError("a gait needs at least one foot", file=self.character.path, field="feet")
         self.world: World = build_world(self.character, self.pose, self.options)
@@ -60,8 +65,11 @@ class GaitSystem:
         self.ground_modes = {f: compute_modes(modal_world, "ground", f) for f in dict.fromkeys(self.feet)}
         self.mirror = Mirror(self.world) if self.symmetric and len(self.feet) > 1 else None
         if self.mirror is not None and len(self.feet) != 2:
-            raise UserInputError("a symmetric gait alternates exactly two feet", field="feet",
-                                 fix="give two mirrored feet, or set symmetric: false")
+            raise UserInputError(
+                "a symmetric gait alternates exactly two feet",
+                field="feet",
+                fix="give two mirrored feet, or set symmetric: false",
+            )
 
     @property
     def active_feet(self) -> list[str]:
@@ -87,7 +95,7 @@ class GaitSystem:
         torques = state_torques(bases, p.activations, states, self.mirror, self.torque_limit)
         u = control_sequence(states, torques, self.world.model.opt.timestep, cycles, span)
         full = np.zeros((len(u), self.world.model.nu))
-        full[:, :self.world.nmotor] = u
+        full[:, : self.world.nmotor] = u
         return full
 
     def _initial_data(self, p: GaitParameters) -> mujoco.MjData:
@@ -115,8 +123,7 @@ class GaitSystem:
         mujoco.mj_comPos(self.world.model, data)
         return data.subtree_com[self.world.root_body].copy()
 
-    def state_error(self, qpos_ref: np.ndarray, qvel_ref: np.ndarray, qpos: np.ndarray,
-                    qvel: np.ndarray) -> np.ndarray:
+    def state_error(self, qpos_ref: np.ndarray, qvel_ref: np.ndarray, qpos: np.ndarray, qvel: np.ndarray) -> np.ndarray:
         """φ = (Δq, τ_v·Δq̇) of a state against a reference state, root x excluded (2·nv − 1 values).
 
         Positions in m and rad; velocities weighted by τ_v = VELOCITY_WEIGHT s so both read as displacements.

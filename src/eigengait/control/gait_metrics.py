@@ -14,23 +14,27 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
-CONTACT_TOLERANCE = 0.005   # m
-DEBOUNCE_S = 0.02           # s
-SAME_STEP_S = 0.05          # s: touchdowns of different feet this close count as one step
-_ROTATION_DOFS = {int(mujoco.mjtJoint.mjJNT_FREE): (3, 6), int(mujoco.mjtJoint.mjJNT_BALL): (0, 3),
-                  int(mujoco.mjtJoint.mjJNT_HINGE): (0, 1)}   # joint type -> its rotation's range in its dofs
+CONTACT_TOLERANCE = 0.005  # m
+DEBOUNCE_S = 0.02  # s
+SAME_STEP_S = 0.05  # s: touchdowns of different feet this close count as one step
+_ROTATION_DOFS = {
+    int(mujoco.mjtJoint.mjJNT_FREE): (3, 6),
+    int(mujoco.mjtJoint.mjJNT_BALL): (0, 3),
+    int(mujoco.mjtJoint.mjJNT_HINGE): (0, 1),
+}  # joint type -> its rotation's range in its dofs
 
 
 @dataclass
 class GaitRecording:
     """A played motion sampled at `fps` frames/s (MuJoCo z-up world, x forward, metres, seconds)."""
+
     fps: float
-    period: float                        # s, one controller cycle (phase = (t mod period) / period, t = frame / fps)
-    qpos: np.ndarray                     # F × nq MuJoCo positions; joint 0 is the root (free: pos xyz, quat wxyz;
-                                         # other roots give no tilt or root jump)
-    com: np.ndarray                      # F × 3 whole-body COM (m)
-    foot_points: dict[str, np.ndarray]   # foot name -> F × k × 3 world positions of the foot's contact-sphere centres
-    foot_radius: dict[str, float]        # foot name -> contact-sphere radius (m)
+    period: float  # s, one controller cycle (phase = (t mod period) / period, t = frame / fps)
+    qpos: np.ndarray  # F × nq MuJoCo positions; joint 0 is the root (free: pos xyz, quat wxyz;
+    # other roots give no tilt or root jump)
+    com: np.ndarray  # F × 3 whole-body COM (m)
+    foot_points: dict[str, np.ndarray]  # foot name -> F × k × 3 world positions of the foot's contact-sphere centres
+    foot_radius: dict[str, float]  # foot name -> contact-sphere radius (m)
 
 
 def _runs(on: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -132,8 +136,7 @@ def _max_frame_jump_deg(model: mujoco.MjModel, qpos: np.ndarray) -> float:
     v = np.zeros((len(qpos) - 1, model.nv))
     for i in range(len(v)):
         mujoco.mj_differentiatePos(model, v[i], 1.0, qpos[i], qpos[i + 1])
-    return float(np.degrees(max((np.linalg.norm(v[:, d], axis=1).max() for d in _rotation_dofs(model)),
-                                default=0.0)))
+    return float(np.degrees(max((np.linalg.norm(v[:, d], axis=1).max() for d in _rotation_dofs(model)), default=0.0)))
 
 
 def _round(x) -> float | None:
@@ -158,8 +161,10 @@ def gait_metrics(model: mujoco.MjModel, rec: GaitRecording) -> dict:
     contacts = foot_contacts(rec)
     touchdowns = {f: _touchdowns(c) for f, c in contacts.items()}
     in_contact = np.any(list(contacts.values()), axis=0) if contacts else np.zeros(frames, bool)
-    slips = {f: _stance_slips(rec.foot_points[f], _sphere_contacts(rec, f, CONTACT_TOLERANCE), c)
-             for f, c in contacts.items()}
+    slips = {
+        f: _stance_slips(rec.foot_points[f], _sphere_contacts(rec, f, CONTACT_TOLERANCE), c)
+        for f, c in contacts.items()
+    }
     slip = {f: _round(s.mean()) if s.size else None for f, s in slips.items()}
     free = model.njnt > 0 and model.jnt_type[0] == mujoco.mjtJoint.mjJNT_FREE
     pitch, roll = _root_tilt_deg(rec.qpos[:, 3:7]) if free else (np.full(frames, np.nan),) * 2
@@ -175,6 +180,7 @@ def gait_metrics(model: mujoco.MjModel, rec: GaitRecording) -> dict:
         "torso_roll_deg": [_round(roll.min()), _round(roll.max())],
         "footfall": {f: _footfall(t, rec.fps, rec.period) for f, t in touchdowns.items()},
         "max_frame_jump_deg": _round(_max_frame_jump_deg(model, rec.qpos)) if moved else None,
-        "max_root_jump_m": (_round(np.linalg.norm(np.diff(rec.qpos[:, 0:3], axis=0), axis=1).max())
-                            if moved and free else None),
+        "max_root_jump_m": (
+            _round(np.linalg.norm(np.diff(rec.qpos[:, 0:3], axis=0), axis=1).max()) if moved and free else None
+        ),
     }

@@ -22,12 +22,16 @@ def gait_names() -> list[str]:
 
 def resolve(kind: str, name_or_path: str) -> Path:
     """A shipped preset/gait by name, or a user file path."""
-    folder, suffix, names = ((_data("sketches"), ".yaml", preset_names()) if kind == "sketch"
-                             else (_data("gaits"), ".json", gait_names()))
+    folder, suffix, names = (
+        (_data("sketches"), ".yaml", preset_names()) if kind == "sketch" else (_data("gaits"), ".json", gait_names())
+    )
     if name_or_path in names:
         return folder / f"{name_or_path}{suffix}"
     path = Path(name_or_path)
     if path.is_file():
         return path
-    raise UserInputError(f"no {kind} file or shipped {kind} named '{name_or_path}'", file=name_or_path,
-                         fix=f"give a file path or one of: {', '.join(names)}")
+    raise UserInputError(
+        f"no {kind} file or shipped {kind} named '{name_or_path}'",
+        file=name_or_path,
+        fix=f"give a file path or one of: {', '.join(names)}",
+    )

@@ -20,9 +20,12 @@ class Mirror:
     def __init__(self, world: World):
         mirror = world.character.meta.mirror
         if mirror is None:
-            raise UserInputError("the character has no mirror map, so it cannot be symmetric",
-                                 file=world.character.path, field="mirror",
-                                 fix="add mirror: {axis: y, pairs: {...}} to the sidecar, or set symmetric: false")
+            raise UserInputError(
+                "the character has no mirror map, so it cannot be symmetric",
+                file=world.character.path,
+                field="mirror",
+                fix="add mirror: {axis: y, pairs: {...}} to the sidecar, or set symmetric: false",
+            )
         self.world = world
         axis = "xyz".index(mirror.axis)
         self.S = np.eye(3)
@@ -37,7 +40,7 @@ class Mirror:
             if world.character.joint_dofs[name] == 3:
                 index += list(model.jnt_dofadr[jo] + np.arange(3))
                 sign += list(-np.diag(self.S))
-            else:   # hinge: torque about axis a maps to −S a, projected on the partner's axis
+            else:  # hinge: torque about axis a maps to −S a, projected on the partner's axis
                 index.append(model.jnt_dofadr[jo])
                 sign.append(float(-self.S @ model.jnt_axis[j] @ model.jnt_axis[jo]))
         # internal dof k (in world.internal_qvel order) receives sign * value of the partner dof
@@ -70,14 +73,14 @@ class Mirror:
         qp, qv = qpos.copy(), qvel.copy()
         a, d = self.root_qpos, self.root_qvel
         if a is not None:
-            qp[a:a + 3] = self.S @ qpos[a:a + 3]
-            qp[a + 3:a + 7] = self._quat(qpos[a + 3:a + 7])
-            qv[d:d + 3] = self.S @ qvel[d:d + 3]
-            qv[d + 3:d + 6] = -self.S @ qvel[d + 3:d + 6]
+            qp[a : a + 3] = self.S @ qpos[a : a + 3]
+            qp[a + 3 : a + 7] = self._quat(qpos[a + 3 : a + 7])
+            qv[d : d + 3] = self.S @ qvel[d : d + 3]
+            qv[d + 3 : d + 6] = -self.S @ qvel[d + 3 : d + 6]
         qv[self.world.internal_qvel] = self.dofs(qvel[self.world.internal_qvel])
         for adr, partner, ball, sign in self.joint_maps:
             if ball:
-                qp[partner:partner + 4] = self._quat(qpos[adr:adr + 4])
+                qp[partner : partner + 4] = self._quat(qpos[adr : adr + 4])
             else:
                 qp[partner] = sign * qpos[adr]
         return qp, qv

@@ -19,32 +19,37 @@ from eigengait.errors import UserInputError
 from eigengait.sim.stepping import raise_blow_up
 from eigengait.sim.world import GRAVITY
 
-MAX_PUSH_N = 1e5   # N: beyond this a 0.1 s push launches any creature
+MAX_PUSH_N = 1e5  # N: beyond this a 0.1 s push launches any creature
 
 
 @dataclass
 class PlaybackResult:
-    qpos: np.ndarray                 # (frames × nq) at `fps`
+    qpos: np.ndarray  # (frames × nq) at `fps`
     fps: float
     cycles_completed: int
     fell: bool
-    mean_speed_mps: float            # forward COM speed over the played time
-    active_energy: float             # J: positive mechanical work of the active torques, Σ max(τ·q̇, 0) dt
-    mean_squared_torque: float       # (N·m)²: the thesis's E_energia, mean over steps of Σ_j τ_j²
-    cost_of_transport: float         # active_energy / (m g distance), dimensionless
-    cycle_violation: float           # max |φ_i| over the played cycles (each cycle's end against its start)
+    mean_speed_mps: float  # forward COM speed over the played time
+    active_energy: float  # J: positive mechanical work of the active torques, Σ max(τ·q̇, 0) dt
+    mean_squared_torque: float  # (N·m)²: the thesis's E_energia, mean over steps of Σ_j τ_j²
+    cost_of_transport: float  # active_energy / (m g distance), dimensionless
+    cycle_violation: float  # max |φ_i| over the played cycles (each cycle's end against its start)
     snapped: bool = False
-    quality: dict = field(default_factory=dict)     # gait_metrics() of the played motion
+    quality: dict = field(default_factory=dict)  # gait_metrics() of the played motion
     pushes: tuple[Push, ...] = ()
     pushes_survived: int | None = None
 
     def summary(self) -> dict:
-        out = {"cycles_completed": self.cycles_completed, "fell": self.fell,
-               "mean_speed_mps": round(float(self.mean_speed_mps), 4), "active_energy": round(self.active_energy, 3),
-               "mean_squared_torque": round(float(self.mean_squared_torque), 3),
-               "cost_of_transport": round(self.cost_of_transport, 4) if np.isfinite(self.cost_of_transport) else None,
-               "cycle_violation": round(self.cycle_violation, 5) if np.isfinite(self.cycle_violation) else None,
-               "snap": self.snapped, **self.quality}
+        out = {
+            "cycles_completed": self.cycles_completed,
+            "fell": self.fell,
+            "mean_speed_mps": round(float(self.mean_speed_mps), 4),
+            "active_energy": round(self.active_energy, 3),
+            "mean_squared_torque": round(float(self.mean_squared_torque), 3),
+            "cost_of_transport": round(self.cost_of_transport, 4) if np.isfinite(self.cost_of_transport) else None,
+            "cycle_violation": round(self.cycle_violation, 5) if np.isfinite(self.cycle_violation) else None,
+            "snap": self.snapped,
+            **self.quality,
+        }
         if self.pushes:
             out["pushes_survived"] = self.pushes_survived
         return out
@@ -57,17 +62,30 @@ def parse_pushes(text: str) -> tuple[Push, ...]:
         try:
             force, time = (float(v) for v in item.split("@"))
         except ValueError:
-            raise UserInputError(f"cannot read push '{item.strip()}'", field="--push",
-                                 fix="write FORCE@TIME in N and s, e.g. 350@1.3,-350@2.5") from None
+            raise UserInputError(
+                f"cannot read push '{item.strip()}'",
+                field="--push",
+                fix="write FORCE@TIME in N and s, e.g. 350@1.3,-350@2.5",
+            ) from None
         if not (np.isfinite(force) and np.isfinite(time)) or time < 0 or abs(force) > MAX_PUSH_N:
-            raise UserInputError(f"push '{item.strip()}' is out of range", field="--push",
-                                 fix=f"use a finite time ≥ 0 s and a force within ±{MAX_PUSH_N:.0f} N")
+            raise UserInputError(
+                f"push '{item.strip()}' is out of range",
+                field="--push",
+                fix=f"use a finite time ≥ 0 s and a force within ±{MAX_PUSH_N:.0f} N",
+            )
         pushes.append(Push(time=time, force=force))
     return tuple(pushes)
 
 
-def play(system: GaitSystem, p: GaitParameters, cycles: int = 4, snap: bool = False, fps: float = 60.0,
-         pushes: tuple[Push, ...] = (), source: str | None = None) -> PlaybackResult:
+def play(
+    system: GaitSystem,
+    p: GaitParameters,
+    cycles: int = 4,
+    snap: bool = False,
+    fps: float = 60.0,
+    pushes: tuple[Push, ...] = (),
+    source: str | None = None,
+) -> PlaybackResult:
     """Play `cycles` cycles; a blow-up raises `SimulationBlowUp` naming the time, the body and `source` (the
     controller file)."""
     runner = ClosedLoopRunner(system)
@@ -98,20 +116,34 @@ def _play_snapped(runner: ClosedLoopRunner, p: GaitParameters, cycles: int) -> t
         if forward is not None:
             qpos0[forward] = run.states[0, -1, 1 + forward]
         start = GaitParameters(**{**p.__dict__, "qpos0": qpos0})
-    cat = lambda name: np.concatenate([getattr(r, name)[0, :r.ended[0]] for r in parts])[None]  # noqa: E731
+    cat = lambda name: np.concatenate([getattr(r, name)[0, : r.ended[0]] for r in parts])[None]  # noqa: E731
     ended = sum(int(r.ended[0]) for r in parts)
-    return BatchRun(states=cat("states"), sensors=cat("sensors"), torques=cat("torques"), ended=np.array([ended]),
-                    fell=np.array([parts[-1].fell[0]]), steps=np.array([ended]),
-                    fell_time=np.array([np.nan]), blow_up=[blow_up]), completed
+    return BatchRun(
+        states=cat("states"),
+        sensors=cat("sensors"),
+        torques=cat("torques"),
+        ended=np.array([ended]),
+        fell=np.array([parts[-1].fell[0]]),
+        steps=np.array([ended]),
+        fell_time=np.array([np.nan]),
+        blow_up=[blow_up],
+    ), completed
 
 
-def _result(system: GaitSystem, p: GaitParameters, run: BatchRun, completed: int, snap: bool, fps: float,
-            pushes: tuple[Push, ...]) -> PlaybackResult:
+def _result(
+    system: GaitSystem,
+    p: GaitParameters,
+    run: BatchRun,
+    completed: int,
+    snap: bool,
+    fps: float,
+    pushes: tuple[Push, ...],
+) -> PlaybackResult:
     world, model = system.world, system.world.model
     dt, nq, nv = model.opt.timestep, model.nq, model.nv
     end = int(run.ended[0])
     states, sensors, torques = run.states[0, :end], run.sensors[0, :end], run.torques[0, :end]
-    qvel = states[:, 1 + nq:1 + nq + nv]
+    qvel = states[:, 1 + nq : 1 + nq + nv]
     work = float(np.sum(np.clip(np.sum(torques * qvel[:, world.internal_qvel], axis=1), 0, None)) * dt)
     duration = end * dt
     distance = float(sensors[-1, 0] - system.initial_com(p)[0])
@@ -121,20 +153,40 @@ def _result(system: GaitSystem, p: GaitParameters, run: BatchRun, completed: int
     frames = np.round(np.arange(int(duration * fps) + 1) / fps / dt).astype(int)
     frames = frames[frames <= end]
     recording = GaitRecording(
-        fps=fps, period=p.period, qpos=states[frames, 1:1 + nq], com=sensors[frames, 0:3],
-        foot_points={f: np.stack([sensors[frames, world.foot_sensor[s]:world.foot_sensor[s] + 3]
-                                  for s in filter(None, (pt.toe, pt.heel))], axis=1)
-                     for f, pt in world.character.feet.items()},
-        foot_radius={f: float(model.geom_size[world.foot_spheres[f][0], 0]) for f in world.character.feet})
+        fps=fps,
+        period=p.period,
+        qpos=states[frames, 1 : 1 + nq],
+        com=sensors[frames, 0:3],
+        foot_points={
+            f: np.stack(
+                [
+                    sensors[frames, world.foot_sensor[s] : world.foot_sensor[s] + 3]
+                    for s in filter(None, (pt.toe, pt.heel))
+                ],
+                axis=1,
+            )
+            for f, pt in world.character.feet.items()
+        },
+        foot_radius={f: float(model.geom_size[world.foot_spheres[f][0], 0]) for f in world.character.feet},
+    )
     quality = gait_metrics(model, recording) if len(frames) > 1 else {}
     violation = _violation(system, p, run, completed) if not snap else _snapped_violation(system, p, run)
     mass = world.mass()
-    return PlaybackResult(qpos=recording.qpos, fps=fps, cycles_completed=completed, fell=bool(run.fell[0]),
-                          mean_speed_mps=distance / duration if duration else 0.0, active_energy=work,
-                          mean_squared_torque=float(np.mean(np.sum(torques ** 2, axis=1))) if end else 0.0,
-                          cost_of_transport=work / (mass * GRAVITY * distance) if distance > 1e-6 else float("inf"),
-                          cycle_violation=violation, snapped=snap, quality=quality, pushes=tuple(pushes),
-                          pushes_survived=_pushes_survived(pushes, run) if pushes else None)
+    return PlaybackResult(
+        qpos=recording.qpos,
+        fps=fps,
+        cycles_completed=completed,
+        fell=bool(run.fell[0]),
+        mean_speed_mps=distance / duration if duration else 0.0,
+        active_energy=work,
+        mean_squared_torque=float(np.mean(np.sum(torques**2, axis=1))) if end else 0.0,
+        cost_of_transport=work / (mass * GRAVITY * distance) if distance > 1e-6 else float("inf"),
+        cycle_violation=violation,
+        snapped=snap,
+        quality=quality,
+        pushes=tuple(pushes),
+        pushes_survived=_pushes_survived(pushes, run) if pushes else None,
+    )
 
 
 def _violation(system: GaitSystem, p: GaitParameters, run: BatchRun, completed: int) -> float:
@@ -156,12 +208,21 @@ def _pushes_survived(pushes: tuple[Push, ...], run: BatchRun) -> int:
         return len(pushes)
     fall = float(run.fell_time[0])
     times = sorted(p.time for p in pushes)
-    return sum(1 for k, t in enumerate(times) if (times[k + 1] if k + 1 < len(times) else np.inf) <= fall
-               and t + PUSH_SECONDS <= fall)
+    return sum(
+        1
+        for k, t in enumerate(times)
+        if (times[k + 1] if k + 1 < len(times) else np.inf) <= fall and t + PUSH_SECONDS <= fall
+    )
 
 
-def push_robustness(system: GaitSystem, p: GaitParameters, impulse_per_kg: float = 0.5, cycle: int = 3,
-                    phases: int = 5, cycles_after: int = 10) -> list[bool]:
+def push_robustness(
+    system: GaitSystem,
+    p: GaitParameters,
+    impulse_per_kg: float = 0.5,
+    cycle: int = 3,
+    phases: int = 5,
+    cycles_after: int = 10,
+) -> list[bool]:
     """Survival of one sideways push of `impulse_per_kg` N·s/kg (over 0.1 s) given at each of `phases` evenly
     spaced phases of cycle `cycle` (1-based), the gait then playing `cycles_after` more cycles."""
     force = impulse_per_kg * system.world.mass() / PUSH_SECONDS

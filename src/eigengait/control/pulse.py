@@ -18,10 +18,10 @@ import numpy as np
 @dataclass(frozen=True)
 class State:
     foot: str
-    phase: str          # "air" or "ground"
-    start: float        # s from the cycle start
-    duration: float     # s
-    pulse: float        # s, ≤ duration
+    phase: str  # "air" or "ground"
+    start: float  # s from the cycle start
+    duration: float  # s
+    pulse: float  # s, ≤ duration
 
 
 def schedule(feet: list[str], period: float, air_ratio: float, pulse_air: float, pulse_ground: float) -> list[State]:
@@ -29,15 +29,22 @@ def schedule(feet: list[str], period: float, air_ratio: float, pulse_air: float,
     share = period / len(feet)
     states, t = [], 0.0
     for foot in feet:
-        for phase, duration, pulse in (("air", air_ratio * share, pulse_air),
-                                       ("ground", (1 - air_ratio) * share, pulse_ground)):
+        for phase, duration, pulse in (
+            ("air", air_ratio * share, pulse_air),
+            ("ground", (1 - air_ratio) * share, pulse_ground),
+        ):
             states.append(State(foot, phase, t, duration, min(pulse, duration)))
             t += duration
     return states
 
 
-def state_torques(bases: dict[tuple[str, str], np.ndarray], activations: dict[tuple[str, str], np.ndarray],
-                  states: list[State], mirror=None, torque_limit: float = np.inf) -> list[np.ndarray]:
+def state_torques(
+    bases: dict[tuple[str, str], np.ndarray],
+    activations: dict[tuple[str, str], np.ndarray],
+    states: list[State],
+    mirror=None,
+    torque_limit: float = np.inf,
+) -> list[np.ndarray]:
     """Pulse torque (n_internal,) of each state. Keys are (foot, phase); missing feet are mirrored."""
     torques = []
     first_foot = states[0].foot
@@ -51,8 +58,9 @@ def state_torques(bases: dict[tuple[str, str], np.ndarray], activations: dict[tu
     return torques
 
 
-def control_sequence(states: list[State], torques: list[np.ndarray], timestep: float, cycles: int = 1,
-                     span: float | None = None) -> np.ndarray:
+def control_sequence(
+    states: list[State], torques: list[np.ndarray], timestep: float, cycles: int = 1, span: float | None = None
+) -> np.ndarray:
     """Piecewise-constant controls (nstep × n_internal) for `cycles` cycles (or the first `span` seconds)."""
     period = sum(s.duration for s in states)
     total = span if span is not None else cycles * period

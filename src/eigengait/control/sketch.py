@@ -52,7 +52,9 @@ class PhaseSketch(BaseModel):
 
     def optimized_modes(self, count: int) -> list[int]:
         """Priority + allowed mode numbers (1-based), sorted."""
-        allowed = self.allowed if self.allowed is not None else [m for m in range(1, count + 1) if m not in self.excluded]
+        allowed = (
+            self.allowed if self.allowed is not None else [m for m in range(1, count + 1) if m not in self.excluded]
+        )
         return sorted(set(self.priority) | set(allowed))
 
 
@@ -73,21 +75,24 @@ class Initial(BaseModel):
 
 class Targets(BaseModel):
     """Soft-constraint thresholds (thesis Eqs. 4.11–4.14 values by default)."""
+
     model_config = ConfigDict(extra="forbid")
-    min_speed: float = 0.5         # m/s, COM forward speed at every sample
-    mean_speed: float = 2.0        # m/s, mean forward COM speed
-    lateral_speed: float = 0.25    # m/s, |mean lateral COM speed|
-    vertical_speed: float = 0.25   # m/s, |mean vertical COM speed|
-    joint_speed: float = 20.0      # rad/s, every joint dof at every sample
-    energy: float = 5e5            # (N·m)², mean squared active torque
-    cycle_tolerance: float = Field(0.2, gt=0)   # max |φᵢ| accepted as cyclic (rad, m; velocities × 0.1 s)
+    min_speed: float = 0.5  # m/s, COM forward speed at every sample
+    mean_speed: float = 2.0  # m/s, mean forward COM speed
+    lateral_speed: float = 0.25  # m/s, |mean lateral COM speed|
+    vertical_speed: float = 0.25  # m/s, |mean vertical COM speed|
+    joint_speed: float = 20.0  # rad/s, every joint dof at every sample
+    energy: float = 5e5  # (N·m)², mean squared active torque
+    cycle_tolerance: float = Field(0.2, gt=0)  # max |φᵢ| accepted as cyclic (rad, m; velocities × 0.1 s)
 
 
 class Feedback(BaseModel):
     """Balance feedback optimized with the pulses (see control/feedback.py) and the optimization horizon."""
+
     model_config = ConfigDict(extra="forbid")
-    mechanisms: list[Literal["hip", "modal"]] = Field(default_factory=lambda: ["hip"],
-                                                      description="feedback mechanisms; [] for open loop")
+    mechanisms: list[Literal["hip", "modal"]] = Field(
+        default_factory=lambda: ["hip"], description="feedback mechanisms; [] for open loop"
+    )
     horizon_cycles: int = Field(5, ge=1, le=20, description="cycles simulated per candidate, no reset")
 
 
@@ -133,5 +138,9 @@ def check_modes(sketch: Sketch, counts: dict[str, int], path: str | Path | None 
         p = sketch.phase(phase)
         for m in [*p.priority, *(p.allowed or []), *p.excluded]:
             if m > count:
-                raise UserInputError(f"mode {m} does not exist: the {phase} phase has {count} modes", file=path,
-                                     field=f"{phase}", fix=f"use mode numbers 1..{count}")
+                raise UserInputError(
+                    f"mode {m} does not exist: the {phase} phase has {count} modes",
+                    file=path,
+                    field=f"{phase}",
+                    fix=f"use mode numbers 1..{count}",
+                )

@@ -22,7 +22,7 @@ SKETCH_FPS = 30.0
 @dataclass
 class SketchRun:
     world: World
-    qpos: np.ndarray          # (frames × nq) at `fps`
+    qpos: np.ndarray  # (frames × nq) at `fps`
     fps: float
     wall_seconds: float
     max_joint_rotation_deg: float
@@ -38,13 +38,20 @@ def sketch_parameters(sk: Sketch, system: GaitSystem) -> GaitParameters:
                 psi[m - 1] = v
             activations[(foot, phase)] = psi
     model = system.world.model
-    return GaitParameters(period=sk.timing.period, air_ratio=sk.timing.air_ratio, pulse_air=sk.timing.pulse_air,
-                          pulse_ground=sk.timing.pulse_ground, activations=activations, qpos0=model.qpos0.copy(),
-                          qvel0=np.zeros(model.nv))
+    return GaitParameters(
+        period=sk.timing.period,
+        air_ratio=sk.timing.air_ratio,
+        pulse_air=sk.timing.pulse_air,
+        pulse_ground=sk.timing.pulse_ground,
+        activations=activations,
+        qpos0=model.qpos0.copy(),
+        qvel0=np.zeros(model.nv),
+    )
 
 
-def simulate_sketch(sketch: Sketch, seconds: float, source: str | Path | None = None,
-                    system: GaitSystem | None = None) -> SketchRun:
+def simulate_sketch(
+    sketch: Sketch, seconds: float, source: str | Path | None = None, system: GaitSystem | None = None
+) -> SketchRun:
     """`seconds` of the sketch with gravity off; `system` (gravity off, bound to the sketch) saves a modal analysis."""
     system = system or bind_sketch(sketch, source, gravity=False)
     model = system.world.model
@@ -54,12 +61,17 @@ def simulate_sketch(sketch: Sketch, seconds: float, source: str | Path | None = 
     states, _ = rollout.rollout(model, mujoco.MjData(model), system.initial_state(p)[None], u[None])
     wall = time.perf_counter() - start
     stride = max(1, int(round(1 / (SKETCH_FPS * model.opt.timestep))))
-    qpos = states[0, stride - 1::stride, 1:1 + model.nq]
+    qpos = states[0, stride - 1 :: stride, 1 : 1 + model.nq]
     biggest = 0.0
     for q in qpos:
         for j in system.world.internal_qpos_joints:
             a = model.jnt_qposadr[j]
             ball = model.jnt_type[j] == mujoco.mjtJoint.mjJNT_BALL
             biggest = max(biggest, 2 * np.arccos(np.clip(abs(q[a]), 0, 1)) if ball else abs(q[a]))
-    return SketchRun(world=system.world, qpos=qpos, fps=1 / (stride * model.opt.timestep), wall_seconds=wall,
-                     max_joint_rotation_deg=float(np.rad2deg(biggest)))
+    return SketchRun(
+        world=system.world,
+        qpos=qpos,
+        fps=1 / (stride * model.opt.timestep),
+        wall_seconds=wall,
+        max_joint_rotation_deg=float(np.rad2deg(biggest)),
+    )

@@ -16,10 +16,10 @@ from eigengait.character.loader import Character
 from eigengait.modal import compute_modes
 
 PRIORITY_MODES, ALLOWED_MODES = 3, 3
-PSI_ANGLE = 0.2          # rad
+PSI_ANGLE = 0.2  # rad
 PERIOD_RANGE = (0.4, 1.2)
 AIR_RATIO = 0.3
-START_SPEED = 0.5        # m/s
+START_SPEED = 0.5  # m/s
 
 
 def starter_sketch(character: Character, reference: str) -> dict:
@@ -31,20 +31,29 @@ def starter_sketch(character: Character, reference: str) -> dict:
 
     def phase(count: int) -> dict:
         chosen = range(1, min(PRIORITY_MODES, count) + 1)
-        return {"priority": {m: round(psi * (-1) ** (m + 1), 3) for m in chosen},
-                "allowed": list(range(len(chosen) + 1, min(len(chosen) + ALLOWED_MODES, count) + 1))}
+        return {
+            "priority": {m: round(psi * (-1) ** (m + 1), 3) for m in chosen},
+            "allowed": list(range(len(chosen) + 1, min(len(chosen) + ALLOWED_MODES, count) + 1)),
+        }
 
     period = float(np.clip(0.5 / ground.frequencies_hz[0], *PERIOD_RANGE))
     share = period / len(feet)
     return {
         "eigengait_sketch": 1,
         "description": f"Starter sketch for {character.name}: lowest modes as priority, timing from the lowest "
-                       f"ground mode ({ground.frequencies_hz[0]:.2f} Hz). Edit freely.",
-        "character": reference, "relax_pose": "default", "feet": feet, "symmetric": False,
-        "air": phase(air.count), "ground": phase(ground.count),
-        "timing": {"period": round(period, 3), "air_ratio": AIR_RATIO,
-                   "pulse_air": round(0.5 * AIR_RATIO * share, 3),
-                   "pulse_ground": round(0.5 * (1 - AIR_RATIO) * share, 3)},
+        f"ground mode ({ground.frequencies_hz[0]:.2f} Hz). Edit freely.",
+        "character": reference,
+        "relax_pose": "default",
+        "feet": feet,
+        "symmetric": False,
+        "air": phase(air.count),
+        "ground": phase(ground.count),
+        "timing": {
+            "period": round(period, 3),
+            "air_ratio": AIR_RATIO,
+            "pulse_air": round(0.5 * AIR_RATIO * share, 3),
+            "pulse_ground": round(0.5 * (1 - AIR_RATIO) * share, 3),
+        },
         "initial": {"speed": START_SPEED, "height": 0.0},
         "targets": {"min_speed": round(0.3 * START_SPEED, 3), "mean_speed": START_SPEED},
     }

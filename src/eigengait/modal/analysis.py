@@ -17,22 +17,31 @@ PHASES = ("air", "ground")
 def stance_foot(character: Character, foot: str | None) -> str:
     """The foot pinned in the ground phase: the given one, else the first of the gait order."""
     if not character.feet:
-        raise UserInputError("the character has no feet, so it has no ground phase", file=character.path,
-                             field="feet", fix="add <foot>_toe sites or a feet: entry in the sidecar, or use --phase air")
+        raise UserInputError(
+            "the character has no feet, so it has no ground phase",
+            file=character.path,
+            field="feet",
+            fix="add <foot>_toe sites or a feet: entry in the sidecar, or use --phase air",
+        )
     foot = foot or character.meta.gait_order[0]
     if foot not in character.feet:
-        raise UserInputError(f"unknown foot '{foot}'", file=character.path, field="feet",
-                             fix=f"use one of: {', '.join(character.feet)}")
+        raise UserInputError(
+            f"unknown foot '{foot}'", file=character.path, field="feet", fix=f"use one of: {', '.join(character.feet)}"
+        )
     return foot
 
 
 def dof_labels(character: Character) -> list[str]:
-    return [f"{j}:{'xyz'[a]}" if character.joint_dofs[j] == 3 else j
-            for j in character.joints for a in range(character.joint_dofs[j])]
+    return [
+        f"{j}:{'xyz'[a]}" if character.joint_dofs[j] == 3 else j
+        for j in character.joints
+        for a in range(character.joint_dofs[j])
+    ]
 
 
-def compute_modes(source: Character | World, phase: str = "air", foot: str | None = None,
-                  pose: str | dict = DEFAULT_POSE) -> ModeSet:
+def compute_modes(
+    source: Character | World, phase: str = "air", foot: str | None = None, pose: str | dict = DEFAULT_POSE
+) -> ModeSet:
     """Modes of a character (or an already built world) in the air (free) or ground (toe pinned) phase."""
     if phase not in PHASES:
         raise UserInputError(f"unknown phase '{phase}'", field="--phase", fix="use air or ground")
@@ -45,7 +54,15 @@ def compute_modes(source: Character | World, phase: str = "air", foot: str | Non
     else:
         foot = None
     lam, shapes, rigid = constrained_modes(stiffness_matrix(world), mass_matrix(world), G)
-    return ModeSet(character=character.name, relax_pose=world.pose, phase=phase, foot=foot,
-                   dofs=character.internal_dofs, rigid_modes=rigid, frequencies_hz=frequencies_hz(lam),
-                   shapes=shapes, torque_basis=unit_torque_basis(shapes[world.internal_qvel]),
-                   dof_labels=dof_labels(character))
+    return ModeSet(
+        character=character.name,
+        relax_pose=world.pose,
+        phase=phase,
+        foot=foot,
+        dofs=character.internal_dofs,
+        rigid_modes=rigid,
+        frequencies_hz=frequencies_hz(lam),
+        shapes=shapes,
+        torque_basis=unit_torque_basis(shapes[world.internal_qvel]),
+        dof_labels=dof_labels(character),
+    )

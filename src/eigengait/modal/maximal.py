@@ -27,7 +27,7 @@ def maximal_modes(world: World, pin_site: str | None = None):
 
     cM = np.zeros((n, n))
     for b in bodies:
-        cM[col[b]:col[b] + 6, col[b]:col[b] + 6] = spatial_inertia(model.body_mass[b], model.body_inertia[b])
+        cM[col[b] : col[b] + 6, col[b] : col[b] + 6] = spatial_inertia(model.body_mass[b], model.body_inertia[b])
 
     theta_rows, k_diag, g_rows = [], [], []
     for name in world.character.joints:
@@ -36,9 +36,9 @@ def maximal_modes(world: World, pin_site: str | None = None):
         parent = int(model.body_parentid[child])
         R_j, p_j = data.xmat[child].reshape(3, 3), data.xanchor[j]
         rel = np.zeros((6, n))
-        rel[:, col[child]:col[child] + 6] = relative_adjoint(R_j, p_j, *frames[child])
+        rel[:, col[child] : col[child] + 6] = relative_adjoint(R_j, p_j, *frames[child])
         if parent != 0:
-            rel[:, col[parent]:col[parent] + 6] -= relative_adjoint(R_j, p_j, *frames[parent])
+            rel[:, col[parent] : col[parent] + 6] -= relative_adjoint(R_j, p_j, *frames[parent])
         k = world.character.stiffness[name]
         if model.jnt_type[j] == mujoco.mjtJoint.mjJNT_BALL:
             theta_rows.append(rel[:3])
@@ -56,8 +56,8 @@ def maximal_modes(world: World, pin_site: str | None = None):
         R_b, p_b = frames[b]
         p_local = R_b.T @ (data.site_xpos[s] - p_b)
         pin = np.zeros((3, n))
-        pin[:, col[b]:col[b] + 3] = -skew(p_local)
-        pin[:, col[b] + 3:col[b] + 6] = np.eye(3)
+        pin[:, col[b] : col[b] + 3] = -skew(p_local)
+        pin[:, col[b] + 3 : col[b] + 6] = np.eye(3)
         g_rows.append(pin)
 
     Theta = np.vstack(theta_rows)

@@ -24,14 +24,14 @@ FORMAT_VERSION = 1
 class ModeSet:
     character: str
     relax_pose: str | dict
-    phase: str                      # "air" or "ground"
-    foot: str | None                # stance foot for the ground phase
-    dofs: int                       # internal degrees of freedom
-    rigid_modes: int                # zero modes dropped (6 in the air, 3 with a pinned toe)
+    phase: str  # "air" or "ground"
+    foot: str | None  # stance foot for the ground phase
+    dofs: int  # internal degrees of freedom
+    rigid_modes: int  # zero modes dropped (6 in the air, 3 with a pinned toe)
     frequencies_hz: np.ndarray
     shapes: np.ndarray
     torque_basis: np.ndarray
-    dof_labels: list[str] = field(default_factory=list)   # "joint:x" for each internal dof
+    dof_labels: list[str] = field(default_factory=list)  # "joint:x" for each internal dof
 
     @property
     def count(self) -> int:
@@ -39,16 +39,27 @@ class ModeSet:
 
     def summary(self) -> dict:
         """The JSON object the CLI prints."""
-        return {"character": self.character, "relax_pose": self.relax_pose, "phase": self.phase, "foot": self.foot,
-                "dofs": self.dofs, "rigid_modes": self.rigid_modes,
-                "frequencies_hz": [round(float(f), 6) for f in self.frequencies_hz]}
+        return {
+            "character": self.character,
+            "relax_pose": self.relax_pose,
+            "phase": self.phase,
+            "foot": self.foot,
+            "dofs": self.dofs,
+            "rigid_modes": self.rigid_modes,
+            "frequencies_hz": [round(float(f), 6) for f in self.frequencies_hz],
+        }
 
     def save(self, path: str | Path) -> None:
         """Write the mode set as .npz (through a temporary file and a rename)."""
         meta = {k: v for k, v in asdict(self).items() if not isinstance(v, np.ndarray)}
         with replacing(path) as temporary, open(temporary, "wb") as f:
-            np.savez(f, meta=json.dumps({"eigengait_modeset": FORMAT_VERSION, **meta}),
-                     frequencies_hz=self.frequencies_hz, shapes=self.shapes, torque_basis=self.torque_basis)
+            np.savez(
+                f,
+                meta=json.dumps({"eigengait_modeset": FORMAT_VERSION, **meta}),
+                frequencies_hz=self.frequencies_hz,
+                shapes=self.shapes,
+                torque_basis=self.torque_basis,
+            )
 
     @classmethod
     def load(cls, path: str | Path) -> "ModeSet":
@@ -57,7 +68,9 @@ class ModeSet:
                 meta = json.loads(str(z["meta"]))
                 arrays = {k: z[k] for k in ("frequencies_hz", "shapes", "torque_basis")}
         except (OSError, ValueError, KeyError) as exc:
-            raise UserInputError(f"not a mode-set file ({exc})", file=path, fix="recompute it with `eigengait modes`") from None
+            raise UserInputError(
+                f"not a mode-set file ({exc})", file=path, fix="recompute it with `eigengait modes`"
+            ) from None
         if meta.pop("eigengait_modeset", None) != FORMAT_VERSION:
             raise UserInputError("unsupported mode-set version", file=path, field="eigengait_modeset")
         return cls(**meta, **arrays)

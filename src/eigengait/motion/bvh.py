@@ -66,6 +66,7 @@ class BvhClip:
 
 # ----------------------------------------------------------------------------------------------- reading
 
+
 class _Tokens:
     """Whitespace tokens of the HIERARCHY section with their 1-based line numbers."""
 
@@ -80,14 +81,21 @@ class _Tokens:
     def error(self, message: str, line: int | None = None, fix: str | None = None) -> UserInputError:
         if line is None:
             line = self.items[min(self.pos, len(self.items) - 1)][1] if self.items else 1
-        return UserInputError(message, file=self.path, field=f"line {line}",
-                              fix=fix or "check the BVH HIERARCHY syntax (ROOT/JOINT/End Site, OFFSET, CHANNELS).")
+        return UserInputError(
+            message,
+            file=self.path,
+            field=f"line {line}",
+            fix=fix or "check the BVH HIERARCHY syntax (ROOT/JOINT/End Site, OFFSET, CHANNELS).",
+        )
 
     def next(self, what: str) -> tuple[str, int]:
         if self.pos >= len(self.items):
             last = self.items[-1][1] if self.items else 1
-            raise self.error(f"the file ends early: expected {what}.", last,
-                             fix="the file is truncated; re-export or re-download it.")
+            raise self.error(
+                f"the file ends early: expected {what}.",
+                last,
+                fix="the file is truncated; re-export or re-download it.",
+            )
         item = self.items[self.pos]
         self.pos += 1
         return item
@@ -109,13 +117,15 @@ class _Tokens:
         return np.array(values, dtype=float)
 
 
-MAX_DEPTH = 200   # joints from the root to the deepest leaf; real skeletons have fewer than 30
+MAX_DEPTH = 200  # joints from the root to the deepest leaf; real skeletons have fewer than 30
 
 
 def _parse_joint(tokens: _Tokens, joints: list[BvhJoint], parent: int, name: str, depth: int = 0) -> None:
     if depth > MAX_DEPTH:
-        raise tokens.error(f"the hierarchy is deeper than {MAX_DEPTH} joints at '{name}'.",
-                           fix="check the file's nesting of braces; a real skeleton is far shallower.")
+        raise tokens.error(
+            f"the hierarchy is deeper than {MAX_DEPTH} joints at '{name}'.",
+            fix="check the file's nesting of braces; a real skeleton is far shallower.",
+        )
     tokens.expect("{")
     tokens.expect("OFFSET")
     offset = tokens.floats(3, f"the OFFSET of '{name}'")
@@ -129,8 +139,11 @@ def _parse_joint(tokens: _Tokens, joints: list[BvhJoint], parent: int, name: str
     for _ in range(count):
         channel, line = tokens.next(f"a channel name of '{name}'")
         if channel not in ROTATION_CHANNELS + POSITION_CHANNELS:
-            raise tokens.error(f"unknown channel '{channel}' in joint '{name}'.", line,
-                               fix="channels must be X/Y/Z followed by 'rotation' or 'position'.")
+            raise tokens.error(
+                f"unknown channel '{channel}' in joint '{name}'.",
+                line,
+                fix="channels must be X/Y/Z followed by 'rotation' or 'position'.",
+            )
         channels.append(channel)
     joint = BvhJoint(name=name, parent=parent, offset=offset, channels=channels)
     index = len(joints)
@@ -155,8 +168,12 @@ def _parse_joint(tokens: _Tokens, joints: list[BvhJoint], parent: int, name: str
 def _header_value(line: str, key: str, path: str, number: int) -> str:
     head, _, value = line.partition(":")
     if head.strip().lower() != key.lower() or not value.strip():
-        raise UserInputError(f"expected '{key}: <value>' but found '{line.strip()}'.", file=path,
-                             field=f"line {number}", fix="the MOTION section starts with 'Frames:' and 'Frame Time:'.")
+        raise UserInputError(
+            f"expected '{key}: <value>' but found '{line.strip()}'.",
+            file=path,
+            field=f"line {number}",
+            fix="the MOTION section starts with 'Frames:' and 'Frame Time:'.",
+        )
     return value.strip()
 
 
@@ -170,13 +187,13 @@ def read_bvh(path: str | Path) -> BvhClip:
     try:
         text = Path(path).read_text(encoding="utf-8", errors="replace")
     except OSError as exc:
-        raise UserInputError(f"cannot read the BVH file ({exc.strerror}).", file=path,
-                             fix="check the path.") from None
+        raise UserInputError(f"cannot read the BVH file ({exc.strerror}).", file=path, fix="check the path.") from None
     lines = text.splitlines()
     motion_line = next((i for i, line in enumerate(lines) if line.strip() == "MOTION"), None)
     if motion_line is None:
-        raise UserInputError("no MOTION section.", file=path, field=f"line {len(lines)}",
-                             fix="the file is truncated or not a BVH file.")
+        raise UserInputError(
+            "no MOTION section.", file=path, field=f"line {len(lines)}", fix="the file is truncated or not a BVH file."
+        )
     tokens = _Tokens(lines[:motion_line], path)
     token, line = tokens.next("'HIERARCHY'")
     if token != "HIERARCHY":
@@ -191,18 +208,30 @@ def read_bvh(path: str | Path) -> BvhClip:
 
     header = [(i, lines[i]) for i in range(motion_line + 1, len(lines)) if lines[i].strip()][:2]
     if len(header) < 2:
-        raise UserInputError("the MOTION section ends before 'Frames:' and 'Frame Time:'.", file=path,
-                             field=f"line {len(lines)}", fix="the file is truncated; re-export it.")
+        raise UserInputError(
+            "the MOTION section ends before 'Frames:' and 'Frame Time:'.",
+            file=path,
+            field=f"line {len(lines)}",
+            fix="the file is truncated; re-export it.",
+        )
     (frames_at, frames_text), (time_at, time_text) = header
     try:
         n_frames = int(_header_value(frames_text, "Frames", path, frames_at + 1))
         frame_time = float(_header_value(time_text, "Frame Time", path, time_at + 1))
     except ValueError:
-        raise UserInputError("'Frames' must be an integer and 'Frame Time' a number.", file=path,
-                             field=f"line {frames_at + 1}", fix="fix the MOTION header.") from None
+        raise UserInputError(
+            "'Frames' must be an integer and 'Frame Time' a number.",
+            file=path,
+            field=f"line {frames_at + 1}",
+            fix="fix the MOTION header.",
+        ) from None
     if n_frames < 1 or not frame_time > 0:
-        raise UserInputError(f"need at least one frame and a positive frame time (got {n_frames}, {frame_time}).",
-                             file=path, field=f"line {frames_at + 1}", fix="fix the MOTION header.")
+        raise UserInputError(
+            f"need at least one frame and a positive frame time (got {n_frames}, {frame_time}).",
+            file=path,
+            field=f"line {frames_at + 1}",
+            fix="fix the MOTION header.",
+        )
 
     n_channels = sum(len(j.channels) for j in joints)
     rows = []
@@ -211,24 +240,36 @@ def read_bvh(path: str | Path) -> BvhClip:
         if not values:
             continue
         if len(values) != n_channels:
-            raise UserInputError(f"frame {len(rows)} has {len(values)} values, the hierarchy declares {n_channels}.",
-                                 file=path, field=f"line {number + 1}",
-                                 fix="the file is truncated or corrupted; re-export it.")
+            raise UserInputError(
+                f"frame {len(rows)} has {len(values)} values, the hierarchy declares {n_channels}.",
+                file=path,
+                field=f"line {number + 1}",
+                fix="the file is truncated or corrupted; re-export it.",
+            )
         rows.append(values)
         if len(rows) == n_frames:
             break
     if len(rows) < n_frames:
-        raise UserInputError(f"the file declares {n_frames} frames but holds only {len(rows)}.", file=path,
-                             field=f"line {len(lines)}", fix="the file is truncated; re-export or re-download it.")
+        raise UserInputError(
+            f"the file declares {n_frames} frames but holds only {len(rows)}.",
+            file=path,
+            field=f"line {len(lines)}",
+            fix="the file is truncated; re-export or re-download it.",
+        )
     try:
         frames = np.array(rows, dtype=float)
     except ValueError:
         bad = next(i for i, row in enumerate(rows) if not _all_numbers(row))
-        raise UserInputError(f"frame {bad} holds a value that is not a number.", file=path,
-                             field=f"frame {bad}", fix="fix or re-export the file.") from None
+        raise UserInputError(
+            f"frame {bad} holds a value that is not a number.",
+            file=path,
+            field=f"frame {bad}",
+            fix="fix or re-export the file.",
+        ) from None
     if not np.all(np.isfinite(frames)):
-        raise UserInputError("the motion data holds NaN or infinite values.", file=path, field="MOTION",
-                             fix="re-export the clip.")
+        raise UserInputError(
+            "the motion data holds NaN or infinite values.", file=path, field="MOTION", fix="re-export the clip."
+        )
     return BvhClip(joints=joints, frame_time=frame_time, frames=frames.reshape(n_frames, n_channels))
 
 
@@ -241,6 +282,7 @@ def _all_numbers(row: list[str]) -> bool:
 
 
 # ----------------------------------------------------------------------------------------------- writing
+
 
 def _fmt(values: np.ndarray) -> str:
     return " ".join(f"{v:.10g}" for v in values)
@@ -273,6 +315,7 @@ def write_bvh(clip: BvhClip, path: str | Path) -> None:
 
 
 # ------------------------------------------------------------------------------------- forward kinematics
+
 
 def axis_rotation(axis: str, degrees: np.ndarray) -> np.ndarray:
     """Rotation matrices (..., 3, 3) about the file axis 'X', 'Y' or 'Z' by ``degrees``."""
@@ -318,12 +361,14 @@ def global_transforms(clip: BvhClip) -> tuple[np.ndarray, np.ndarray]:
         else:
             parent_rot = rotations[:, joint.parent]
             rotations[:, index] = parent_rot @ local_rot[:, index]
-            positions[:, index] = positions[:, joint.parent] + np.einsum("fij,fj->fi", parent_rot,
-                                                                         local_pos[:, index])
+            positions[:, index] = positions[:, joint.parent] + np.einsum("fij,fj->fi", parent_rot, local_pos[:, index])
     return rotations, positions
 
 
 def end_site_positions(clip: BvhClip, rotations: np.ndarray, positions: np.ndarray) -> dict[int, np.ndarray]:
     """Global End Site positions (F, 3) keyed by the owning joint index, from ``global_transforms``."""
-    return {i: positions[:, i] + rotations[:, i] @ joint.end_site
-            for i, joint in enumerate(clip.joints) if joint.end_site is not None}
+    return {
+        i: positions[:, i] + rotations[:, i] @ joint.end_site
+        for i, joint in enumerate(clip.joints)
+        if joint.end_site is not None
+    }

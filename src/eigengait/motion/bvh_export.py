@@ -26,9 +26,9 @@ from eigengait.errors import UserInputError
 from eigengait.motion.bvh import BvhClip, BvhJoint, write_bvh
 from eigengait.sim.world import World
 
-UNIT_SCALE = {"m": 1.0, "cm": 100.0}      # BVH length units per metre
+UNIT_SCALE = {"m": 1.0, "cm": 100.0}  # BVH length units per metre
 DEFAULT_UNITS = "m"
-FOOT_ALIGNMENT_DEG = 45.0                # a body whose anchor→toe is within this of heel→toe is the foot's bone
+FOOT_ALIGNMENT_DEG = 45.0  # a body whose anchor→toe is within this of heel→toe is the foot's bone
 MUJOCO_TO_BVH = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, -1.0, 0.0]])  # rows: BVH x, y, z
 ROOT_CHANNELS = ["Xposition", "Yposition", "Zposition", "Zrotation", "Xrotation", "Yrotation"]
 JOINT_CHANNELS = ["Zrotation", "Xrotation", "Yrotation"]
@@ -42,8 +42,11 @@ def skeleton_bodies(world: World) -> list[int]:
     for b in bodies[1:]:
         for j in range(model.body_jntadr[b], model.body_jntadr[b] + model.body_jntnum[b]):
             if model.jnt_type[j] in (mujoco.mjtJoint.mjJNT_FREE, mujoco.mjtJoint.mjJNT_SLIDE):
-                raise UserInputError(f"body '{model.body(b).name}' has a sliding or free joint, which BVH cannot hold",
-                                     field="joints", fix="BVH export supports ball and hinge joints below the root")
+                raise UserInputError(
+                    f"body '{model.body(b).name}' has a sliding or free joint, which BVH cannot hold",
+                    field="joints",
+                    fix="BVH export supports ball and hinge joints below the root",
+                )
     return bodies
 
 
@@ -67,8 +70,11 @@ def _local_anchor(model: mujoco.MjModel, body: int) -> np.ndarray:
 
 def _leaf_tip(model: mujoco.MjModel, body: int) -> np.ndarray | None:
     """Tip of the body's first box in the body frame: its face centre farthest from the anchor (m)."""
-    geoms = [g for g in range(model.body_geomadr[body], model.body_geomadr[body] + model.body_geomnum[body])
-             if not model.geom(g).name.startswith("contact:")]
+    geoms = [
+        g
+        for g in range(model.body_geomadr[body], model.body_geomadr[body] + model.body_geomnum[body])
+        if not model.geom(g).name.startswith("contact:")
+    ]
     boxes = [g for g in geoms if model.geom_type[g] == mujoco.mjtGeom.mjGEOM_BOX]
     if boxes:
         g = boxes[0]
@@ -119,8 +125,9 @@ def trajectory_to_clip(world: World, qpos: np.ndarray, fps: float, units: str = 
     model = world.model
     qpos = np.atleast_2d(qpos)
     if qpos.shape[1] != model.nq:
-        raise UserInputError(f"trajectory has {qpos.shape[1]} coordinates per frame, the model {model.nq}",
-                             field="qpos")
+        raise UserInputError(
+            f"trajectory has {qpos.shape[1]} coordinates per frame, the model {model.nq}", field="qpos"
+        )
     bodies = skeleton_bodies(world)
     data = mujoco.MjData(model)
 
@@ -136,7 +143,7 @@ def trajectory_to_clip(world: World, qpos: np.ndarray, fps: float, units: str = 
     names = {model.body(b).name for b in bodies}
     joints: list[BvhJoint] = []
     joint_of_body: dict[int, int] = {}
-    body_index = []                          # per BVH joint: index into `bodies`, or None for an added foot joint
+    body_index = []  # per BVH joint: index into `bodies`, or None for an added foot joint
     for i, b in enumerate(bodies):
         parent_body = int(model.body_parentid[b])
         parent = -1 if i == 0 else joint_of_body[parent_body]
@@ -147,18 +154,31 @@ def trajectory_to_clip(world: World, qpos: np.ndarray, fps: float, units: str = 
         end_site = None if tip is None or heel is not None else scale @ rest_rot[i] @ (tip - anchor)
         joint_of_body[b] = len(joints)
         body_index.append(i)
-        joints.append(BvhJoint(name=model.body(b).name or f"body{b}", parent=parent, offset=offset,
-                               channels=ROOT_CHANNELS if parent < 0 else JOINT_CHANNELS, end_site=end_site))
+        joints.append(
+            BvhJoint(
+                name=model.body(b).name or f"body{b}",
+                parent=parent,
+                offset=offset,
+                channels=ROOT_CHANNELS if parent < 0 else JOINT_CHANNELS,
+                end_site=end_site,
+            )
+        )
         if heel is not None:
             body_index.append(None)
-            joints.append(BvhJoint(name=_unique(f"{foot}_foot", names), parent=joint_of_body[b],
-                                   offset=scale @ rest_rot[i] @ (heel - anchor), channels=JOINT_CHANNELS,
-                                   end_site=scale @ rest_rot[i] @ (toe - heel)))
+            joints.append(
+                BvhJoint(
+                    name=_unique(f"{foot}_foot", names),
+                    parent=joint_of_body[b],
+                    offset=scale @ rest_rot[i] @ (heel - anchor),
+                    channels=JOINT_CHANNELS,
+                    end_site=scale @ rest_rot[i] @ (toe - heel),
+                )
+            )
 
     frames = np.zeros((len(qpos), 3 + 3 * len(joints)))
     moving = [k for k, i in enumerate(body_index) if i is not None]
     columns = np.concatenate([3 + 3 * k + np.arange(3) for k in moving])
-    parents = [body_index[joints[k].parent] for k in moving[1:]]      # index into `bodies` of each parent
+    parents = [body_index[joints[k].parent] for k in moving[1:]]  # index into `bodies` of each parent
     for t, q in enumerate(qpos):
         points, rot = pose(q)
         # Each body's rotation away from its relax orientation, expressed in BVH axes.
@@ -177,8 +197,14 @@ def _unique(name: str, taken: set[str]) -> str:
     return name
 
 
-def write_trajectory_bvh(world: World, qpos: np.ndarray, source_fps: float, path: str | Path,
-                         fps: float | None = None, units: str = DEFAULT_UNITS) -> BvhClip:
+def write_trajectory_bvh(
+    world: World,
+    qpos: np.ndarray,
+    source_fps: float,
+    path: str | Path,
+    fps: float | None = None,
+    units: str = DEFAULT_UNITS,
+) -> BvhClip:
     """Write a qpos trajectory (T × nq, recorded at `source_fps`) as BVH at exactly `fps` frames per second
     (default: `source_fps`), resampled by time (`eigengait.motion.resample`); see :func:`trajectory_to_clip`."""
     from eigengait.motion.resample import at_frame_rate

@@ -20,7 +20,7 @@ import numpy as np
 
 from eigengait.motion.bvh import BvhClip, end_site_positions, global_transforms
 
-UNITS = {"m": 1.0, "cm": 0.01, "mm": 0.001, "in": 0.0254, "CMU": 0.0254 / 0.45}   # metres per unit
+UNITS = {"m": 1.0, "cm": 0.01, "mm": 0.001, "in": 0.0254, "CMU": 0.0254 / 0.45}  # metres per unit
 ADULT_HIP_HEIGHT_M = 0.9
 _NAMES = "xyz"
 
@@ -39,10 +39,14 @@ class Conventions:
     rotation_orders: dict[str, int]
 
     def summary(self) -> dict:
-        return {"up_axis": self.up, "forward_axis": self.forward, "unit": self.unit,
-                "metres_per_unit": round(self.metres_per_unit, 6),
-                "hip_height_m": round(self.hip_height * self.metres_per_unit, 4),
-                "rotation_orders": self.rotation_orders}
+        return {
+            "up_axis": self.up,
+            "forward_axis": self.forward,
+            "unit": self.unit,
+            "metres_per_unit": round(self.metres_per_unit, 6),
+            "hip_height_m": round(self.hip_height * self.metres_per_unit, 4),
+            "rotation_orders": self.rotation_orders,
+        }
 
 
 def _snap(vector: np.ndarray) -> np.ndarray:
@@ -81,6 +85,12 @@ def detect_conventions(clip: BvhClip, roles: dict[str, str], start_frame: int = 
     hip_height = float(np.max((rest[0, root] - rest_all[0]) @ leg))
     unit = min(UNITS, key=lambda u: abs(np.log(max(hip_height, 1e-9) * UNITS[u] / ADULT_HIP_HEIGHT_M)))
     orders = Counter("".join(c[0] for c in j.channels if c.endswith("rotation")) for j in clip.joints)
-    return Conventions(axes=np.array([forward, left, up]), up=_label(up), forward=_label(forward), unit=unit,
-                       metres_per_unit=UNITS[unit], hip_height=hip_height,
-                       rotation_orders={k: v for k, v in sorted(orders.items()) if k})
+    return Conventions(
+        axes=np.array([forward, left, up]),
+        up=_label(up),
+        forward=_label(forward),
+        unit=unit,
+        metres_per_unit=UNITS[unit],
+        hip_height=hip_height,
+        rotation_orders={k: v for k, v in sorted(orders.items()) if k},
+    )

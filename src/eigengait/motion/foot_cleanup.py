@@ -30,7 +30,7 @@ from eigengait.sim.world import World
 
 STANCE_M = 0.05
 TOUCH_M = 0.02
-STANCE_SPEED = 0.8      # m/s
+STANCE_SPEED = 0.8  # m/s
 SPEED_SMOOTHING_S = 0.05
 MIN_STANCE_S = 0.1
 EXTEND_S = 0.1
@@ -85,8 +85,9 @@ def foot_corrections(points: np.ndarray, frame_time: float) -> tuple[np.ndarray,
     low = points[..., 2].min(axis=1)
     n, width = len(points), max(1, int(round(SPEED_SMOOTHING_S / frame_time)))
     speed = np.linalg.norm(np.gradient(points.mean(axis=1)[:, :2], frame_time, axis=0), axis=1)
-    speed = np.convolve(np.pad(speed, (width // 2, width - 1 - width // 2), mode="edge"), np.ones(width) / width,
-                        mode="valid")
+    speed = np.convolve(
+        np.pad(speed, (width // 2, width - 1 - width // 2), mode="edge"), np.ones(width) / width, mode="valid"
+    )
     holds = _holds(low, speed, frame_time)
     correction = np.zeros((n, 3))
     held = np.zeros(n, bool)
@@ -99,8 +100,8 @@ def foot_corrections(points: np.ndarray, frame_time: float) -> tuple[np.ndarray,
         held[start:end] = True
         before = min(blend, (start - holds[k - 1][3]) // 2 if k else start)
         after = min(blend, (holds[k + 1][0] - end) // 2 if k + 1 < len(holds) else n - end)
-        correction[start - before:start, :2] += correction[start, :2] * _ramp(before)[::-1, None]
-        correction[end:end + after, :2] += correction[end - 1, :2] * _ramp(after)[:, None]
+        correction[start - before : start, :2] += correction[start, :2] * _ramp(before)[::-1, None]
+        correction[end : end + after, :2] += correction[end - 1, :2] * _ramp(after)[:, None]
     lift = int(round(LIFT_S / frame_time))
     gap = np.full(n, lift, float)
     for start, _, _, end in holds:

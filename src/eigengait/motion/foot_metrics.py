@@ -34,8 +34,12 @@ class FootReport:
 
     def summary(self) -> dict:
         clearance = None if self.ground_clearance_m is None else round(self.ground_clearance_m, 4)
-        return {"foot_skate_m": round(self.foot_skate_m, 4), "stances": self.stances,
-                "floor_penetration_m": round(self.floor_penetration_m, 4), "ground_clearance_m": clearance}
+        return {
+            "foot_skate_m": round(self.foot_skate_m, 4),
+            "stances": self.stances,
+            "floor_penetration_m": round(self.floor_penetration_m, 4),
+            "ground_clearance_m": clearance,
+        }
 
 
 def runs(mask: np.ndarray, frame_time: float, min_s: float) -> list[tuple[int, int]]:
@@ -46,8 +50,9 @@ def runs(mask: np.ndarray, frame_time: float, min_s: float) -> list[tuple[int, i
     return [(int(a), int(b)) for a, b in zip(edges[::2], edges[1::2]) if b - a >= shortest]
 
 
-def stances(low: np.ndarray, frame_time: float, contact_m: float = CONTACT_M,
-            min_stance_s: float = MIN_STANCE_S) -> list[tuple[int, int]]:
+def stances(
+    low: np.ndarray, frame_time: float, contact_m: float = CONTACT_M, min_stance_s: float = MIN_STANCE_S
+) -> list[tuple[int, int]]:
     """Frame ranges [start, end) where the lowest sole height `low` (F,) stays within `contact_m` of the floor."""
     return runs(np.asarray(low) <= contact_m, frame_time, min_stance_s)
 
@@ -72,6 +77,9 @@ def foot_report(soles: dict[str, np.ndarray], frame_time: float, contact_m: floa
         runs = stances(low, frame_time, contact_m)
         skates += [stance_skate(points, a, b, contact_m) for a, b in runs]
         peaks += [float(low[b:a2].max()) for (_, b), (a2, _) in zip(runs, runs[1:]) if a2 > b]
-    return FootReport(foot_skate_m=float(np.mean(skates)) if skates else 0.0, stances=len(skates),
-                      floor_penetration_m=max(deepest, 0.0),
-                      ground_clearance_m=float(np.mean(peaks)) if peaks else None)
+    return FootReport(
+        foot_skate_m=float(np.mean(skates)) if skates else 0.0,
+        stances=len(skates),
+        floor_penetration_m=max(deepest, 0.0),
+        ground_clearance_m=float(np.mean(peaks)) if peaks else None,
+    )

@@ -13,10 +13,10 @@ import numpy as np
 
 from eigengait.control.balance.rotations import mat_to_quat, quat_log
 
-DAMPING = 0.05          # λ (m or rad)
+DAMPING = 0.05  # λ (m or rad)
 TOLERANCE = 1e-4
 MAX_ITERATIONS = 30
-ORIENTATION_WEIGHT = 0.3   # m per rad: how much an orientation error counts against a position error
+ORIENTATION_WEIGHT = 0.3  # m per rad: how much an orientation error counts against a position error
 
 
 def leg_dofs(model: mujoco.MjModel, foot_body: int, root_body: int) -> np.ndarray:
@@ -28,8 +28,14 @@ def leg_dofs(model: mujoco.MjModel, foot_body: int, root_body: int) -> np.ndarra
     return np.array(sorted(dofs), int)
 
 
-def solve_leg(model: mujoco.MjModel, data: mujoco.MjData, foot_body: int, dofs: np.ndarray,
-              target_pos: np.ndarray, target_rot: np.ndarray) -> float:
+def solve_leg(
+    model: mujoco.MjModel,
+    data: mujoco.MjData,
+    foot_body: int,
+    dofs: np.ndarray,
+    target_pos: np.ndarray,
+    target_rot: np.ndarray,
+) -> float:
     """Move data.qpos toward the foot body pose (m, world rotation matrix); returns the final position error (m)."""
     jacp, jacr = np.zeros((3, model.nv)), np.zeros((3, model.nv))
     step = np.zeros(model.nv)
@@ -45,7 +51,7 @@ def solve_leg(model: mujoco.MjModel, data: mujoco.MjData, foot_body: int, dofs: 
         mujoco.mj_jacBody(model, data, jacp, jacr, foot_body)
         jac = np.concatenate([jacp[:, dofs], jacr[:, dofs]]) * weight[:, None]
         step[:] = 0.0
-        step[dofs] = jac.T @ np.linalg.solve(jac @ jac.T + DAMPING ** 2 * np.eye(6), error)
+        step[dofs] = jac.T @ np.linalg.solve(jac @ jac.T + DAMPING**2 * np.eye(6), error)
         mujoco.mj_integratePos(model, data.qpos, step, 1.0)
     mujoco.mj_kinematics(model, data)
     return float(np.linalg.norm(target_pos - data.xpos[foot_body]))

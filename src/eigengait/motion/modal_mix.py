@@ -32,6 +32,7 @@ MIX_SYNTAX = "MODE:AMPLITUDE or MODE:AMPLITUDE@PHASE_DEGREES, comma separated, e
 @dataclass(frozen=True)
 class ModeTerm:
     """One mode of a mix: user-facing mode number (1 = lowest), amplitude relative to the default, phase in degrees."""
+
     mode: int
     amplitude: float
     phase_deg: float = 0.0
@@ -40,6 +41,7 @@ class ModeTerm:
 @dataclass(frozen=True)
 class ModalMix:
     """Σ A_i φ_i sin(2π f_i t + ϕ_i): shapes (nv × k), amplitudes in √kg·m, frequencies in Hz, phases in rad."""
+
     shapes: np.ndarray
     amplitudes: np.ndarray
     frequencies_hz: np.ndarray
@@ -83,20 +85,22 @@ def joint_rotations(world: World, displacement: np.ndarray) -> np.ndarray:
     for j in world.internal_qpos_joints:
         adr = model.jnt_dofadr[j]
         n = 3 if model.jnt_type[j] == mujoco.mjtJoint.mjJNT_BALL else 1
-        angles.append(np.linalg.norm(d[adr:adr + n], axis=0))
+        angles.append(np.linalg.norm(d[adr : adr + n], axis=0))
     return np.array(angles)
 
 
-def equal_energy_amplitudes(world: World, modes: ModeSet,
-                            max_rotation_deg: float = DEFAULT_MAX_ROTATION_DEG) -> np.ndarray:
+def equal_energy_amplitudes(
+    world: World, modes: ModeSet, max_rotation_deg: float = DEFAULT_MAX_ROTATION_DEG
+) -> np.ndarray:
     """Default amplitude of every mode (√kg·m): A_i = c/ω_i, c such that the widest mode reaches the angle."""
     omega = 2 * np.pi * modes.frequencies_hz
     peak = joint_rotations(world, modes.shapes / omega).max(axis=0)
     return np.deg2rad(max_rotation_deg) / peak.max() / omega
 
 
-def peak_rotation_amplitudes(world: World, modes: ModeSet,
-                             max_rotation_deg: float = DEFAULT_MAX_ROTATION_DEG) -> np.ndarray:
+def peak_rotation_amplitudes(
+    world: World, modes: ModeSet, max_rotation_deg: float = DEFAULT_MAX_ROTATION_DEG
+) -> np.ndarray:
     """Amplitude of each mode (√kg·m) that turns its most-moving joint by exactly the angle (for display)."""
     peak = joint_rotations(world, modes.shapes).max(axis=0)
     return np.deg2rad(max_rotation_deg) / peak
@@ -119,22 +123,32 @@ def parse_mix(text: str) -> list[ModeTerm]:
     return terms
 
 
-def build_mix(world: World, modes: ModeSet, terms: list[ModeTerm],
-              max_rotation_deg: float = DEFAULT_MAX_ROTATION_DEG, base_hz: float | None = None) -> ModalMix:
+def build_mix(
+    world: World,
+    modes: ModeSet,
+    terms: list[ModeTerm],
+    max_rotation_deg: float = DEFAULT_MAX_ROTATION_DEG,
+    base_hz: float | None = None,
+) -> ModalMix:
     """The mix of the given terms, amplitudes relative to the equal-energy default; optionally on harmonics."""
     for term in terms:
         if not 1 <= term.mode <= modes.count:
-            raise UserInputError(f"mode {term.mode} does not exist", field="--mix",
-                                 fix=f"{modes.character} has modes 1..{modes.count} in the {modes.phase} phase")
+            raise UserInputError(
+                f"mode {term.mode} does not exist",
+                field="--mix",
+                fix=f"{modes.character} has modes 1..{modes.count} in the {modes.phase} phase",
+            )
     index = np.array([t.mode - 1 for t in terms])
     default = equal_energy_amplitudes(world, modes, max_rotation_deg)
     frequencies = modes.frequencies_hz[index]
     if base_hz is not None:
         frequencies = harmonic_frequencies(frequencies, base_hz)
-    return ModalMix(shapes=modes.shapes[:, index],
-                    amplitudes=np.array([t.amplitude for t in terms]) * default[index],
-                    frequencies_hz=frequencies,
-                    phases_rad=np.deg2rad([t.phase_deg for t in terms]))
+    return ModalMix(
+        shapes=modes.shapes[:, index],
+        amplitudes=np.array([t.amplitude for t in terms]) * default[index],
+        frequencies_hz=frequencies,
+        phases_rad=np.deg2rad([t.phase_deg for t in terms]),
+    )
 
 
 def displaced_qpos(world: World, displacement: np.ndarray) -> np.ndarray:
@@ -149,7 +163,8 @@ def displaced_qpos(world: World, displacement: np.ndarray) -> np.ndarray:
 def mix_trajectory(world: World, mix: ModalMix, seconds: float, fps: float) -> tuple[np.ndarray, np.ndarray]:
     """Times (s) and qpos (T × nq) of the mix sampled at `fps` frames per second for `seconds` (t = 0 included)."""
     if not (seconds > 0 and fps > 0):
-        raise UserInputError(f"need positive duration and frame rate, got {seconds} s at {fps} fps",
-                             field="--seconds/--fps")
+        raise UserInputError(
+            f"need positive duration and frame rate, got {seconds} s at {fps} fps", field="--seconds/--fps"
+        )
     times = np.arange(int(round(seconds * fps)) + 1) / fps
     return times, displaced_qpos(world, mix.displacement(times))

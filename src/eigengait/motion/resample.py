@@ -34,8 +34,9 @@ def frame_times(duration_s: float, fps: float, speed: float = 1.0) -> np.ndarray
     if not fps > 0:
         raise UserInputError(f"frame rate {fps} is not positive", field="--fps", fix="use e.g. --fps 30")
     if not speed > 0:
-        raise UserInputError(f"playback speed {speed} is not positive", field="--speed",
-                             fix="use 1 for real time, 0.5 for slow motion")
+        raise UserInputError(
+            f"playback speed {speed} is not positive", field="--speed", fix="use 1 for real time, 0.5 for slow motion"
+        )
     count = int(np.floor(duration_s * fps / speed + 1e-9)) + 1
     return np.arange(count) * (speed / fps)
 
@@ -56,15 +57,16 @@ def resample(model: mujoco.MjModel, qpos: np.ndarray, times: np.ndarray, new_tim
     weight = ((clipped - times[lower]) / (times[upper] - times[lower]))[:, None]
     out = (1 - weight) * qpos[lower] + weight * qpos[upper]
     for adr in quaternion_addresses(model):
-        q0, q1 = qpos[lower, adr:adr + 4], qpos[upper, adr:adr + 4]
+        q0, q1 = qpos[lower, adr : adr + 4], qpos[upper, adr : adr + 4]
         q1 = np.where(np.sum(q0 * q1, axis=1, keepdims=True) < 0, -q1, q1)
         quat = (1 - weight) * q0 + weight * q1
-        out[:, adr:adr + 4] = quat / np.linalg.norm(quat, axis=1, keepdims=True)
+        out[:, adr : adr + 4] = quat / np.linalg.norm(quat, axis=1, keepdims=True)
     return out
 
 
-def at_frame_rate(model: mujoco.MjModel, qpos: np.ndarray, source_fps: float, fps: float,
-                  speed: float = 1.0) -> np.ndarray:
+def at_frame_rate(
+    model: mujoco.MjModel, qpos: np.ndarray, source_fps: float, fps: float, speed: float = 1.0
+) -> np.ndarray:
     """Poses of a trajectory recorded at `source_fps` (sample i at time i/source_fps) for frames at exactly
     `fps`, each frame `speed`/`fps` simulated seconds after the previous one (see `frame_times`)."""
     times = np.arange(len(qpos)) / source_fps

@@ -4,15 +4,16 @@ Method. For each mapped pair (BVH joint b → MJCF joint driving body k) the bod
 
     W_k(t) = Rw_b(t) · A_k · B_k⁰,
 
-where Rw_b(t) = C·G_b(t)·Cᵀ is the BVH joint's global rotation in world axes (C maps file axes to world axes,
-from the mapping file or detected by `conventions`: y-up/+Z-forward/+X-left CMU files become z-up/+x-forward/+y-left), B_k⁰ is the body's world orientation in the
-character's relax pose, and A_k is the rest offset between the skeletons: the smallest rotation taking the body's
-rest bone direction onto the BVH joint's bone direction in the BVH rest pose (all channel rotations zero). Bone
-directions point from a joint to the mean of its nearest mapped descendants (else its first child, End Site or
-first geom). A body that carries a foot (toe and heel sites) uses heel → toe as its bone and the BVH bone is
-flattened onto the floor plane (the sole is flat in the rest pose): the built-in humanoid has no ankle, so its
-shin-and-foot body follows the mocap foot, which keeps stance feet flat. The root body takes the root joint's rotation with no offset. Joint quaternions follow from parent
-and child orientations; unmapped joints stay at their relax rotation; hinges keep the component about their axis.
+where Rw_b(t) = C·G_b(t)·Cᵀ is the BVH joint's global rotation in world axes (C maps file axes to world axes, from
+the mapping file or detected by `conventions`: y-up/+Z-forward/+X-left CMU files become z-up/+x-forward/+y-left),
+B_k⁰ is the body's world orientation in the character's relax pose, and A_k is the rest offset between the
+skeletons: the smallest rotation taking the body's rest bone direction onto the BVH joint's bone direction in the
+BVH rest pose (all channel rotations zero). Bone directions point from a joint to the mean of its nearest mapped
+descendants (else its first child, End Site or first geom). A body that carries a foot (toe and heel sites) uses
+heel → toe as its bone and the BVH bone is flattened onto the floor plane (the sole is flat in the rest pose): the
+built-in humanoid has no ankle, so its shin-and-foot body follows the mocap foot, which keeps stance feet flat. The
+root body takes the root joint's rotation with no offset. Joint quaternions follow from parent and child
+orientations; unmapped joints stay at their relax rotation; hinges keep the component about their axis.
 
 Root position: the BVH root trajectory in world axes, scaled by the ratio of the character's standing root height
 to the BVH root height above its lowest point in the first frame (a leg-length scale), moved to start at x = y = 0
@@ -42,8 +43,12 @@ CMU_AXES = {"x": "+z", "y": "+x", "z": "+y"}
 
 # Character joint driven by each body-part role of `skeleton_names` (the walker has ankles: its shin follows the
 # mocap lower leg and its foot body the mocap foot; the ankleless humanoid's shin follows the mocap foot).
-_UPPER = {"root": "root", "torso": "torso", "head": "head",
-          **{f"{s}_{p}": f"{s}_{p}" for s in ("left", "right") for p in ("upper_arm", "forearm", "thigh")}}
+_UPPER = {
+    "root": "root",
+    "torso": "torso",
+    "head": "head",
+    **{f"{s}_{p}": f"{s}_{p}" for s in ("left", "right") for p in ("upper_arm", "forearm", "thigh")},
+}
 CHARACTER_ROLES = {
     "walker": {**_UPPER, **{f"{s}_{p}": f"{s}_{p}" for s in ("left", "right") for p in ("shin", "foot")}},
     "humanoid": {**_UPPER, "left_foot": "left_shin", "right_foot": "right_shin"},
@@ -98,19 +103,22 @@ def load_mapping(path: str | Path) -> Mapping:
     try:
         raw = yaml.safe_load(Path(path).read_text())
     except OSError as exc:
-        raise UserInputError(f"cannot read the mapping file ({exc.strerror}).", file=path, fix="check the path.") \
-            from None
+        raise UserInputError(
+            f"cannot read the mapping file ({exc.strerror}).", file=path, fix="check the path."
+        ) from None
     except yaml.YAMLError as exc:
-        raise UserInputError(f"the mapping is not valid YAML ({exc}).", file=path, fix="fix the YAML syntax.") \
-            from None
+        raise UserInputError(f"the mapping is not valid YAML ({exc}).", file=path, fix="fix the YAML syntax.") from None
     try:
         parsed = MappingFile.model_validate(raw if raw is not None else {})
     except ValidationError as exc:
         err = exc.errors()[0]
         where = ".".join(str(p) for p in err["loc"]) or "(top level)"
-        raise UserInputError(err["msg"], file=path, field=where,
-                             fix="write 'joints: {BVH_JOINT: MJCF_JOINT, ...}' and optionally "
-                                 "'axes: {x: +z, y: +x, z: +y}'.") from None
+        raise UserInputError(
+            err["msg"],
+            file=path,
+            field=where,
+            fix="write 'joints: {BVH_JOINT: MJCF_JOINT, ...}' and optionally 'axes: {x: +z, y: +x, z: +y}'.",
+        ) from None
     return Mapping(joints=dict(parsed.joints), axes=None if parsed.axes is None else axis_matrix(parsed.axes))
 
 
@@ -121,11 +129,13 @@ def builtin_mapping(character_name: str, clip: BvhClip) -> Mapping:
     missing = [r for r in wanted if (r in LEG_ROLES or r.endswith("_shin")) and r not in roles]
     if not wanted or missing:
         known = ", ".join(CHARACTER_ROLES)
-        raise UserInputError(f"the clip's skeleton (root '{clip.joints[0].name}') matches no built-in mapping for "
-                             f"character '{character_name}' (built-in mappings: {known}; missing "
-                             f"{', '.join(missing) or 'all'}).",
-                             field="BVH joints", fix="pass a mapping file (--mapping map.yaml) naming, for each MJCF "
-                                                      "joint, the BVH joint that drives it.")
+        raise UserInputError(
+            f"the clip's skeleton (root '{clip.joints[0].name}') matches no built-in mapping for "
+            f"character '{character_name}' (built-in mappings: {known}; missing "
+            f"{', '.join(missing) or 'all'}).",
+            field="BVH joints",
+            fix="pass a mapping file (--mapping map.yaml) naming, for each MJCF joint, the BVH joint that drives it.",
+        )
     return Mapping(joints={roles[r]: joint for r, joint in wanted.items() if r in roles})
 
 
@@ -159,24 +169,32 @@ def _check_mapping(mapping: Mapping, clip: BvhClip, world: World) -> tuple[dict[
     pairs, root = {}, None
     for bvh_name, joint_name in mapping.joints.items():
         if bvh_name not in names:
-            raise UserInputError(f"the mapping names BVH joint '{bvh_name}', which the clip does not have.",
-                                 field=f"joints.{bvh_name}", fix=f"BVH joints are: {', '.join(names)}.")
+            raise UserInputError(
+                f"the mapping names BVH joint '{bvh_name}', which the clip does not have.",
+                field=f"joints.{bvh_name}",
+                fix=f"BVH joints are: {', '.join(names)}.",
+            )
         jid = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, joint_name)
         if jid < 0 and model.body(world.root_body).jntnum and joint_name == "root":
             jid = int(model.body_jntadr[world.root_body])
         if jid < 0:
-            raise UserInputError(f"the mapping names MJCF joint '{joint_name}', which the character does not have.",
-                                 field=f"joints.{bvh_name}",
-                                 fix=f"MJCF joints are: {', '.join(world.character.joints)} (and the free joint).")
+            raise UserInputError(
+                f"the mapping names MJCF joint '{joint_name}', which the character does not have.",
+                field=f"joints.{bvh_name}",
+                fix=f"MJCF joints are: {', '.join(world.character.joints)} (and the free joint).",
+            )
         if model.jnt_type[jid] == mujoco.mjtJoint.mjJNT_FREE:
             root = names[bvh_name]
         elif int(model.jnt_type[jid]) not in (int(mujoco.mjtJoint.mjJNT_BALL), int(mujoco.mjtJoint.mjJNT_HINGE)):
             raise UserInputError(f"MJCF joint '{joint_name}' is neither ball nor hinge.", field=f"joints.{bvh_name}")
         pairs[names[bvh_name]] = jid
     if root is None:
-        raise UserInputError("the mapping does not drive the character's free joint.", field="joints",
-                             fix=f"map the BVH root '{clip.joints[0].name}' to the free joint "
-                                 f"('{model.joint(int(model.body_jntadr[world.root_body])).name or 'root'}').")
+        raise UserInputError(
+            "the mapping does not drive the character's free joint.",
+            field="joints",
+            fix=f"map the BVH root '{clip.joints[0].name}' to the free joint "
+            f"('{model.joint(int(model.body_jntadr[world.root_body])).name or 'root'}').",
+        )
     return pairs, root
 
 
@@ -208,8 +226,9 @@ def _bvh_rest_bones(clip: BvhClip, pairs: dict[int, int]) -> dict[int, np.ndarra
             bones[b] = pos[0, targets].mean(axis=0) - pos[0, b]
         else:
             children = [i for i, p in enumerate(parents) if p == b]
-            bones[b] = pos[0, children[0]] - pos[0, b] if children else ends.get(b, np.array([[0, 1, 0]]))[0] - \
-                pos[0, b]
+            bones[b] = (
+                pos[0, children[0]] - pos[0, b] if children else ends.get(b, np.array([[0, 1, 0]]))[0] - pos[0, b]
+            )
     return bones
 
 
@@ -246,8 +265,11 @@ def _body_rest_bones(world: World, data: mujoco.MjData, bodies: dict[int, int]) 
 def retarget(clip: BvhClip, world: World, mapping: Mapping, start_frame: int = 1) -> RetargetedClip:
     """Character poses for frames ``start_frame..end`` of the clip (frame 0 of CMU files is a synthetic T-pose)."""
     if not 0 <= start_frame < clip.n_frames - 1:
-        raise UserInputError(f"start frame {start_frame} leaves fewer than two frames of {clip.n_frames}.",
-                             field="start_frame", fix="use a smaller start frame.")
+        raise UserInputError(
+            f"start frame {start_frame} leaves fewer than two frames of {clip.n_frames}.",
+            field="start_frame",
+            fix="use a smaller start frame.",
+        )
     model = world.model
     pairs, root = _check_mapping(mapping, clip, world)
     data = mujoco.MjData(model)
@@ -258,7 +280,7 @@ def retarget(clip: BvhClip, world: World, mapping: Mapping, start_frame: int = 1
 
     rot, pos = global_transforms(clip)
     rot, pos = rot[start_frame:], pos[start_frame:]
-    world_rot = axes @ rot @ axes.T                                    # (F, J, 3, 3) world axes
+    world_rot = axes @ rot @ axes.T  # (F, J, 3, 3) world axes
     bvh_bones = _bvh_rest_bones(clip, pairs)
     body_bones = _body_rest_bones(world, data, body_of)
     feet = _foot_sites(world)
@@ -286,9 +308,9 @@ def retarget(clip: BvhClip, world: World, mapping: Mapping, start_frame: int = 1
         relative = np.swapaxes(local, -1, -2) @ np.swapaxes(world_orient[parent], -1, -2) @ orient[body]
         quat = mat_to_quat(relative)
         if model.jnt_type[jid] == mujoco.mjtJoint.mjJNT_FREE:
-            qpos[:, adr + 3:adr + 7] = _continuous(mat_to_quat(orient[body]))
+            qpos[:, adr + 3 : adr + 7] = _continuous(mat_to_quat(orient[body]))
         elif model.jnt_type[jid] == mujoco.mjtJoint.mjJNT_BALL:
-            qpos[:, adr:adr + 4] = _continuous(quat)
+            qpos[:, adr : adr + 4] = _continuous(quat)
         else:
             qpos[:, adr] = quat_log(quat) @ model.jnt_axis[jid]
 
@@ -297,7 +319,7 @@ def retarget(clip: BvhClip, world: World, mapping: Mapping, start_frame: int = 1
     root_adr = model.jnt_qposadr[pairs[root]]
     root_path = scale * pos[:, root] @ axes.T
     root_path[:, :2] -= root_path[0, :2]
-    qpos[:, root_adr:root_adr + 3] = root_path
+    qpos[:, root_adr : root_adr + 3] = root_path
     qpos[:, root_adr + 2] -= _foot_floor_offset(world, qpos, clip.frame_time)
     return RetargetedClip(qpos=qpos, frame_time=clip.frame_time, scale=scale)
 
@@ -311,7 +333,7 @@ def _continuous(quat: np.ndarray) -> np.ndarray:
 
 def _lowest_bvh_point(clip: BvhClip, axes: np.ndarray, frame: int) -> float:
     """World height (file units) of the lowest joint or End Site in one frame."""
-    one = BvhClip(clip.joints, clip.frame_time, clip.frames[frame:frame + 1])
+    one = BvhClip(clip.joints, clip.frame_time, clip.frames[frame : frame + 1])
     rot, pos = global_transforms(one)
     points = np.concatenate([pos[0], *[p for p in end_site_positions(one, rot, pos).values()]]).reshape(-1, 3)
     return float((points @ axes.T)[:, 2].min())
@@ -320,8 +342,9 @@ def _lowest_bvh_point(clip: BvhClip, axes: np.ndarray, frame: int) -> float:
 def _foot_floor_offset(world: World, qpos: np.ndarray, frame_time: float) -> np.ndarray:
     """Per-frame floor height (m): smoothed 1-s running minimum of the lowest foot point (all geoms if no feet)."""
     model, data = world.model, mujoco.MjData(world.model)
-    geoms = [g for gs in world.foot_spheres.values() for g in gs] or \
-        [g for g in range(model.ngeom) if model.geom_bodyid[g] != 0]
+    geoms = [g for gs in world.foot_spheres.values() for g in gs] or [
+        g for g in range(model.ngeom) if model.geom_bodyid[g] != 0
+    ]
     lows = np.empty(len(qpos))
     for i, q in enumerate(qpos):
         data.qpos[:] = q
@@ -329,7 +352,7 @@ def _foot_floor_offset(world: World, qpos: np.ndarray, frame_time: float) -> np.
         lows[i] = np.min(data.geom_xpos[geoms, 2] - model.geom_rbound[geoms])
     half = max(1, int(round(0.5 / frame_time)))
     padded = np.concatenate([np.full(half, lows[0]), lows, np.full(half, lows[-1])])
-    running = np.array([padded[i:i + 2 * half + 1].min() for i in range(len(lows))])
+    running = np.array([padded[i : i + 2 * half + 1].min() for i in range(len(lows))])
     kernel = np.ones(2 * half + 1) / (2 * half + 1)
     padded = np.concatenate([np.full(half, running[0]), running, np.full(half, running[-1])])
     return np.convolve(padded, kernel, mode="valid")

@@ -24,8 +24,10 @@ ROLE_ALIASES: dict[str, tuple[str, ...]] = {
     "torso": ("spine1", "chest", "spine2", "spine", "upperchest"),
     "head": ("head",),
     **{f"left_{part}": names for part, names in _LEFT.items()},
-    **{f"right_{part}": tuple("right" + n[4:] if n.startswith("left") else "r" + n[1:] for n in names)
-       for part, names in _LEFT.items()},
+    **{
+        f"right_{part}": tuple("right" + n[4:] if n.startswith("left") else "r" + n[1:] for n in names)
+        for part, names in _LEFT.items()
+    },
 }
 LEG_ROLES = ("root", "left_thigh", "left_foot", "right_thigh", "right_foot")
 

@@ -21,8 +21,9 @@ def parse_push(text: str):
             raise ValueError
         value, at = float(force), float(time)
     except ValueError:
-        raise UserInputError(f"cannot read push '{text}'.", field="--push",
-                             fix="write FORCE@TIME, e.g. 150@1.0 (newtons, seconds).") from None
+        raise UserInputError(
+            f"cannot read push '{text}'.", field="--push", fix="write FORCE@TIME, e.g. 150@1.0 (newtons, seconds)."
+        ) from None
     if at < 0:
         raise UserInputError(f"push time {at} s is negative.", field="--push", fix="use a time within the clip.")
     return Push(force=(0.0, value, 0.0), time_s=at)
@@ -33,8 +34,9 @@ def _check_range(value: float, option: str, fix: str) -> None:
         raise UserInputError(f"{option.lstrip('-')} {value} is out of range.", field=option, fix=fix)
 
 
-def reference_poses(clip_path: Path, character: str, mapping: Path | None, start_frame: int,
-                    clean: bool = False) -> dict:
+def reference_poses(
+    clip_path: Path, character: str, mapping: Path | None, start_frame: int, clean: bool = False
+) -> dict:
     """Load and retarget a clip, then clean its feet (unless `clean` is False).
 
     Returns world, poses (F, nq), frame_time (s), scale (m per file unit), conventions (or None when the skeleton's
@@ -59,22 +61,43 @@ def reference_poses(clip_path: Path, character: str, mapping: Path | None, start
     raw = foot_report(sole_points(world, retargeted.qpos), retargeted.frame_time)
     qpos = clean_feet(world, retargeted.qpos, retargeted.frame_time).qpos if clean else retargeted.qpos
     final = foot_report(sole_points(world, qpos), retargeted.frame_time) if clean else raw
-    return {"world": world, "qpos": qpos, "frame_time": retargeted.frame_time, "scale": retargeted.scale,
-            "conventions": conventions, "raw": raw, "final": final}
+    return {
+        "world": world,
+        "qpos": qpos,
+        "frame_time": retargeted.frame_time,
+        "scale": retargeted.scale,
+        "conventions": conventions,
+        "raw": raw,
+        "final": final,
+    }
 
 
 def kinematic_summary(ref: dict, clean: bool) -> dict:
     """JSON-ready report of a retargeted reference played without physics (`reference_poses` output)."""
     conventions = ref["conventions"]
-    return {"kinematic": True, "frames": len(ref["qpos"]),
-            "duration_s": round((len(ref["qpos"]) - 1) * ref["frame_time"], 4),
-            "frame_time_s": ref["frame_time"], "retarget_scale_m_per_unit": round(ref["scale"], 6),
-            "source": conventions.summary() if conventions else None, "feet_cleaned": clean,
-            **ref["final"].summary(), "raw": ref["raw"].summary()}
+    return {
+        "kinematic": True,
+        "frames": len(ref["qpos"]),
+        "duration_s": round((len(ref["qpos"]) - 1) * ref["frame_time"], 4),
+        "frame_time_s": ref["frame_time"],
+        "retarget_scale_m_per_unit": round(ref["scale"], 6),
+        "source": conventions.summary() if conventions else None,
+        "feet_cleaned": clean,
+        **ref["final"].summary(),
+        "raw": ref["raw"].summary(),
+    }
 
 
-def run_track(clip_path: Path, character: str, robustness: float, push: str | None, mapping: Path | None,
-              start_frame: int, tolerance: float, clean: bool = False) -> tuple[object, object, object]:
+def run_track(
+    clip_path: Path,
+    character: str,
+    robustness: float,
+    push: str | None,
+    mapping: Path | None,
+    start_frame: int,
+    tolerance: float,
+    clean: bool = False,
+) -> tuple[object, object, object]:
     """Load, retarget, clean the feet (unless `clean` is False), replay and track; returns (world, reference,
     result); result.foot_skate_m is the simulated motion's skate (m, mean per stance, `foot_metrics`)."""
     from eigengait.control.balance.reference import kinematic_replay

@@ -38,10 +38,11 @@ def _quiet_constrained_fitness(table: _OutcomeTable, dimension: int) -> cma.Cons
     `outcmaes/` folder in the working directory) when built; drop them and remove the folder if it is new."""
     folder = Path("outcmaes")
     existed = folder.exists()
-    with warnings.catch_warnings():      # cma warns that its optional archive package is missing
+    with warnings.catch_warnings():  # cma warns that its optional archive package is missing
         warnings.simplefilter("ignore")
-        fitness = cma.ConstrainedFitnessAL(table.objective, table.constraints, dimension=dimension,
-                                           logging=False, archives=False)
+        fitness = cma.ConstrainedFitnessAL(
+            table.objective, table.constraints, dimension=dimension, logging=False, archives=False
+        )
         fitness.al.logging = 0
         fitness.al._init_()
     if not existed and folder.is_dir() and not any(folder.iterdir()):

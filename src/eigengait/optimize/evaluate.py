@@ -23,13 +23,14 @@ from eigengait.control.sketch import Targets
 from eigengait.optimize import terms
 from eigengait.optimize.parameters import ParameterSpace
 
-FALL_PENALTY = 100.0   # soft-constraint units for a fall at t = 0, scaled by the unsurvived share of the horizon
+FALL_PENALTY = 100.0  # soft-constraint units for a fall at t = 0, scaled by the unsurvived share of the horizon
 FALLEN_CYCLE_ERROR = 10.0
 
 
 @dataclass
 class Outcome:
     """The result of one candidate. `cost` = w_p·E_vel·E_energia + w_r·Σ soft; `cycle` = φ (hard constraint)."""
+
     cost: float
     cycle: np.ndarray
     fell: bool
@@ -49,8 +50,15 @@ def default_threads() -> int:
 class BatchEvaluator:
     """Simulates candidates of a parameter space for `cycles` cycles and scores them."""
 
-    def __init__(self, system: GaitSystem, space: ParameterSpace, targets: Targets, threads: int | None = None,
-                 cycles: int = 5, sample_dt: float = 0.01):
+    def __init__(
+        self,
+        system: GaitSystem,
+        space: ParameterSpace,
+        targets: Targets,
+        threads: int | None = None,
+        cycles: int = 5,
+        sample_dt: float = 0.01,
+    ):
         self.system, self.space, self.targets, self.cycles = system, space, targets, cycles
         self.model = system.world.model
         self.threads = threads or default_threads()
@@ -88,9 +96,14 @@ class BatchEvaluator:
     # ------------------------------------------------------------------ objective of one candidate
     def _outcome(self, p: GaitParameters, run: BatchRun, i: int) -> Outcome:
         if run.blow_up[i] is not None:
-            return Outcome(cost=2 * terms.SOFT_WEIGHT * FALL_PENALTY, fell=True, mean_velocity=np.zeros(3),
-                           cycle=np.full(self.constraint_size, FALLEN_CYCLE_ERROR), energy=0.0,
-                           soft={"fall": 2 * FALL_PENALTY})
+            return Outcome(
+                cost=2 * terms.SOFT_WEIGHT * FALL_PENALTY,
+                fell=True,
+                mean_velocity=np.zeros(3),
+                cycle=np.full(self.constraint_size, FALLEN_CYCLE_ERROR),
+                energy=0.0,
+                soft={"fall": 2 * FALL_PENALTY},
+            )
         tg, nq, nv = self.targets, self.nq, self.nv
         end = int(run.ended[i])
         states, sensors, torques = run.states[i, :end], run.sensors[i, :end], run.torques[i, :end]
@@ -98,14 +111,14 @@ class BatchEvaluator:
         comvel = sensors[:, 3:6]
         mean_vel = (sensors[-1, 0:3] - self.system.initial_com(p)) / (end * self.dt)
         energy = terms.energy_objective(torques) if end else 0.0
-        qvel = states[samples, 1 + nq:1 + nq + nv]
+        qvel = states[samples, 1 + nq : 1 + nq + nv]
         soft = {
             "min_speed": terms.min_speed_term(comvel[samples, 0], tg.min_speed),
             "mean_speed": terms.mean_speed_term(mean_vel, tg.mean_speed, tg.lateral_speed, tg.vertical_speed),
             "joint_speed": terms.joint_speed_term(qvel[:, self.system.world.internal_qvel], tg.joint_speed),
             "energy_max": terms.energy_limit_term(energy, tg.energy),
             "priority": terms.priority_term(self._priority_split(p)),
-            "upright": terms.upright_term(self.system.world.root.up_z(states[samples, 1:1 + nq])),
+            "upright": terms.upright_term(self.system.world.root.up_z(states[samples, 1 : 1 + nq])),
             **self._stance_terms(p, states, sensors),
         }
         if run.fell[i]:
@@ -113,10 +126,12 @@ class BatchEvaluator:
             cycle = np.full(self.constraint_size, FALLEN_CYCLE_ERROR)
         else:
             cycle = cycle_errors(self.system, p, run.states[i], self.cycles)
-        cost = (terms.OBJECTIVE_WEIGHT * terms.speed_objective(mean_vel[0]) * energy
-                + terms.SOFT_WEIGHT * sum(soft.values()))
-        return Outcome(cost=float(cost), cycle=cycle, fell=bool(run.fell[i]), mean_velocity=mean_vel,
-                       energy=energy, soft=soft)
+        cost = terms.OBJECTIVE_WEIGHT * terms.speed_objective(mean_vel[0]) * energy + terms.SOFT_WEIGHT * sum(
+            soft.values()
+        )
+        return Outcome(
+            cost=float(cost), cycle=cycle, fell=bool(run.fell[i]), mean_velocity=mean_vel, energy=energy, soft=soft
+        )
 
     @property
     def constraint_size(self) -> int:
@@ -137,7 +152,7 @@ class BatchEvaluator:
         model, data, nq = self.model, self.kinematics, self.nq
         out = {f: np.empty((len(states), 3)) for f in self.hip_joint}
         for k, row in enumerate(states):
-            data.qpos[:] = row[1:1 + nq]
+            data.qpos[:] = row[1 : 1 + nq]
             mujoco.mj_kinematics(model, data)
             for f, j in self.hip_joint.items():
                 out[f][k] = data.xanchor[j]
@@ -158,15 +173,14 @@ class BatchEvaluator:
                     continue
                 toe = self.toe_sensor[s.foot]
                 clearance = sensors[a:b, toe + 2] - self.toe_radius[s.foot]
-                out["stance_contact"] += terms.stance_contact_term(clearance[:max(1, int(s.pulse / 2 / dt))])
+                out["stance_contact"] += terms.stance_contact_term(clearance[: max(1, int(s.pulse / 2 / dt))])
                 air = schedule[k - 1]
                 w0 = int((offset + air.start) / dt)
                 after = schedule[(k + 1) % len(schedule)]
                 w1 = min(n, int((offset + s.start + s.duration + after.duration) / dt))
                 if self.heel_sensor[s.foot] is not None and w1 > w0:
                     heel = self.heel_sensor[s.foot]
-                    rise = terms.push_off_rise(sensors[w0:w1, 5], sensors[w0:w1, toe + 2],
-                                               sensors[w0:w1, heel + 2], dt)
+                    rise = terms.push_off_rise(sensors[w0:w1, 5], sensors[w0:w1, toe + 2], sensors[w0:w1, heel + 2], dt)
                     out["stance_rise"] += terms.stance_rise_term(rise)
                 if len(distinct) == 2:
                     other = distinct[1] if s.foot == distinct[0] else distinct[0]
@@ -176,9 +190,10 @@ class BatchEvaluator:
                         hips = self._hips(states[touching])
                         out["anti_stumble"] += terms.anti_stumble_term(
                             self._toe_to_hip(sensors[touching], hips, s.foot),
-                            self._toe_to_hip(sensors[touching], hips, other))
+                            self._toe_to_hip(sensors[touching], hips, other),
+                        )
         return out
 
     def _toe_to_hip(self, sensors: np.ndarray, hips: dict[str, np.ndarray], foot: str) -> np.ndarray:
-        toe = sensors[:, self.toe_sensor[foot]:self.toe_sensor[foot] + 3]
+        toe = sensors[:, self.toe_sensor[foot] : self.toe_sensor[foot] + 3]
         return np.linalg.norm(toe - hips[foot], axis=1)

@@ -29,8 +29,13 @@ def _batch_evaluator(sketch_json: dict, threads: int) -> BatchEvaluator:
 
 def batch_evaluator(problem: Problem, threads: int) -> BatchEvaluator:
     """The sketch's batched closed-loop evaluator (its targets and optimization horizon)."""
-    return BatchEvaluator(problem.system, problem.space, problem.sketch.targets, threads=threads,
-                          cycles=problem.sketch.feedback.horizon_cycles)
+    return BatchEvaluator(
+        problem.system,
+        problem.space,
+        problem.sketch.targets,
+        threads=threads,
+        cycles=problem.sketch.feedback.horizon_cycles,
+    )
 
 
 def _process_init(sketch_json: dict) -> None:
@@ -62,12 +67,20 @@ class RayEvaluator:
         try:
             import ray
         except ImportError:
-            raise UserInputError("Ray is not installed", field="--evaluator",
-                                 fix="pip install 'eigengait[ray]' or use --evaluator threads") from None
+            raise UserInputError(
+                "Ray is not installed",
+                field="--evaluator",
+                fix="pip install 'eigengait[ray]' or use --evaluator threads",
+            ) from None
         self.ray = ray
         if not ray.is_initialized():
-            ray.init(address=address, num_cpus=None if address else workers, include_dashboard=False,
-                     log_to_driver=False, ignore_reinit_error=True)
+            ray.init(
+                address=address,
+                num_cpus=None if address else workers,
+                include_dashboard=False,
+                log_to_driver=False,
+                ignore_reinit_error=True,
+            )
         actor = ray.remote(num_cpus=1)(_RayWorker)
         payload = sketch.model_dump(mode="json")
         self.actors = [actor.remote(payload) for _ in range(workers)]
@@ -101,8 +114,9 @@ class ThreadEvaluator:
         self.batch.close()
 
 
-def make_evaluator(kind: str, problem: Problem, workers: int | None = None,
-                   ray_address: str | None = None) -> Callable[[np.ndarray], list[Outcome]]:
+def make_evaluator(
+    kind: str, problem: Problem, workers: int | None = None, ray_address: str | None = None
+) -> Callable[[np.ndarray], list[Outcome]]:
     workers = workers or default_threads()
     if kind == "threads":
         return ThreadEvaluator(problem, workers)

@@ -12,8 +12,9 @@ from eigengait.optimize.evaluate import Outcome
 from eigengait.optimize.mom import MethodOfMultipliers, MomSettings, MomState
 
 
-def make_optimizer(evaluate: Callable[[np.ndarray], list[Outcome]], settings: MomSettings,
-                   state: MomState) -> MethodOfMultipliers:
+def make_optimizer(
+    evaluate: Callable[[np.ndarray], list[Outcome]], settings: MomSettings, state: MomState
+) -> MethodOfMultipliers:
     """The constrained optimizer named by `settings.method` ("mom" or "al")."""
     kind = AdaptiveAugmentedLagrangian if settings.method == "al" else MethodOfMultipliers
     return kind(evaluate, settings, state)

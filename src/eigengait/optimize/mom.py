@@ -24,19 +24,20 @@ class MomSettings:
     sigma0: float = 0.3
     sigma_decay: float = 0.7
     sigma_floor: float = 0.001
-    penalty: float = 0.1                 # k after the first inner run
+    penalty: float = 0.1  # k after the first inner run
     tol_x: float = 1e-4
     inner_generations: int = 1000
     max_outer: int = 20
-    cycle_tolerance: float = 0.2         # |φ_i| below this on every component: cyclic
-    popsize: int | None = None           # CMA default 4 + 3 ln n
+    cycle_tolerance: float = 0.2  # |φ_i| below this on every component: cyclic
+    popsize: int | None = None  # CMA default 4 + 3 ln n
     max_evaluations: int | None = None
     max_seconds: float | None = None
-    method: str = "mom"                  # "mom" (the thesis's) or "al" (pycma's adaptive augmented Lagrangian)
+    method: str = "mom"  # "mom" (the thesis's) or "al" (pycma's adaptive augmented Lagrangian)
 
     def __post_init__(self):
         if self.method not in ("mom", "al"):
             from eigengait.errors import UserInputError
+
             raise UserInputError(f"unknown method '{self.method}'", field="--method", fix="use mom or al")
 
 
@@ -45,6 +46,7 @@ class MomState:
     """Everything needed to resume: multipliers, penalty, best so far, counters, and the current inner run as
     data (its start point and every generation's candidates and outcomes, from which the CMA object is rebuilt by
     replaying them; see `optimize.checkpoint`)."""
+
     x_start: np.ndarray
     outer: int = 0
     sigma: float = 0.3
@@ -79,9 +81,17 @@ class MethodOfMultipliers:
 
     def _new_es(self) -> cma.CMAEvolutionStrategy:
         st = self.state
-        opts = {"bounds": [0, 1], "seed": self.s.seed + st.outer, "tolx": self.s.tol_x,
-                "maxiter": self.s.inner_generations, "verbose": -9, "verb_log": 0, "verb_disp": 0,
-                "tolfun": 0, "tolflatfitness": 1000}
+        opts = {
+            "bounds": [0, 1],
+            "seed": self.s.seed + st.outer,
+            "tolx": self.s.tol_x,
+            "maxiter": self.s.inner_generations,
+            "verbose": -9,
+            "verb_log": 0,
+            "verb_disp": 0,
+            "tolfun": 0,
+            "tolflatfitness": 1000,
+        }
         if self.s.popsize:
             opts["popsize"] = self.s.popsize
         return cma.CMAEvolutionStrategy(np.clip(st.inner_start, 0, 1), st.sigma, opts)
@@ -119,11 +129,19 @@ class MethodOfMultipliers:
         if st.best is None or merit(outcomes[i]) < merit(st.best):
             st.best, st.best_x = outcomes[i], X[i].copy()
         st.elapsed += time.perf_counter() - t0
-        row = {"generation": st.generation, "outer": st.outer, "evaluations": st.evaluations,
-               "best_cost": st.best.cost, "best_violation": st.best.violation,
-               "generation_best_W": float(min(W)), "sigma": float(st.es.sigma), "k": st.k,
-               "lambda_norm": float(np.linalg.norm(self.multipliers(outcomes[0].cycle))),
-               "fallen": int(sum(o.fell for o in outcomes)), "seconds": st.elapsed}
+        row = {
+            "generation": st.generation,
+            "outer": st.outer,
+            "evaluations": st.evaluations,
+            "best_cost": st.best.cost,
+            "best_violation": st.best.violation,
+            "generation_best_W": float(min(W)),
+            "sigma": float(st.es.sigma),
+            "k": st.k,
+            "lambda_norm": float(np.linalg.norm(self.multipliers(outcomes[0].cycle))),
+            "fallen": int(sum(o.fell for o in outcomes)),
+            "seconds": st.elapsed,
+        }
         st.log.append(row)
         return row
 
@@ -148,8 +166,11 @@ class MethodOfMultipliers:
             asked = np.array(st.es.ask())
             if asked.shape != X.shape or not np.array_equal(asked, X):
                 from eigengait.errors import UserInputError
-                raise UserInputError("the checkpoint does not replay to the same candidates",
-                                     fix="resume with the same eigengait and cma versions, or start a new run")
+
+                raise UserInputError(
+                    "the checkpoint does not replay to the same candidates",
+                    fix="resume with the same eigengait and cma versions, or start a new run",
+                )
             self.tell(X, outcomes)
 
     def end_inner_run(self) -> None:

@@ -3,7 +3,8 @@
 Ω = (T, α, δa, δc, ψ of the optimized modes per free (foot, phase), root height offset, root pitch, root forward
 and vertical speed, and q₀, q̇₀ of the internal joints in the span of the optimized air modes).
 Expressing q₀/q̇₀ in mode coordinates keeps the search small for many-DOF characters (the thesis's own
-suggestion): the sketch's optimized air modes plus the lowest `initial.modes` ones. Priority modes keep their sign and at least their sketch magnitude.
+suggestion): the sketch's optimized air modes plus the lowest `initial.modes` ones. Priority modes keep their sign
+and at least their sketch magnitude.
 """
 
 from __future__ import annotations
@@ -18,12 +19,12 @@ from eigengait.control.gait import GaitParameters, GaitSystem
 from eigengait.control.sketch import Sketch
 from eigengait.sim.world import GRAVITY
 
-MAX_JOINT_ANGLE = 0.3     # rad: largest joint rotation of one initial-pose mode coordinate
-PERIOD_RANGE = (0.6, 1.6) # the period T stays within these multiples of the sketch's guess
+MAX_JOINT_ANGLE = 0.3  # rad: largest joint rotation of one initial-pose mode coordinate
+PERIOD_RANGE = (0.6, 1.6)  # the period T stays within these multiples of the sketch's guess
 PULSE_RANGE = (0.5, 2.0)  # pulse durations δ too: a pulse shrunk to nothing would silence the priority modes
-AIR_RATIO_SPAN = 0.25     # α stays within ± this of the sketch's (α → 0 or 1 would erase a state)
-HIP_GAIN_RANGE = 0.3      # |hip gains| ≤ this × m g h (N·m per normalized feature unit)
-MODAL_GAIN_RANGE = 2.0    # |modal gains| ≤ this × the sketch's activation scale (N·m per normalized feature unit)
+AIR_RATIO_SPAN = 0.25  # α stays within ± this of the sketch's (α → 0 or 1 would erase a state)
+HIP_GAIN_RANGE = 0.3  # |hip gains| ≤ this × m g h (N·m per normalized feature unit)
+MODAL_GAIN_RANGE = 2.0  # |modal gains| ≤ this × the sketch's activation scale (N·m per normalized feature unit)
 
 
 @dataclass
@@ -41,8 +42,12 @@ class ParameterSpace:
         period_lo, period_hi = PERIOD_RANGE[0] * t.period, PERIOD_RANGE[1] * t.period
         self.entries: list[Entry] = [
             Entry("period", period_lo, period_hi, t.period),
-            Entry("air_ratio", max(0.02, t.air_ratio - AIR_RATIO_SPAN), min(0.98, t.air_ratio + AIR_RATIO_SPAN),
-                  t.air_ratio),
+            Entry(
+                "air_ratio",
+                max(0.02, t.air_ratio - AIR_RATIO_SPAN),
+                min(0.98, t.air_ratio + AIR_RATIO_SPAN),
+                t.air_ratio,
+            ),
             Entry("pulse_air", PULSE_RANGE[0] * t.pulse_air, PULSE_RANGE[1] * t.pulse_air, t.pulse_air),
             Entry("pulse_ground", PULSE_RANGE[0] * t.pulse_ground, PULSE_RANGE[1] * t.pulse_ground, t.pulse_ground),
         ]
@@ -61,10 +66,12 @@ class ParameterSpace:
                         self.entries.append(Entry(f"psi/{foot}/{phase}/{m}", -scale, scale, 0.0))
                     self.psi_slots.append((foot, phase, m))
         init = sketch.initial
-        self.entries += [Entry("root_height", -0.15, 0.10, init.height),
-                         Entry("root_pitch", -0.4, 0.4, 0.0),
-                         Entry("root_speed_x", min(0.0, init.speed), max(4.0, 2 * init.speed), init.speed),
-                         Entry("root_speed_z", -1.5, 1.5, 0.0)]
+        self.entries += [
+            Entry("root_height", -0.15, 0.10, init.height),
+            Entry("root_pitch", -0.4, 0.4, 0.0),
+            Entry("root_speed_x", min(0.0, init.speed), max(4.0, 2 * init.speed), init.speed),
+            Entry("root_speed_z", -1.5, 1.5, 0.0),
+        ]
         air = system.air_modes
         lowest = range(1, min(init.modes, air.count) + 1)
         self.pose_modes = sorted(set(sketch.air.optimized_modes(air.count)) | set(lowest))
@@ -91,8 +98,9 @@ class ParameterSpace:
                 prio = sketch.phase(phase).priority
                 bound = MODAL_GAIN_RANGE * max([abs(v) for v in prio.values()] + [20.0])
                 self.modal_feedback_modes[phase] = sorted(prio)
-                self.entries += [Entry(f"fb/modal/{phase}/{m}/{f}", -bound, bound, 0.0)
-                                 for m in sorted(prio) for f in FEATURES]
+                self.entries += [
+                    Entry(f"fb/modal/{phase}/{m}/{f}", -bound, bound, 0.0) for m in sorted(prio) for f in FEATURES
+                ]
 
     def _decode_feedback(self, v: np.ndarray) -> FeedbackGains:
         gains = FeedbackGains()
@@ -125,8 +133,9 @@ class ParameterSpace:
         for foot in system.active_feet:
             for phase in ("air", "ground"):
                 activations[(foot, phase)] = np.zeros(system.mode_count(phase))
-        for (foot, phase, m), value in zip(self.psi_slots, v[[self.index[f"psi/{f}/{p}/{mm}"]
-                                                               for f, p, mm in self.psi_slots]]):
+        for (foot, phase, m), value in zip(
+            self.psi_slots, v[[self.index[f"psi/{f}/{p}/{mm}"] for f, p, mm in self.psi_slots]]
+        ):
             activations[(foot, phase)][m - 1] = value
         qpos = model.qpos0.copy()
         qvel = np.zeros(model.nv)
@@ -134,13 +143,20 @@ class ParameterSpace:
         disp = sum((get(f"q0/{m}") * shapes[:, m - 1] for m in self.pose_modes), np.zeros(model.nv))
         vel = sum((get(f"qd0/{m}") * shapes[:, m - 1] for m in self.pose_modes), np.zeros(model.nv))
         root = system.world.root
-        disp[list(root.translation_qvel)] = 0.0   # root translation is set below; modes keep joints and rotation
+        disp[list(root.translation_qvel)] = 0.0  # root translation is set below; modes keep joints and rotation
         mujoco.mj_integratePos(model, qpos, disp, 1.0)
         root.lift_and_pitch(qpos, get("root_height"), get("root_pitch"))
         qvel[:] = vel
         for adr, name in ((root.forward_qvel, "root_speed_x"), (root.vertical_qvel, "root_speed_z")):
             if adr is not None:
                 qvel[adr] += get(name)
-        return GaitParameters(period=get("period"), air_ratio=get("air_ratio"), pulse_air=get("pulse_air"),
-                              pulse_ground=get("pulse_ground"), activations=activations, qpos0=qpos, qvel0=qvel,
-                              feedback=self._decode_feedback(v))
+        return GaitParameters(
+            period=get("period"),
+            air_ratio=get("air_ratio"),
+            pulse_air=get("pulse_air"),
+            pulse_ground=get("pulse_ground"),
+            activations=activations,
+            qpos0=qpos,
+            qvel0=qvel,
+            feedback=self._decode_feedback(v),
+        )

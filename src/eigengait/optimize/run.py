@@ -36,8 +36,7 @@ from eigengait.outputs import check_folder, replacing, write_atomically
 
 BUDGET_FIELDS = ("max_evaluations", "max_seconds", "max_outer", "inner_generations")
 RUN_MARKERS = ("checkpoint.npz", "checkpoint.pkl", "best_controller.json")
-RUN_FILES = (*RUN_MARKERS, "status.json", "sketch.yaml", "settings.json", "log.csv", "objective.png",
-             "violation.png")
+RUN_FILES = (*RUN_MARKERS, "status.json", "sketch.yaml", "settings.json", "log.csv", "objective.png", "violation.png")
 
 
 def _saved_settings(folder: Path) -> dict:
@@ -46,40 +45,60 @@ def _saved_settings(folder: Path) -> dict:
         MomSettings(**saved["settings"])
         saved["evaluator"]
     except (OSError, ValueError, KeyError, TypeError, UserInputError) as exc:
-        raise UserInputError(f"the run folder's settings.json is missing or damaged ({exc.__class__.__name__})",
-                             file=folder / "settings.json", fix="start a new run in another --output folder") from None
+        raise UserInputError(
+            f"the run folder's settings.json is missing or damaged ({exc.__class__.__name__})",
+            file=folder / "settings.json",
+            fix="start a new run in another --output folder",
+        ) from None
     return saved
 
 
 def _check_same_run(folder: Path, sketch: Sketch, saved: dict, seed: int | None) -> None:
     """Refuse to resume with a sketch or seed other than the run's own."""
     if seed is not None and seed != saved["settings"]["seed"]:
-        raise UserInputError(f"the run was started with --seed {saved['settings']['seed']}, not {seed}",
-                             file=folder, field="--seed", fix="resume without --seed, or start a new run")
+        raise UserInputError(
+            f"the run was started with --seed {saved['settings']['seed']}, not {seed}",
+            file=folder,
+            field="--seed",
+            fix="resume without --seed, or start a new run",
+        )
     try:
         own = yaml.safe_load((folder / "sketch.yaml").read_text(encoding="utf-8"))
     except (OSError, yaml.YAMLError) as exc:
-        raise UserInputError(f"the run folder's sketch.yaml is missing or damaged ({exc.__class__.__name__})",
-                             file=folder / "sketch.yaml", fix="start a new run in another --output folder") from None
+        raise UserInputError(
+            f"the run folder's sketch.yaml is missing or damaged ({exc.__class__.__name__})",
+            file=folder / "sketch.yaml",
+            fix="start a new run in another --output folder",
+        ) from None
     if own != sketch.model_dump(mode="json"):
-        raise UserInputError("the run was started from another sketch", file=folder,
-                             fix="resume with the run's own sketch (its sketch.yaml), or start a new run")
+        raise UserInputError(
+            "the run was started from another sketch",
+            file=folder,
+            fix="resume with the run's own sketch (its sketch.yaml), or start a new run",
+        )
 
 
-def prepare_folder(folder: Path, sketch: Sketch, settings: MomSettings, evaluator: str, resume: bool,
-                   seed: int | None = None):
+def prepare_folder(
+    folder: Path, sketch: Sketch, settings: MomSettings, evaluator: str, resume: bool, seed: int | None = None
+):
     """Create or reopen a run folder; refuse to overwrite an earlier run unless resuming.
 
     `seed` is the seed the user asked for, if any: resuming refuses one that differs from the run's."""
     checkpoint = folder / "checkpoint.npz"
     if resume:
         if (folder / "checkpoint.pkl").exists() and not checkpoint.exists():
-            raise UserInputError("the run folder holds a pickled checkpoint from an earlier version, which is not "
-                                 "read because a pickle can run code", file=folder,
-                                 fix="start a new run in another --output folder")
+            raise UserInputError(
+                "the run folder holds a pickled checkpoint from an earlier version, which is not "
+                "read because a pickle can run code",
+                file=folder,
+                fix="start a new run in another --output folder",
+            )
         if not checkpoint.exists():
-            raise UserInputError("nothing to resume: no checkpoint.npz in the run folder", file=folder,
-                                 fix="start the run without --resume")
+            raise UserInputError(
+                "nothing to resume: no checkpoint.npz in the run folder",
+                file=folder,
+                fix="start the run without --resume",
+            )
         saved = _saved_settings(folder)
         _check_same_run(folder, sketch, saved, seed)
         merged = {**saved["settings"], **{k: getattr(settings, k) for k in BUDGET_FIELDS}}
@@ -87,9 +106,18 @@ def prepare_folder(folder: Path, sketch: Sketch, settings: MomSettings, evaluato
     refuse_earlier_run(folder)
     check_folder(folder)
     write_atomically(folder / "sketch.yaml", yaml.safe_dump(sketch.model_dump(mode="json"), sort_keys=False))
-    write_atomically(folder / "settings.json", json.dumps(
-        {"settings": asdict(settings), "evaluator": evaluator, "eigengait": __version__,
-         "mujoco": mujoco.__version__}, indent=2))
+    write_atomically(
+        folder / "settings.json",
+        json.dumps(
+            {
+                "settings": asdict(settings),
+                "evaluator": evaluator,
+                "eigengait": __version__,
+                "mujoco": mujoco.__version__,
+            },
+            indent=2,
+        ),
+    )
     return settings, evaluator, None
 
 
@@ -103,11 +131,17 @@ def refuse_earlier_run(folder: Path) -> None:
     if not _holds_run(folder):
         return
     if _finished(folder):
-        raise UserInputError("the run folder holds a finished run and was left untouched", file=folder,
-                             fix="choose another --output folder, add --force to start over, or pass --resume "
-                                 "with a larger budget to continue it")
-    raise UserInputError("the run folder holds an unfinished run (interrupted or stopped by an error) and was left "
-                         "untouched", file=folder, fix="pass --resume to continue it, or add --force to start over")
+        raise UserInputError(
+            "the run folder holds a finished run and was left untouched",
+            file=folder,
+            fix="choose another --output folder, add --force to start over, or pass --resume "
+            "with a larger budget to continue it",
+        )
+    raise UserInputError(
+        "the run folder holds an unfinished run (interrupted or stopped by an error) and was left untouched",
+        file=folder,
+        fix="pass --resume to continue it, or add --force to start over",
+    )
 
 
 def _finished(folder: Path) -> bool:
@@ -127,9 +161,18 @@ def clear_run(folder: Path) -> None:
 
 def write_status(folder: Path, state: MomState) -> None:
     """Record whether the run finished (and why) in status.json."""
-    write_atomically(folder / "status.json", json.dumps(
-        {"finished": bool(state.finished), "reason": state.finished or "running or interrupted",
-         "generations": state.generation, "evaluations": state.evaluations}, indent=2))
+    write_atomically(
+        folder / "status.json",
+        json.dumps(
+            {
+                "finished": bool(state.finished),
+                "reason": state.finished or "running or interrupted",
+                "generations": state.generation,
+                "evaluations": state.evaluations,
+            },
+            indent=2,
+        ),
+    )
 
 
 def write_log(folder: Path, rows: list[dict]) -> None:
@@ -144,13 +187,17 @@ def write_log(folder: Path, rows: list[dict]) -> None:
 def write_plots(folder: Path, rows: list[dict], cycle_tolerance: float | None = None) -> None:
     """objective.png and violation.png against generation; the violation plot marks the cycle tolerance."""
     import matplotlib
+
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+
     if not rows:
         return
     g = [r["generation"] for r in rows]
-    for key, name, label in (("best_cost", "objective.png", "best objective f (dimensionless, log)"),
-                             ("best_violation", "violation.png", "best cycle violation max|φᵢ|\n(rad, m; log)")):
+    for key, name, label in (
+        ("best_cost", "objective.png", "best objective f (dimensionless, log)"),
+        ("best_violation", "violation.png", "best cycle violation max|φᵢ|\n(rad, m; log)"),
+    ):
         fig, ax = plt.subplots(figsize=(6, 3.2), dpi=110)
         ax.semilogy(g, [max(r[key], 1e-12) for r in rows], color="#2a6fb0", lw=1.6, label="best so far")
         if key == "best_violation" and cycle_tolerance:
@@ -174,42 +221,70 @@ def write_best(folder: Path, problem: Problem, state: MomState) -> None:
     if state.best_x is None:
         return
     o = state.best
-    metrics = {"cost": o.cost, "cycle_violation": o.violation, "fell": o.fell,
-               "mean_speed_mps": float(o.mean_velocity[0]), "mean_squared_torque": o.energy,
-               "evaluations": state.evaluations}
+    metrics = {
+        "cost": o.cost,
+        "cycle_violation": o.violation,
+        "fell": o.fell,
+        "mean_speed_mps": float(o.mean_velocity[0]),
+        "mean_squared_torque": o.energy,
+        "evaluations": state.evaluations,
+    }
     controller = to_file(problem.system, problem.space.decode(state.best_x), name=folder.name, metrics=metrics)
     save_controller(controller, folder / "best_controller.json")
 
 
-def optimize(sketch: Sketch, folder: Path, settings: MomSettings, evaluator: str = "threads",
-             workers: int | None = None, resume: bool = False, progress: bool = True,
-             sketch_source: str | Path | None = None, x_start=None, seed: int | None = None) -> MomState:
+def optimize(
+    sketch: Sketch,
+    folder: Path,
+    settings: MomSettings,
+    evaluator: str = "threads",
+    workers: int | None = None,
+    resume: bool = False,
+    progress: bool = True,
+    sketch_source: str | Path | None = None,
+    x_start=None,
+    seed: int | None = None,
+) -> MomState:
     """Run (or resume) the method of multipliers from `x_start` (default: the sketch's guess); checkpoints every
     generation. `seed` is the seed the user asked for explicitly, if any; a resumed run refuses a different one."""
     problem = Problem.from_sketch(sketch, sketch_source)
     settings, evaluator, state = prepare_folder(folder, sketch, settings, evaluator, resume, seed)
     state = state or MomState(x_start=problem.space.initial() if x_start is None else x_start)
     if state.x_start.shape != problem.space.initial().shape:
-        raise UserInputError("the checkpoint was made for another parameter space", file=folder / "checkpoint.npz",
-                             fix="start a new run in another --output folder")
+        raise UserInputError(
+            "the checkpoint was made for another parameter space",
+            file=folder / "checkpoint.npz",
+            fix="start a new run in another --output folder",
+        )
     state.finished = ""
     write_status(folder, state)
     evaluate = make_evaluator(evaluator, problem, workers)
     mom = make_optimizer(evaluate, settings, state)
-    columns = [TextColumn("[bold]optimizing[/]"), BarColumn(), TextColumn("gen {task.fields[gen]}"),
-               TextColumn("f {task.fields[cost]}"), TextColumn("violation {task.fields[viol]}"),
-               TimeElapsedColumn()]
+    columns = [
+        TextColumn("[bold]optimizing[/]"),
+        BarColumn(),
+        TextColumn("gen {task.fields[gen]}"),
+        TextColumn("f {task.fields[cost]}"),
+        TextColumn("violation {task.fields[viol]}"),
+        TimeElapsedColumn(),
+    ]
     total = settings.max_evaluations
     try:
         with Progress(*columns, disable=not progress, transient=False) as bar:
-            task = bar.add_task("opt", total=total, gen=state.generation, cost="-", viol="-",
-                                completed=state.evaluations)
+            task = bar.add_task(
+                "opt", total=total, gen=state.generation, cost="-", viol="-", completed=state.evaluations
+            )
             while (row := mom.step()) is not None:
                 save_state(state, folder / "checkpoint.npz")
                 write_log(folder, state.log)
                 write_best(folder, problem, state)
-                bar.update(task, completed=row["evaluations"], gen=row["generation"],
-                           cost=f"{row['best_cost']:.4g}", viol=f"{row['best_violation']:.3g}")
+                bar.update(
+                    task,
+                    completed=row["evaluations"],
+                    gen=row["generation"],
+                    cost=f"{row['best_cost']:.4g}",
+                    viol=f"{row['best_violation']:.3g}",
+                )
     finally:
         close = getattr(evaluate, "close", None)
         close and close()

@@ -22,62 +22,110 @@ from eigengait.optimize.checkpoint import load_state
 from eigengait.optimize.mom import MomSettings, MomState
 from eigengait.optimize.run import optimize
 
-OPEN_LOOP_SHARE = 0.4     # at most this share of the evaluation or time budget goes to stage 1
-CLOSED_LOOP_SIGMA = 0.1   # stage 2's first step size (normalized): near the open-loop gait, room for the gains
+OPEN_LOOP_SHARE = 0.4  # at most this share of the evaluation or time budget goes to stage 1
+CLOSED_LOOP_SIGMA = 0.1  # stage 2's first step size (normalized): near the open-loop gait, room for the gains
 STAGE_ONE = "open-loop"
 CHECKPOINT = "checkpoint.npz"
 
 
 def open_loop_sketch(sketch: Sketch) -> Sketch:
     """The same sketch without feedback, simulated for one cycle."""
-    return sketch.model_copy(update={"feedback": sketch.feedback.model_copy(
-        update={"mechanisms": [], "horizon_cycles": 1})})
+    return sketch.model_copy(
+        update={"feedback": sketch.feedback.model_copy(update={"mechanisms": [], "horizon_cycles": 1})}
+    )
 
 
 def _share(settings: MomSettings, share: float) -> MomSettings:
-    return replace(settings,
-                   max_evaluations=int(settings.max_evaluations * share) if settings.max_evaluations else None,
-                   max_seconds=settings.max_seconds * share if settings.max_seconds else None)
+    return replace(
+        settings,
+        max_evaluations=int(settings.max_evaluations * share) if settings.max_evaluations else None,
+        max_seconds=settings.max_seconds * share if settings.max_seconds else None,
+    )
 
 
 def _spent(settings: MomSettings, state: MomState) -> MomSettings:
-    return replace(settings,
-                   max_evaluations=(max(1, settings.max_evaluations - state.evaluations)
-                                    if settings.max_evaluations else None),
-                   max_seconds=max(1.0, settings.max_seconds - state.elapsed) if settings.max_seconds else None)
+    return replace(
+        settings,
+        max_evaluations=(max(1, settings.max_evaluations - state.evaluations) if settings.max_evaluations else None),
+        max_seconds=max(1.0, settings.max_seconds - state.elapsed) if settings.max_seconds else None,
+    )
 
 
-def optimize_gait(sketch: Sketch, folder: Path, settings: MomSettings, evaluator: str = "threads",
-                  workers: int | None = None, resume: bool = False, progress: bool = True,
-                  sketch_source: str | Path | None = None, seed: int | None = None) -> MomState:
+def optimize_gait(
+    sketch: Sketch,
+    folder: Path,
+    settings: MomSettings,
+    evaluator: str = "threads",
+    workers: int | None = None,
+    resume: bool = False,
+    progress: bool = True,
+    sketch_source: str | Path | None = None,
+    seed: int | None = None,
+) -> MomState:
     """Optimize a sketch into a gait (two stages when it has feedback or a multi-cycle horizon). `seed`: the seed
     the user asked for explicitly, if any (a resumed run refuses a different one)."""
     if not sketch.feedback.mechanisms and sketch.feedback.horizon_cycles == 1:
         return optimize(sketch, folder, settings, evaluator, workers, resume, progress, sketch_source, seed=seed)
     stage = folder / STAGE_ONE
-    if resume and not (stage / CHECKPOINT).exists():      # nothing of stage 1 to resume: the run folder says why
+    if resume and not (stage / CHECKPOINT).exists():  # nothing of stage 1 to resume: the run folder says why
         return optimize(sketch, folder, settings, evaluator, workers, True, progress, sketch_source, seed=seed)
     if resume and (folder / CHECKPOINT).exists():
         first = load_state(stage / CHECKPOINT)
-        return optimize(sketch, folder, replace(_spent(settings, first), sigma0=CLOSED_LOOP_SIGMA), evaluator,
-                        workers, True, progress, sketch_source, seed=seed)
-    first = optimize(open_loop_sketch(sketch), stage, _share(settings, OPEN_LOOP_SHARE), evaluator, workers, resume,
-                     progress, sketch_source, seed=seed)
-    return closed_loop_stage(sketch, folder, _spent(settings, first), first, evaluator, workers, progress,
-                             sketch_source)
+        return optimize(
+            sketch,
+            folder,
+            replace(_spent(settings, first), sigma0=CLOSED_LOOP_SIGMA),
+            evaluator,
+            workers,
+            True,
+            progress,
+            sketch_source,
+            seed=seed,
+        )
+    first = optimize(
+        open_loop_sketch(sketch),
+        stage,
+        _share(settings, OPEN_LOOP_SHARE),
+        evaluator,
+        workers,
+        resume,
+        progress,
+        sketch_source,
+        seed=seed,
+    )
+    return closed_loop_stage(
+        sketch, folder, _spent(settings, first), first, evaluator, workers, progress, sketch_source
+    )
 
 
-def closed_loop_stage(sketch: Sketch, folder: Path, settings: MomSettings, first: MomState, evaluator: str = "threads",
-                      workers: int | None = None, progress: bool = True,
-                      sketch_source: str | Path | None = None) -> MomState:
+def closed_loop_stage(
+    sketch: Sketch,
+    folder: Path,
+    settings: MomSettings,
+    first: MomState,
+    evaluator: str = "threads",
+    workers: int | None = None,
+    progress: bool = True,
+    sketch_source: str | Path | None = None,
+) -> MomState:
     """Stage 2 from an open-loop run's best, every feedback gain at zero."""
     gains = _feedback_size(sketch, sketch_source)
-    x_start = np.r_[first.best_x, np.full(gains, 0.5)]          # normalized 0.5 = zero gain
-    return optimize(sketch, folder, replace(settings, sigma0=CLOSED_LOOP_SIGMA), evaluator, workers, False,
-                    progress, sketch_source, x_start=x_start)
+    x_start = np.r_[first.best_x, np.full(gains, 0.5)]  # normalized 0.5 = zero gain
+    return optimize(
+        sketch,
+        folder,
+        replace(settings, sigma0=CLOSED_LOOP_SIGMA),
+        evaluator,
+        workers,
+        False,
+        progress,
+        sketch_source,
+        x_start=x_start,
+    )
 
 
 def _feedback_size(sketch: Sketch, source) -> int:
     from eigengait.optimize.problem import Problem
+
     space = Problem.from_sketch(sketch, source).space
     return sum(1 for e in space.entries if e.name.startswith("fb/"))

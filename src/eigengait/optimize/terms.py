@@ -8,9 +8,9 @@ from __future__ import annotations
 
 import numpy as np
 
-SOFT_HEIGHT = 1.0        # h: the step every violated soft constraint adds
+SOFT_HEIGHT = 1.0  # h: the step every violated soft constraint adds
 OBJECTIVE_WEIGHT = 1e-5  # w_p
-SOFT_WEIGHT = 1e5        # w_r (= 1e10 w_p)
+SOFT_WEIGHT = 1e5  # w_r (= 1e10 w_p)
 
 
 def q_upper(d, eps, h: float = SOFT_HEIGHT):
@@ -31,7 +31,7 @@ def speed_objective(mean_forward_speed: float) -> float:
 
 def energy_objective(torques: np.ndarray) -> float:
     """E_energia = (1/n) Σ_t Σ_j (τ_j^t)² over the n physics steps, active torque only (Eq. 4.6), (N·m)²."""
-    return float(np.mean(np.sum(torques ** 2, axis=-1)))
+    return float(np.mean(np.sum(torques**2, axis=-1)))
 
 
 def min_speed_term(com_forward_speed: np.ndarray, min_speed: float) -> float:

@@ -13,8 +13,14 @@ import numpy as np
 from eigengait.sim.world import World
 
 CONTACT_TOLERANCE_M = 0.005
-FOOT_COLOURS = ((0.13, 0.47, 0.80), (0.89, 0.35, 0.13), (0.18, 0.63, 0.29), (0.58, 0.30, 0.70),
-                (0.80, 0.63, 0.10), (0.40, 0.40, 0.40))
+FOOT_COLOURS = (
+    (0.13, 0.47, 0.80),
+    (0.89, 0.35, 0.13),
+    (0.18, 0.63, 0.29),
+    (0.58, 0.30, 0.70),
+    (0.80, 0.63, 0.10),
+    (0.40, 0.40, 0.40),
+)
 
 
 def foot_colour(index: int) -> tuple[float, float, float]:
@@ -48,8 +54,14 @@ def foot_contacts(world: World, qpos: np.ndarray) -> np.ndarray:
     return flags
 
 
-def contact_diagram(ax, times: np.ndarray, contacts: np.ndarray, feet: list[str], period_s: float | None = None,
-                    marks: np.ndarray | None = None) -> None:
+def contact_diagram(
+    ax,
+    times: np.ndarray,
+    contacts: np.ndarray,
+    feet: list[str],
+    period_s: float | None = None,
+    marks: np.ndarray | None = None,
+) -> None:
     """Draw the footfall diagram on a matplotlib axis: a bar per foot where it touches the ground.
 
     `times` (s) are the frame times of `contacts` (T × feet). With `period_s` the cycle boundaries are dashed and

@@ -16,8 +16,9 @@ def _font(size: int) -> ImageFont.FreeTypeFont:
     return ImageFont.load_default(size=size)
 
 
-def annotate(frame: np.ndarray, time_s: float | None,
-             feet: list[tuple[str, bool, tuple[float, float, float]]] = ()) -> np.ndarray:
+def annotate(
+    frame: np.ndarray, time_s: float | None, feet: list[tuple[str, bool, tuple[float, float, float]]] = ()
+) -> np.ndarray:
     """The frame (H × W × 3 uint8) with "t = …s" at the top left and, at the top right, one box per foot
     (name, on the ground, colour): filled while the foot touches the ground, outlined while it is in the air.
     Foot names are shortened to their initials ("front_left" → "FL") when the full names do not fit."""

@@ -29,9 +29,9 @@ from eigengait.sim.world import World
 MINUS_RGBA = (1.0, 0.5, 0.05, 1.0)
 PLUS_RGBA = (0.0, 0.62, 0.55, 1.0)
 SOLID_RGBA = (0.86, 0.86, 0.88, 1.0)
-GHOST_OPACITY = (0.0, 0.8)         # for a geom that does not move … one that moves fully (see _ghost_opacity)
-MOVING_TRAVEL = 0.08               # fraction of the creature's height: travel that counts as fully moving
-MOVING_ROTATION = 0.5              # fraction of the peak joint rotation that counts as fully moving
+GHOST_OPACITY = (0.0, 0.8)  # for a geom that does not move … one that moves fully (see _ghost_opacity)
+MOVING_TRAVEL = 0.08  # fraction of the creature's height: travel that counts as fully moving
+MOVING_ROTATION = 0.5  # fraction of the peak joint rotation that counts as fully moving
 ARROW_RGBA = (0.15, 0.15, 0.15, 1.0)
 PINNED_RGBA = (0.85, 0.05, 0.05, 1.0)
 BACKGROUND = 255
@@ -41,6 +41,7 @@ PALETTE_VIEW = CameraView(azimuth_deg=140.0, elevation_deg=-25.0, fill=0.85)
 @dataclass(frozen=True)
 class PaletteLayout:
     """Pixel geometry: a title band, then rows of (label band + tile)."""
+
     count: int
     columns: int
     tile_width: int = 240
@@ -73,8 +74,9 @@ def palette_layout(count: int, columns: int | None = None, tile_px: int = 240) -
     return PaletteLayout(count=count, columns=columns, tile_width=tile_px, tile_height=tile_px)
 
 
-def mode_tiles(world: World, modes: ModeSet, count: int, tile_px: int = 240,
-               max_rotation_deg: float = DEFAULT_MAX_ROTATION_DEG) -> list[np.ndarray]:
+def mode_tiles(
+    world: World, modes: ModeSet, count: int, tile_px: int = 240, max_rotation_deg: float = DEFAULT_MAX_ROTATION_DEG
+) -> list[np.ndarray]:
     """One RGB tile (tile_px × tile_px × 3) per mode 1..count: relax pose with ±A ghosts (module doc).
 
     Each tile's camera aims at the relax pose's centre and steps back just enough to keep both extremes in view.
@@ -90,14 +92,17 @@ def mode_tiles(world: World, modes: ModeSet, count: int, tile_px: int = 240,
         for i in range(count):
             renderer.fit(np.vstack([relax, _corners(world, minus[i]), _corners(world, plus[i])]), centre)
             base = _render(renderer, world.model.qpos0, SOLID_RGBA, lambda: _add_cues(renderer, relax, modes))
-            layers = [_ghost(renderer, relax, extreme, rgba, max_rotation_deg)
-                      for extreme, rgba in ((minus[i], MINUS_RGBA), (plus[i], PLUS_RGBA))]
+            layers = [
+                _ghost(renderer, relax, extreme, rgba, max_rotation_deg)
+                for extreme, rgba in ((minus[i], MINUS_RGBA), (plus[i], PLUS_RGBA))
+            ]
             tiles.append(_blend(base, layers))
     return tiles
 
 
-def _ghost(renderer: FrameRenderer, relax: np.ndarray, extreme: np.ndarray, rgba: tuple,
-           max_rotation_deg: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def _ghost(
+    renderer: FrameRenderer, relax: np.ndarray, extreme: np.ndarray, rgba: tuple, max_rotation_deg: float
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """One extreme as a layer: its image, per-pixel opacity (H × W × 1) and depth (m, inf off the creature)."""
     segments = _segments(renderer, extreme)
     alpha = _ghost_opacity(renderer, relax, extreme, max_rotation_deg)[segments][..., None]
@@ -142,8 +147,9 @@ def _segments(renderer: FrameRenderer, qpos: np.ndarray) -> np.ndarray:
     return np.where(is_geom, lookup[np.where(is_geom, ids[..., 0], -1)], -1)
 
 
-def _ghost_opacity(renderer: FrameRenderer, relax: np.ndarray, extreme: np.ndarray,
-                   max_rotation_deg: float) -> np.ndarray:
+def _ghost_opacity(
+    renderer: FrameRenderer, relax: np.ndarray, extreme: np.ndarray, max_rotation_deg: float
+) -> np.ndarray:
     """Opacity per creature geom (and 0 for a last entry, indexed by −1), from how much the geom moves between
     the relax pose and the extreme: the larger of its travel (box corners, relative to MOVING_TRAVEL of the
     creature's height) and its own joint's rotation (relative to MOVING_ROTATION of the mode's peak rotation)."""
@@ -163,7 +169,7 @@ def _joint_turn_deg(model: mujoco.MjModel, body: int, qpos: np.ndarray) -> float
     for j in range(model.body_jntadr[body], model.body_jntadr[body] + model.body_jntnum[body]):
         adr = model.jnt_qposadr[j]
         if model.jnt_type[j] == mujoco.mjtJoint.mjJNT_BALL:
-            dot = abs(float(qpos[adr:adr + 4] @ model.qpos0[adr:adr + 4]))
+            dot = abs(float(qpos[adr : adr + 4] @ model.qpos0[adr : adr + 4]))
             turns.append(np.degrees(2 * np.arccos(min(dot, 1.0))))
         elif model.jnt_type[j] == mujoco.mjtJoint.mjJNT_HINGE:
             turns.append(np.degrees(abs(qpos[adr] - model.qpos0[adr])))
@@ -175,13 +181,13 @@ def _add_cues(renderer: FrameRenderer, relax: np.ndarray, modes: ModeSet) -> Non
     low, high = relax.min(axis=0), relax.max(axis=0)
     size = float(high[2] - low[2])
     start = [high[0] + 0.05 * size, (low[1] + high[1]) / 2, low[2] + 0.01]
-    to_x = np.array([[0.0, 0.0, 1.0], [0.0, 1.0, 0.0], [-1.0, 0.0, 0.0]])     # the arrow's z axis along +x
-    renderer.add_marker(mujoco.mjtGeom.mjGEOM_ARROW, (0.035 * size, 0.035 * size, 0.3 * size), start, ARROW_RGBA,
-                        to_x)
+    to_x = np.array([[0.0, 0.0, 1.0], [0.0, 1.0, 0.0], [-1.0, 0.0, 0.0]])  # the arrow's z axis along +x
+    renderer.add_marker(mujoco.mjtGeom.mjGEOM_ARROW, (0.035 * size, 0.035 * size, 0.3 * size), start, ARROW_RGBA, to_x)
     if modes.foot:
         site = renderer.model.site(renderer.world.character.feet[modes.foot].toe).id
-        renderer.add_marker(mujoco.mjtGeom.mjGEOM_SPHERE, (0.04 * size,) * 3, renderer.data.site_xpos[site],
-                            PINNED_RGBA)
+        renderer.add_marker(
+            mujoco.mjtGeom.mjGEOM_SPHERE, (0.04 * size,) * 3, renderer.data.site_xpos[site], PINNED_RGBA
+        )
 
 
 def _corners(world: World, qpos: np.ndarray) -> np.ndarray:
@@ -197,24 +203,34 @@ def palette_title(modes: ModeSet) -> str:
     return f"{modes.character} — {where}{pose}"
 
 
-def palette_image(world: World, modes: ModeSet, count: int | None = None, columns: int | None = None,
-                  tile_px: int = 240, max_rotation_deg: float = DEFAULT_MAX_ROTATION_DEG) -> np.ndarray:
+def palette_image(
+    world: World,
+    modes: ModeSet,
+    count: int | None = None,
+    columns: int | None = None,
+    tile_px: int = 240,
+    max_rotation_deg: float = DEFAULT_MAX_ROTATION_DEG,
+) -> np.ndarray:
     """The palette of modes 1..count (default all) as an RGB uint8 image of size `palette_layout(...).size`."""
     count = modes.count if count is None else count
     if not 1 <= count <= modes.count:
-        raise UserInputError(f"cannot show {count} modes", field="--modes",
-                             fix=f"{modes.character} has {modes.count} modes in the {modes.phase} phase")
+        raise UserInputError(
+            f"cannot show {count} modes",
+            field="--modes",
+            fix=f"{modes.character} has {modes.count} modes in the {modes.phase} phase",
+        )
     layout = palette_layout(count, columns, tile_px)
     canvas = np.full((*layout.size, 3), BACKGROUND, dtype=np.uint8)
     for i, tile in enumerate(mode_tiles(world, modes, count, tile_px, max_rotation_deg)):
         top, left = layout.tile_origin(i)
-        canvas[top:top + tile_px, left:left + tile_px] = tile
+        canvas[top : top + tile_px, left : left + tile_px] = tile
     return _draw_labels(canvas, layout, modes, max_rotation_deg)
 
 
 def _draw_labels(canvas: np.ndarray, layout: PaletteLayout, modes: ModeSet, max_rotation_deg: float) -> np.ndarray:
     """Title, legend and per-tile labels drawn with matplotlib onto the canvas, same pixel size."""
     import matplotlib
+
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
@@ -229,26 +245,44 @@ def _draw_labels(canvas: np.ndarray, layout: PaletteLayout, modes: ModeSet, max_
         fig.text(x / width, 1 - y / height, s, va="center", **style)
 
     text(width / 2, layout.title_height * 0.36, palette_title(modes), ha="center", fontsize=17, weight="bold")
-    text(width / 2, layout.title_height * 0.74,
-         "grey: relax pose   ·   orange: −A   ·   teal: +A   (opaque where the body moves)   ·   "
-         "arrow: facing" + ("   ·   red ball: pinned toe" if modes.foot else "") +
-         f"   ·   A turns the most-moving joint {max_rotation_deg:g}°",
-         ha="center", fontsize=10.5, color="#444444")
+    text(
+        width / 2,
+        layout.title_height * 0.74,
+        "grey: relax pose   ·   orange: −A   ·   teal: +A   (opaque where the body moves)   ·   "
+        "arrow: facing"
+        + ("   ·   red ball: pinned toe" if modes.foot else "")
+        + f"   ·   A turns the most-moving joint {max_rotation_deg:g}°",
+        ha="center",
+        fontsize=10.5,
+        color="#444444",
+    )
     for i in range(layout.count):
         top, left = layout.tile_origin(i)
         y = top - layout.label_height / 2
         text(left + 10, y, f"mode {i + 1}", ha="left", fontsize=12, weight="bold")
-        text(left + layout.tile_width - 10, y, f"{modes.frequencies_hz[i]:.2f} Hz", ha="right", fontsize=11,
-             color="#333333")
+        text(
+            left + layout.tile_width - 10,
+            y,
+            f"{modes.frequencies_hz[i]:.2f} Hz",
+            ha="right",
+            fontsize=11,
+            color="#333333",
+        )
     fig.canvas.draw()
     image = np.asarray(fig.canvas.buffer_rgba())[..., :3].copy()
     plt.close(fig)
     return image
 
 
-def write_palette(world: World, modes: ModeSet, path: str | Path, count: int | None = None,
-                  columns: int | None = None, tile_px: int = 240,
-                  max_rotation_deg: float = DEFAULT_MAX_ROTATION_DEG) -> np.ndarray:
+def write_palette(
+    world: World,
+    modes: ModeSet,
+    path: str | Path,
+    count: int | None = None,
+    columns: int | None = None,
+    tile_px: int = 240,
+    max_rotation_deg: float = DEFAULT_MAX_ROTATION_DEG,
+) -> np.ndarray:
     """Render the palette and save it as PNG; returns the image."""
     import imageio.v3 as iio
 

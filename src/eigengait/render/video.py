@@ -36,6 +36,7 @@ class CameraView:
     from its front-right three-quarter. Elevations below −22.5° keep the horizon out of a 4:3 or square frame.
     `distance_m=None` fits the creature in the frame so that it spans `fill` of the width or height.
     `follow=True` follows the COM; `False` is a fixed camera framing every pose of the trajectory."""
+
     azimuth_deg: float = 135.0
     elevation_deg: float = -25.0
     distance_m: float | None = None
@@ -54,8 +55,11 @@ class CameraView:
 def visual_model(world: World, width: int, height: int) -> mujoco.MjModel:
     """A copy of the world's model with an offscreen buffer of the requested size and softer lighting."""
     if width < 16 or height < 16 or width % 2 or height % 2:
-        raise UserInputError(f"image size {width}×{height} is not usable", field="--width/--height",
-                             fix="use even sizes of at least 16 pixels (H.264 needs even sizes)")
+        raise UserInputError(
+            f"image size {width}×{height} is not usable",
+            field="--width/--height",
+            fix="use even sizes of at least 16 pixels (H.264 needs even sizes)",
+        )
     model = copy.deepcopy(world.model)
     model.vis.global_.offwidth = max(width, model.vis.global_.offwidth)
     model.vis.global_.offheight = max(height, model.vis.global_.offheight)
@@ -68,12 +72,14 @@ def visual_model(world: World, width: int, height: int) -> mujoco.MjModel:
 
 def creature_geoms(model: mujoco.MjModel, root_body: int) -> np.ndarray:
     """Ids of the geoms on the creature's bodies (everything below `root_body`)."""
+
     def inside(body: int) -> bool:
         while body > 0:
             if body == root_body:
                 return True
             body = int(model.body_parentid[body])
         return False
+
     return np.array([g for g in range(model.ngeom) if inside(int(model.geom_bodyid[g]))])
 
 
@@ -86,8 +92,9 @@ def geom_corners(model: mujoco.MjModel, data: mujoco.MjData, geoms: np.ndarray) 
     return (np.einsum("gij,gkj->gki", rot, local) + data.geom_xpos[geoms][:, None]).reshape(-1, 3)
 
 
-def fit_camera(points: np.ndarray, view: CameraView, aspect: float, fovy_deg: float,
-               centre: np.ndarray | None = None) -> tuple[np.ndarray, float]:
+def fit_camera(
+    points: np.ndarray, view: CameraView, aspect: float, fovy_deg: float, centre: np.ndarray | None = None
+) -> tuple[np.ndarray, float]:
     """Look-at point (m) and distance (m) that frame the world points with the view's direction and fill.
 
     Without `centre` the camera aims at the middle of the points' image; with it, at `centre`'s image (the frame
@@ -118,7 +125,7 @@ class FrameRenderer:
         self.world = world
         self.model = visual_model(world, width, height)
         self.data = mujoco.MjData(self.model)
-        self.pose_data = mujoco.MjData(self.model)          # for poses measured but not drawn
+        self.pose_data = mujoco.MjData(self.model)  # for poses measured but not drawn
         self.renderer = mujoco.Renderer(self.model, height=height, width=width)
         self.renderer.scene.flags[mujoco.mjtRndFlag.mjRND_SHADOW] = True
         self.geoms = creature_geoms(self.model, world.root_body)
@@ -189,8 +196,14 @@ class FrameRenderer:
         scene = self.renderer.scene
         if scene.ngeom >= scene.maxgeom:
             return
-        mujoco.mjv_initGeom(scene.geoms[scene.ngeom], kind, np.asarray(size, float), np.asarray(pos, float),
-                            np.asarray(mat, float).ravel(), np.asarray(rgba, np.float32))
+        mujoco.mjv_initGeom(
+            scene.geoms[scene.ngeom],
+            kind,
+            np.asarray(size, float),
+            np.asarray(pos, float),
+            np.asarray(mat, float).ravel(),
+            np.asarray(rgba, np.float32),
+        )
         scene.ngeom += 1
 
     def _add_contact_marks(self) -> None:
@@ -198,8 +211,12 @@ class FrameRenderer:
 
         for index, point in enumerate(contact_points(self.world, self.data).values()):
             if point is not None:
-                self.add_marker(mujoco.mjtGeom.mjGEOM_CYLINDER, (0.07, 0.002, 0), [point[0], point[1], 0.002],
-                                (*foot_colour(index), 0.85))
+                self.add_marker(
+                    mujoco.mjtGeom.mjGEOM_CYLINDER,
+                    (0.07, 0.002, 0),
+                    [point[0], point[1], 0.002],
+                    (*foot_colour(index), 0.85),
+                )
 
     def _recolour(self, rgba: tuple) -> None:
         scene = self.renderer.scene
@@ -209,9 +226,15 @@ class FrameRenderer:
                 geom.rgba[:] = rgba
 
 
-def iter_frames(world: World, qpos: np.ndarray, width: int = 640, height: int = 480,
-                view: CameraView = CameraView(), progress: bool = False,
-                times: np.ndarray | None = None) -> Iterator[np.ndarray]:
+def iter_frames(
+    world: World,
+    qpos: np.ndarray,
+    width: int = 640,
+    height: int = 480,
+    view: CameraView = CameraView(),
+    progress: bool = False,
+    times: np.ndarray | None = None,
+) -> Iterator[np.ndarray]:
     """Frames of a qpos sequence (T × nq), one RGB uint8 image at a time, with a progress bar if asked.
 
     With `times` (s, one per pose) every frame is annotated: the time, and on a floor the feet on the ground.
@@ -227,8 +250,14 @@ def iter_frames(world: World, qpos: np.ndarray, width: int = 640, height: int = 
         for i, q in enumerate(qpos):
             frame = renderer.render(q, contact_marks=marks)
             if times is not None:
-                feet = [(name, point is not None, foot_colour(k)) for k, (name, point)
-                        in enumerate(contact_points(world, renderer.data).items())] if marks else []
+                feet = (
+                    [
+                        (name, point is not None, foot_colour(k))
+                        for k, (name, point) in enumerate(contact_points(world, renderer.data).items())
+                    ]
+                    if marks
+                    else []
+                )
                 frame = annotate(frame, float(times[i]), feet)
             yield frame
             bar.advance(task)
@@ -237,8 +266,15 @@ def iter_frames(world: World, qpos: np.ndarray, width: int = 640, height: int = 
 def _progress(visible: bool) -> Progress:
     from rich.console import Console
 
-    return Progress(TextColumn("{task.description}"), BarColumn(), TextColumn("{task.completed}/{task.total} frames"),
-                    TimeRemainingColumn(), console=Console(stderr=True), disable=not visible, transient=True)
+    return Progress(
+        TextColumn("{task.description}"),
+        BarColumn(),
+        TextColumn("{task.completed}/{task.total} frames"),
+        TimeRemainingColumn(),
+        console=Console(stderr=True),
+        disable=not visible,
+        transient=True,
+    )
 
 
 def video_path(path: str | Path) -> Path:
@@ -255,7 +291,7 @@ def write_video(frames: Iterator[np.ndarray], path: str | Path, fps: float) -> i
     The video is written under a temporary name and renamed when complete (`eigengait.outputs.replacing`)."""
     path = video_path(path)
     count = 0
-    with replacing(path) as temporary, closing(_video_writer(temporary, fps)) as writer:   # closed on errors too
+    with replacing(path) as temporary, closing(_video_writer(temporary, fps)) as writer:  # closed on errors too
         for frame in frames:
             writer.append_data(frame)
             count += 1
@@ -266,14 +302,32 @@ def _video_writer(path: Path, fps: float):
     import imageio.v2 as imageio
 
     if path.suffix.lower() == ".mp4":
-        return imageio.get_writer(path, format="FFMPEG", fps=fps, codec="libx264", pixelformat="yuv420p",
-                                  quality=8, macro_block_size=2, ffmpeg_log_level="error")
+        return imageio.get_writer(
+            path,
+            format="FFMPEG",
+            fps=fps,
+            codec="libx264",
+            pixelformat="yuv420p",
+            quality=8,
+            macro_block_size=2,
+            ffmpeg_log_level="error",
+        )
     return imageio.get_writer(path, format="GIF", mode="I", duration=1000.0 / fps, loop=0)
 
 
-def render_video(world: World, qpos: np.ndarray, source_fps: float, path: str | Path, width: int = 640,
-                 height: int = 480, view: CameraView = CameraView(), progress: bool = False, fps: float = 30.0,
-                 speed: float = 1.0, annotate: bool = True) -> int:
+def render_video(
+    world: World,
+    qpos: np.ndarray,
+    source_fps: float,
+    path: str | Path,
+    width: int = 640,
+    height: int = 480,
+    view: CameraView = CameraView(),
+    progress: bool = False,
+    fps: float = 30.0,
+    speed: float = 1.0,
+    annotate: bool = True,
+) -> int:
     """Render a qpos sequence (T × nq) recorded at `source_fps` to a video file at exactly `fps` frames per
     second, showing `speed` simulated seconds per second of video (1 = real time); returns the frame count.
 

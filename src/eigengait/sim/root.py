@@ -12,38 +12,39 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
-AXIS_TOLERANCE = 0.99    # |cos| between a joint axis and a world axis to count as that axis
+AXIS_TOLERANCE = 0.99  # |cos| between a joint axis and a world axis to count as that axis
 
 
 @dataclass(frozen=True)
 class RootLayout:
     """Addresses of the root coordinates. For a planar root, absent coordinates are None."""
-    kind: str                          # "free" or "planar"
+
+    kind: str  # "free" or "planar"
     translation_qvel: tuple[int, ...]  # qvel entries of the root's translation
-    forward_qpos: int | None           # root x position (m)
-    forward_qvel: int | None           # root x velocity (m/s)
-    height_qpos: int | None            # root z position (m)
-    vertical_qvel: int | None          # root z velocity (m/s)
-    quat_qpos: int | None = None       # free root: orientation quaternion (w, x, y, z)
-    pitch_qpos: int | None = None      # planar root: hinge about ±y (rad)
-    pitch_sign: float = 1.0            # +1 if that hinge's axis is +y
+    forward_qpos: int | None  # root x position (m)
+    forward_qvel: int | None  # root x velocity (m/s)
+    height_qpos: int | None  # root z position (m)
+    vertical_qvel: int | None  # root z velocity (m/s)
+    quat_qpos: int | None = None  # free root: orientation quaternion (w, x, y, z)
+    pitch_qpos: int | None = None  # planar root: hinge about ±y (rad)
+    pitch_sign: float = 1.0  # +1 if that hinge's axis is +y
 
     def lift_and_pitch(self, qpos: np.ndarray, height: float, pitch: float) -> None:
         """Raise the root by `height` (m) and pitch it by `pitch` (rad, about world +y), in place."""
         if self.height_qpos is not None:
             qpos[self.height_qpos] += height
         if self.quat_qpos is not None:
-            q, turn, out = qpos[self.quat_qpos:self.quat_qpos + 4], np.zeros(4), np.zeros(4)
+            q, turn, out = qpos[self.quat_qpos : self.quat_qpos + 4], np.zeros(4), np.zeros(4)
             mujoco.mju_axisAngle2Quat(turn, np.array([0.0, 1.0, 0.0]), pitch)
             mujoco.mju_mulQuat(out, turn, q)
-            qpos[self.quat_qpos:self.quat_qpos + 4] = out
+            qpos[self.quat_qpos : self.quat_qpos + 4] = out
         elif self.pitch_qpos is not None:
             qpos[self.pitch_qpos] += self.pitch_sign * pitch
 
     def up_z(self, qpos: np.ndarray) -> np.ndarray:
         """World z of the root's up axis for qpos rows (…, nq): 1 upright, < 0 upside down."""
         if self.quat_qpos is not None:
-            q = qpos[..., self.quat_qpos:self.quat_qpos + 4]
+            q = qpos[..., self.quat_qpos : self.quat_qpos + 4]
             return 1 - 2 * (q[..., 1] ** 2 + q[..., 2] ** 2)
         if self.pitch_qpos is not None:
             return np.cos(qpos[..., self.pitch_qpos])

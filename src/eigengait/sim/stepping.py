@@ -13,8 +13,13 @@ MAX_SPEED = 500.0  # rad/s or m/s on any dof: beyond this the simulation is cons
 MAX_CONTROL = 1e9  # N·m: MuJoCo resets the simulation on controls beyond ~1e10, hiding the blow-up
 
 
-def first_blow_up(qvel: np.ndarray, motor_torques: np.ndarray, motor_dofs: np.ndarray,
-                  times: np.ndarray | None = None, dt: float = 0.0) -> tuple[int, int] | None:
+def first_blow_up(
+    qvel: np.ndarray,
+    motor_torques: np.ndarray,
+    motor_dofs: np.ndarray,
+    times: np.ndarray | None = None,
+    dt: float = 0.0,
+) -> tuple[int, int] | None:
     """(step, dof) of the first blow-up in a recording (steps × nv velocities, steps × motors torques), or None.
 
     A torque that is not finite or beyond `MAX_CONTROL` counts at its step, on its motor's dof. With `times`
@@ -40,10 +45,13 @@ def raise_blow_up(world: World, time: float, dof: int, file: str | None = None) 
     """Raise `SimulationBlowUp` naming the time (s) and the body that owns `dof`; `file` is the user's file at
     fault (default: the character)."""
     body = world.model.body(int(world.model.dof_bodyid[dof])).name
-    raise SimulationBlowUp(f"the simulation blew up at t = {time:.4f} s (body '{body}' reached NaN, a runaway "
-                           f"speed or an impossible torque)",
-                           file=str(file or world.character.path), field=f"body '{body}'",
-                           fix="reduce the time step, the torques, the initial speeds or the joint stiffness")
+    raise SimulationBlowUp(
+        f"the simulation blew up at t = {time:.4f} s (body '{body}' reached NaN, a runaway "
+        f"speed or an impossible torque)",
+        file=str(file or world.character.path),
+        field=f"body '{body}'",
+        fix="reduce the time step, the torques, the initial speeds or the joint stiffness",
+    )
 
 
 def step(world: World, data: mujoco.MjData, nstep: int = 1, model: mujoco.MjModel | None = None) -> None:

@@ -35,6 +35,7 @@ GRAVITY = 9.81
 @dataclass(frozen=True)
 class WorldOptions:
     """gravity on/off; timestep in s; which geoms touch the ground; place the feet on the ground."""
+
     gravity: bool = True
     timestep: float = 0.0005
     contact: Literal["all", "feet", "none"] = "all"
@@ -42,24 +43,28 @@ class WorldOptions:
 
     def __post_init__(self):
         if not 0 < self.timestep <= 0.05:
-            raise UserInputError(f"timestep {self.timestep} s is out of range", field="timestep",
-                                 fix="use a step between 1e-5 and 0.05 s (default 0.0005)")
+            raise UserInputError(
+                f"timestep {self.timestep} s is out of range",
+                field="timestep",
+                fix="use a step between 1e-5 and 0.05 s (default 0.0005)",
+            )
 
 
 @dataclass
 class World:
     """A compiled world and the index maps controllers and objectives need."""
+
     character: Character
     pose: str | dict
     options: WorldOptions
     model: mujoco.MjModel
     spec: mujoco.MjSpec = field(repr=False)
     root_body: int = 0
-    internal_qvel: np.ndarray = None          # qvel indices of internal dofs, model order
-    internal_qpos_joints: list[int] = None    # joint ids of internal joints, model order
-    foot_spheres: dict[str, list[int]] = field(default_factory=dict)   # foot -> contact geom ids
-    foot_sensor: dict[str, int] = field(default_factory=dict)         # "<foot>_toe"/"<foot>_heel" -> sensordata adr
-    root: RootLayout = None                   # where the root's coordinates are in qpos/qvel
+    internal_qvel: np.ndarray = None  # qvel indices of internal dofs, model order
+    internal_qpos_joints: list[int] = None  # joint ids of internal joints, model order
+    foot_spheres: dict[str, list[int]] = field(default_factory=dict)  # foot -> contact geom ids
+    foot_sensor: dict[str, int] = field(default_factory=dict)  # "<foot>_toe"/"<foot>_heel" -> sensordata adr
+    root: RootLayout = None  # where the root's coordinates are in qpos/qvel
 
     @property
     def nmotor(self) -> int:
@@ -107,7 +112,7 @@ def _add_springs(spec: mujoco.MjSpec, character: Character) -> None:
     for name in character.joints:
         joint = spec.joint(name)
         k = character.stiffness[name]
-        user_damping = float(np.atleast_1d(joint.damping)[0])   # as written in the MJCF (the spec is unedited so far)
+        user_damping = float(np.atleast_1d(joint.damping)[0])  # as written in the MJCF (the spec is unedited so far)
         if np.ptp(k) == 0:
             joint.stiffness = _coefficients(k[0])
             joint.damping = _coefficients(user_damping if user_damping > 0 else ratio * k[0])
@@ -158,19 +163,25 @@ def _set_contacts(spec: mujoco.MjSpec, character: Character, contact: str) -> No
 
 def _add_floor_and_sensors(spec: mujoco.MjSpec, character: Character, root_name: str, floor: bool) -> None:
     if floor:
-        tex = spec.add_texture(name="eigengait:grid", type=mujoco.mjtTexture.mjTEXTURE_2D,
-                               builtin=mujoco.mjtBuiltin.mjBUILTIN_CHECKER, width=256, height=256,
-                               rgb1=[0.82, 0.84, 0.86], rgb2=[0.70, 0.72, 0.75])
+        tex = spec.add_texture(
+            name="eigengait:grid",
+            type=mujoco.mjtTexture.mjTEXTURE_2D,
+            builtin=mujoco.mjtBuiltin.mjBUILTIN_CHECKER,
+            width=256,
+            height=256,
+            rgb1=[0.82, 0.84, 0.86],
+            rgb2=[0.70, 0.72, 0.75],
+        )
         mat = spec.add_material(name=FLOOR)
         mat.textures[mujoco.mjtTextureRole.mjTEXROLE_RGB] = tex.name
         mat.texrepeat = [1, 1]
         mat.texuniform = True
-        g = spec.worldbody.add_geom(name=FLOOR, type=mujoco.mjtGeom.mjGEOM_PLANE, size=[0, 0, 0.05],
-                                    material=FLOOR)
+        g = spec.worldbody.add_geom(name=FLOOR, type=mujoco.mjtGeom.mjGEOM_PLANE, size=[0, 0, 0.05], material=FLOOR)
         g.contype, g.conaffinity = 0, FLOOR_AFFINITY
         g.friction = [1.0, 0.005, 0.0001]
-    spec.worldbody.add_light(pos=[0, 0, 6], dir=[0, 0, -1], type=mujoco.mjtLightType.mjLIGHT_DIRECTIONAL,
-                              diffuse=[0.7, 0.7, 0.7])
+    spec.worldbody.add_light(
+        pos=[0, 0, 6], dir=[0, 0, -1], type=mujoco.mjtLightType.mjLIGHT_DIRECTIONAL, diffuse=[0.7, 0.7, 0.7]
+    )
     cam = spec.worldbody.add_camera(name="eigengait:side", pos=[0.5, -4.0, 1.3], xyaxes=[1, 0, 0, 0, 0.3, 1])
     cam.mode = mujoco.mjtCamLight.mjCAMLIGHT_TRACKCOM
     for kind in (mujoco.mjtSensor.mjSENS_SUBTREECOM, mujoco.mjtSensor.mjSENS_SUBTREELINVEL):
@@ -178,8 +189,12 @@ def _add_floor_and_sensors(spec: mujoco.MjSpec, character: Character, root_name:
         s.name = "eigengait:com" if kind == mujoco.mjtSensor.mjSENS_SUBTREECOM else "eigengait:com_velocity"
     for f in character.feet.values():
         for point in filter(None, (f.toe, f.heel)):
-            spec.add_sensor(name=f"pos:{point}", type=mujoco.mjtSensor.mjSENS_FRAMEPOS,
-                            objtype=mujoco.mjtObj.mjOBJ_SITE, objname=point)
+            spec.add_sensor(
+                name=f"pos:{point}",
+                type=mujoco.mjtSensor.mjSENS_FRAMEPOS,
+                objtype=mujoco.mjtObj.mjOBJ_SITE,
+                objname=point,
+            )
 
 
 def _lowest_point(model: mujoco.MjModel, data: mujoco.MjData, geoms: list[int]) -> float:
@@ -210,7 +225,7 @@ def build_world(character: Character, pose: str | dict = DEFAULT_POSE, options: 
     spec.option.timestep = options.timestep
     spec.option.gravity = [0, 0, -GRAVITY if options.gravity else 0.0]
     spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
-    _add_motors(spec, character)      # motors first: ctrl[:nmotor] are the joint torques
+    _add_motors(spec, character)  # motors first: ctrl[:nmotor] are the joint torques
     _add_springs(spec, character)
     _set_contacts(spec, character, options.contact)
     _add_floor_and_sensors(spec, character, root.name, options.floor)
@@ -226,12 +241,28 @@ def build_world(character: Character, pose: str | dict = DEFAULT_POSE, options: 
     model = compile_spec(spec)
 
     internal_joints = [model.joint(j).id for j in character.joints]
-    qvel = np.concatenate([model.jnt_dofadr[j] + np.arange(character.joint_dofs[n])
-                           for j, n in zip(internal_joints, character.joints)]).astype(int)
-    feet = {foot: [model.geom(f"contact:{p}").id for p in filter(None, (f.toe, f.heel))]
-            for foot, f in character.feet.items()}
-    sensors = {model.sensor(i).name[len("pos:"):]: int(model.sensor_adr[i])
-               for i in range(model.nsensor) if model.sensor(i).name.startswith("pos:")}
-    return World(character=character, pose=pose, options=options, model=model, spec=spec, root_body=root_id,
-                 internal_qvel=qvel, internal_qpos_joints=internal_joints, foot_spheres=feet, foot_sensor=sensors,
-                 root=root_layout(model, root_id))
+    qvel = np.concatenate(
+        [model.jnt_dofadr[j] + np.arange(character.joint_dofs[n]) for j, n in zip(internal_joints, character.joints)]
+    ).astype(int)
+    feet = {
+        foot: [model.geom(f"contact:{p}").id for p in filter(None, (f.toe, f.heel))]
+        for foot, f in character.feet.items()
+    }
+    sensors = {
+        model.sensor(i).name[len("pos:") :]: int(model.sensor_adr[i])
+        for i in range(model.nsensor)
+        if model.sensor(i).name.startswith("pos:")
+    }
+    return World(
+        character=character,
+        pose=pose,
+        options=options,
+        model=model,
+        spec=spec,
+        root_body=root_id,
+        internal_qvel=qvel,
+        internal_qpos_joints=internal_joints,
+        foot_spheres=feet,
+        foot_sensor=sensors,
+        root=root_layout(model, root_id),
+    )

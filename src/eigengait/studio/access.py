@@ -61,8 +61,10 @@ class AccessGate:
         return bool(name) and port == self.port and (name in self.names or (self.all_interfaces and _is_ip(name)))
 
     def _has_token(self, request: Request) -> bool:
-        return any(hmac.compare_digest(t.encode(), self.token.encode())
-                   for t in [*_url_tokens(request), *self._cookie_tokens(request)])
+        return any(
+            hmac.compare_digest(t.encode(), self.token.encode())
+            for t in [*_url_tokens(request), *self._cookie_tokens(request)]
+        )
 
     def _cookie_tokens(self, request: Request) -> list[str]:
         pairs = (p.strip().partition("=") for h in request.headers.get_all("Cookie") for p in h.split(";"))
@@ -70,6 +72,7 @@ class AccessGate:
 
     def guard(self, process_request: ProcessRequest) -> Callable:
         """A websockets `process_request` hook: refuse with 403, else run viser's own and hand out the cookie."""
+
         async def guarded(connection: websockets.asyncio.server.ServerConnection, request: Request):
             reason = self.refusal(request)
             if reason is not None:
@@ -80,6 +83,7 @@ class AccessGate:
             if isinstance(response, Response) and _url_tokens(request):
                 response.headers["Set-Cookie"] = f"{self.cookie}={self.token}; Path=/; HttpOnly; SameSite=Strict"
             return response
+
         return guarded
 
 

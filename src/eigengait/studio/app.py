@@ -30,25 +30,25 @@ from eigengait.studio.stage import Stage
 from eigengait.studio.state import StudioState
 
 ANIMATION_FPS = 25.0
-CAMERA_POSITION = (5.2, -0.3, 2.2)     # m: front-right of the stage, the palette walls behind it
+CAMERA_POSITION = (5.2, -0.3, 2.2)  # m: front-right of the stage, the palette walls behind it
 CAMERA_LOOK_AT = (-2.5, 0.9, 1.3)
 
 
 class Studio:
-    def __init__(self, root: str | Path = ".", target: str | None = None, host: str = "127.0.0.1",
-                 port: int = 8080):
+    def __init__(self, root: str | Path = ".", target: str | None = None, host: str = "127.0.0.1", port: int = 8080):
         os.environ.setdefault("MUJOCO_GL", "egl")
         self.sandbox = Sandbox(root)
         self.state = StudioState(self.sandbox)
         self.gate = AccessGate(host, port)
         self.server = start_server(self.gate, host, port)
         self.server.scene.set_up_direction("+z")
-        self.server.scene.configure_environment_map(None)        # plain lights: far cheaper without a GPU
+        self.server.scene.configure_environment_map(None)  # plain lights: far cheaper without a GPU
         self.server.scene.configure_default_lights(True, cast_shadow=False)
         self.server.scene.add_light_hemisphere("/lights/sky", ground_color=(150, 150, 150), intensity=1.4)
         self.server.gui.configure_theme(control_width="large", show_logo=False, show_share_button=False)
-        self.server.gui.add_markdown("**eigengait studio** — mode numbers start at 1 (lowest non-rigid mode); "
-                                     "ψ in N·m.", order=0.0)
+        self.server.gui.add_markdown(
+            "**eigengait studio** — mode numbers start at 1 (lowest non-rigid mode); ψ in N·m.", order=0.0
+        )
         self.feedback = Feedback(self.server)
         self.stage = Stage(self.server)
         self.character_panel = CharacterPanel(self.server, self.state, self.feedback, gui_order=1.0)
@@ -56,8 +56,9 @@ class Studio:
         self.palette = PaletteView(self.server, self.state, self.feedback, gui_order=3.0)
         self.play_panel = PlayPanel(self.server, self.sandbox, self.stage, self.feedback, gui_order=5.0)
         self.track_panel = TrackPanel(self.server, self.sandbox, self.stage, self.feedback, gui_order=6.0)
-        self.optimize_panel = OptimizePanel(self.server, self.state, self.feedback, self.play_panel.play_file,
-                                            gui_order=4.0)
+        self.optimize_panel = OptimizePanel(
+            self.server, self.state, self.feedback, self.play_panel.play_file, gui_order=4.0
+        )
         self.server.on_client_connect(self._frame_camera)
         self.state.open(target)
         self.frames_sent = 0
@@ -105,9 +106,11 @@ def start_server(gate: AccessGate, host: str, port: int) -> viser.ViserServer:
         return server
     server.stop()
     if not ports:
-        raise RuntimeError("viser did not start its server through websockets.asyncio.server.serve: the studio "
-                           "cannot check who connects, so it does not run")
-    raise port_taken(host, port)        # taken since the check: viser moved on to another port
+        raise RuntimeError(
+            "viser did not start its server through websockets.asyncio.server.serve: the studio "
+            "cannot check who connects, so it does not run"
+        )
+    raise port_taken(host, port)  # taken since the check: viser moved on to another port
 
 
 def main(target: str | None = None, host: str = "127.0.0.1", port: int = 8080, root: str | Path = ".") -> None:

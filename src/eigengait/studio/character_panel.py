@@ -20,17 +20,24 @@ class CharacterPanel:
         with gui.add_folder("Character and files", order=gui_order):
             self.summary = gui.add_markdown("")
             self.builtin = gui.add_dropdown("built-in", builtin_names(), initial_value="humanoid")
-            self.path = gui.add_text("file", "", hint="an MJCF (.xml) or sketch (.yaml/.json) file inside the "
-                                                      "studio folder, or a shipped sketch name")
+            self.path = gui.add_text(
+                "file",
+                "",
+                hint="an MJCF (.xml) or sketch (.yaml/.json) file inside the studio folder, or a shipped sketch name",
+            )
             self.load = gui.add_button("Load file", icon=viser.Icon.FOLDER_OPEN)
             self.pose = gui.add_dropdown("relax pose", ["default"], initial_value="default")
-            self.rotations = gui.add_text("rotations", "", hint="per-joint rotations in degrees, joint frame: "
-                                                                 "left_thigh=0,-30,0;right_shin=45,0,0")
+            self.rotations = gui.add_text(
+                "rotations",
+                "",
+                hint="per-joint rotations in degrees, joint frame: left_thigh=0,-30,0;right_shin=45,0,0",
+            )
             self.apply_rotations = gui.add_button("Apply rotations")
             self.save_name = gui.add_text("save sketch as", "my-gait.sketch.yaml")
             self.save = gui.add_button("Save sketch", icon=viser.Icon.DEVICE_FLOPPY)
-            gui.add_markdown(f"Every change is autosaved to `{AUTOSAVE_NAME}`. Shipped sketches: "
-                             f"{', '.join(preset_names())}.")
+            gui.add_markdown(
+                f"Every change is autosaved to `{AUTOSAVE_NAME}`. Shipped sketches: {', '.join(preset_names())}."
+            )
         self.builtin.on_update(feedback.guarded(self._on_builtin))
         self.load.on_click(feedback.guarded(self._on_load))
         self.pose.on_update(feedback.guarded(self._on_pose))
@@ -67,6 +74,7 @@ class CharacterPanel:
         def save() -> None:
             self.state.save_sketch(name)
             self.feedback.info(f"Saved the sketch to `{sandbox.relative(path)}`.", event.client)
+
         self.feedback.write_asking(event.client, path, sandbox.relative(path), save)
 
     def sync(self) -> None:
@@ -78,14 +86,21 @@ class CharacterPanel:
             self.pose.options = [*names, CUSTOM_POSE] if custom else names
             self.pose.value = CUSTOM_POSE if custom else sketch.relax_pose
             if custom:
-                self.rotations.value = ";".join(f"{j}={','.join(f'{v:g}' for v in (r if isinstance(r, list) else [r]))}"
-                                                for j, r in sketch.relax_pose.items())
+                self.rotations.value = ";".join(
+                    f"{j}={','.join(f'{v:g}' for v in (r if isinstance(r, list) else [r]))}"
+                    for j, r in sketch.relax_pose.items()
+                )
             if sketch.character in builtin_names():
                 self.builtin.value = sketch.character
         finally:
             self.syncing = False
-        where = sketch.character if sketch.character in builtin_names() else \
-            f"`{self.state.sandbox.relative(sketch.character)}`"
-        self.summary.content = (f"**{system.character.name}** ({where}): {system.character.internal_dofs} internal "
-                                f"DOF, {system.mode_count('air')} air and {system.mode_count('ground')} ground modes; "
-                                f"feet {', '.join(system.feet)}{' (mirrored)' if system.mirror else ''}.")
+        where = (
+            sketch.character
+            if sketch.character in builtin_names()
+            else f"`{self.state.sandbox.relative(sketch.character)}`"
+        )
+        self.summary.content = (
+            f"**{system.character.name}** ({where}): {system.character.internal_dofs} internal "
+            f"DOF, {system.mode_count('air')} air and {system.mode_count('ground')} ground modes; "
+            f"feet {', '.join(system.feet)}{' (mirrored)' if system.mirror else ''}."
+        )

@@ -34,6 +34,7 @@ class Feedback:
 
     def guarded(self, callback: Callable[[viser.GuiEvent], None]) -> Callable[[viser.GuiEvent], None]:
         """A GUI callback that reports UserInputError (and unexpected errors) instead of raising."""
+
         @functools.wraps(callback)
         def run(event: viser.GuiEvent) -> None:
             try:
@@ -43,6 +44,7 @@ class Feedback:
             except Exception as exc:  # the server must survive any single action
                 traceback.print_exc()
                 self.error(f"unexpected error: {exc.__class__.__name__}: {exc}", event.client)
+
         return run
 
     def write_asking(self, client: viser.ClientHandle, path: Path, shown: str, write: Callable[[], None]) -> None:
@@ -62,5 +64,6 @@ class Feedback:
         def on_keep(event: viser.GuiEvent) -> None:
             modal.close()
             self.info(f"Kept `{shown}`: nothing was written.", client)
+
         replace.on_click(self.guarded(on_replace))
         keep.on_click(self.guarded(on_keep))

@@ -36,11 +36,12 @@ UNIT_CUBE_FACES = _outward_cube_faces()
 @dataclass(frozen=True)
 class Figure:
     """The boxes of a creature: geom ids, full box sizes (G×3, m), box centres in geom frames, geom colours."""
+
     model: mujoco.MjModel
     geoms: np.ndarray
     sizes: np.ndarray
     centres: np.ndarray
-    colors: np.ndarray          # G×3 uint8
+    colors: np.ndarray  # G×3 uint8
 
     @classmethod
     def of(cls, world: World) -> "Figure":
@@ -77,8 +78,9 @@ class Figure:
         return (centres - half[..., 0]).min(axis=0), (centres + half[..., 0]).max(axis=0)
 
 
-def place(positions: np.ndarray, wxyz: np.ndarray, anchor: np.ndarray, cell: np.ndarray, scale: float,
-          yaw_deg: float) -> tuple[np.ndarray, np.ndarray]:
+def place(
+    positions: np.ndarray, wxyz: np.ndarray, anchor: np.ndarray, cell: np.ndarray, scale: float, yaw_deg: float
+) -> tuple[np.ndarray, np.ndarray]:
     """Move posed boxes so `anchor` lands on `cell`, scaled by `scale` and turned by `yaw_deg` about z."""
     yaw = Rotation.from_euler("z", yaw_deg, degrees=True)
     moved = cell + scale * yaw.apply((positions - anchor).reshape(-1, 3)).reshape(positions.shape)

@@ -20,14 +20,17 @@ def check_listen_address(host: str, port: int) -> None:
     family, address = _resolve(host, port)
     try:
         with socket.socket(family, socket.SOCK_STREAM) as probe:
-            probe.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)      # as the server itself binds
+            probe.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)  # as the server itself binds
             probe.bind(address)
     except OSError as exc:
         raise _bind_error(host, port, exc) from None
     if not ipaddress.ip_address(address[0]).is_loopback:
-        print(f"warning: the studio listens on {host} and is reachable from the network; only a browser opening "
-              "the printed address with its token can use it, and it reads and writes files in this folder.",
-              file=sys.stderr, flush=True)
+        print(
+            f"warning: the studio listens on {host} and is reachable from the network; only a browser opening "
+            "the printed address with its token can use it, and it reads and writes files in this folder.",
+            file=sys.stderr,
+            flush=True,
+        )
 
 
 def port_taken(host: str, port: int) -> UserInputError:
@@ -38,8 +41,11 @@ def _resolve(host: str, port: int) -> tuple[int, tuple]:
     try:
         family, _, _, _, address = socket.getaddrinfo(host, port, type=socket.SOCK_STREAM)[0]
     except (OSError, UnicodeError) as exc:
-        raise UserInputError(f"cannot listen on '{host}' ({getattr(exc, 'strerror', None) or exc})",
-                             field="--host", fix="use a local address such as 127.0.0.1 or 0.0.0.0") from None
+        raise UserInputError(
+            f"cannot listen on '{host}' ({getattr(exc, 'strerror', None) or exc})",
+            field="--host",
+            fix="use a local address such as 127.0.0.1 or 0.0.0.0",
+        ) from None
     return family, address
 
 
@@ -47,7 +53,13 @@ def _bind_error(host: str, port: int, exc: OSError) -> UserInputError:
     if exc.errno == errno.EADDRINUSE:
         return port_taken(host, port)
     if exc.errno == errno.EACCES:
-        return UserInputError(f"port {port} needs special rights", field="--port",
-                              fix="choose a port above 1023 with --port, e.g. --port 8090")
-    return UserInputError(f"cannot listen on {host}:{port} ({exc.strerror or exc})", field="--host",
-                          fix="use a local address such as 127.0.0.1 or 0.0.0.0")
+        return UserInputError(
+            f"port {port} needs special rights",
+            field="--port",
+            fix="choose a port above 1023 with --port, e.g. --port 8090",
+        )
+    return UserInputError(
+        f"cannot listen on {host}:{port} ({exc.strerror or exc})",
+        field="--host",
+        fix="use a local address such as 127.0.0.1 or 0.0.0.0",
+    )

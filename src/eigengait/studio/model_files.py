@@ -16,7 +16,7 @@ from eigengait.errors import UserInputError
 from eigengait.studio.sandbox import Sandbox
 
 FOLDER_ATTRIBUTES = ("assetdir", "meshdir", "texturedir")
-MODEL_ELEMENTS = ("include", "model")        # elements whose file is itself MJCF, read in turn
+MODEL_ELEMENTS = ("include", "model")  # elements whose file is itself MJCF, read in turn
 FIX = "copy the file into the studio folder and name it by a path relative to the model"
 
 
@@ -26,8 +26,9 @@ def confine_character(sandbox: Sandbox, path: Path) -> None:
     mjcf = _model_of(sandbox, Path(path))
     side = sidecar_path(mjcf)
     if side.exists() and not sandbox.contains(side):
-        raise UserInputError("the character's sidecar leads outside the studio folder and was refused", file=side,
-                             fix=FIX)
+        raise UserInputError(
+            "the character's sidecar leads outside the studio folder and was refused", file=side, fix=FIX
+        )
     references = _references(sandbox, mjcf)
     bases = _bases(references, mjcf)
     for source, element, name in references:
@@ -42,12 +43,17 @@ def _model_of(sandbox: Sandbox, path: Path) -> Path:
         return sandbox.root / path
     model = load_metadata(sandbox.root / path).model
     if not model:
-        raise UserInputError("this sidecar does not name its model", file=path, field="model",
-                             fix="load the character's MJCF file instead")
+        raise UserInputError(
+            "this sidecar does not name its model",
+            file=path,
+            field="model",
+            fix="load the character's MJCF file instead",
+        )
     mjcf = sandbox.root / Path(path).parent / model
     if not sandbox.contains(mjcf):
-        raise UserInputError("the sidecar's model is outside the studio folder and was refused", file=path,
-                             field="model", fix=FIX)
+        raise UserInputError(
+            "the sidecar's model is outside the studio folder and was refused", file=path, field="model", fix=FIX
+        )
     return mjcf
 
 
@@ -81,8 +87,11 @@ def _check(sandbox: Sandbox, source: Path, element: ET.Element, name: str, bases
     value = element.get(name)
     readings = [(base / value).resolve() for base in bases]
     if not all(sandbox.contains(p) for p in readings):
-        raise UserInputError(f"<{element.tag} {name}=\"{value}\"> reads outside the studio folder and was refused",
-                             file=sandbox.relative(source), fix=FIX)
+        raise UserInputError(
+            f"<{element.tag} {name}=\"{value}\"> reads outside the studio folder and was refused",
+            file=sandbox.relative(source),
+            fix=FIX,
+        )
     return readings
 
 
@@ -90,5 +99,6 @@ def _parse(sandbox: Sandbox, path: Path) -> ET.Element:
     try:
         return ET.parse(path).getroot()
     except ET.ParseError as exc:
-        raise UserInputError(f"malformed MJCF: {exc}", file=sandbox.relative(path),
-                             fix="fix the XML so MuJoCo can load it") from None
+        raise UserInputError(
+            f"malformed MJCF: {exc}", file=sandbox.relative(path), fix="fix the XML so MuJoCo can load it"
+        ) from None

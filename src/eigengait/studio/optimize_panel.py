@@ -43,8 +43,14 @@ def read_log(path: Path) -> dict[str, np.ndarray]:
 
 
 class OptimizePanel:
-    def __init__(self, server: viser.ViserServer, state: StudioState, feedback: Feedback,
-                 play: Callable[[Path, viser.ClientHandle | None], None], gui_order: float):
+    def __init__(
+        self,
+        server: viser.ViserServer,
+        state: StudioState,
+        feedback: Feedback,
+        play: Callable[[Path, viser.ClientHandle | None], None],
+        gui_order: float,
+    ):
         self.server, self.state, self.feedback, self.play = server, state, feedback, play
         self.process: subprocess.Popen | None = None
         self.folder: Path | None = None
@@ -69,9 +75,14 @@ class OptimizePanel:
         """A chart hidden until the first generation (viser's uPlot does not draw data given to an empty chart)."""
         placeholder = np.array([0.0, 1.0])
         return self.server.gui.add_uplot(
-            (placeholder, np.zeros(2)), (uplot.Series(label="generation"), uplot.Series(label=title, stroke=color, width=2)),
-            title=title, scales={"x": uplot.Scale(time=False, auto=True), "y": uplot.Scale(auto=True)},
-            legend=uplot.Legend(show=False), aspect=2.0, visible=False)
+            (placeholder, np.zeros(2)),
+            (uplot.Series(label="generation"), uplot.Series(label=title, stroke=color, width=2)),
+            title=title,
+            scales={"x": uplot.Scale(time=False, auto=True), "y": uplot.Scale(auto=True)},
+            legend=uplot.Legend(show=False),
+            aspect=2.0,
+            visible=False,
+        )
 
     def _launch(self, folder: Path, resume: bool) -> None:
         if self.running:
@@ -79,11 +90,22 @@ class OptimizePanel:
         sketch = self.state.autosave_path
         self.state.autosave()
         folder.mkdir(parents=True, exist_ok=True)
-        command = [sys.executable, "-m", "eigengait", "optimize", str(sketch), "-o", str(folder),
-                   "--max-evaluations", str(int(self.budget.value)), *(["--resume"] if resume else [])]
+        command = [
+            sys.executable,
+            "-m",
+            "eigengait",
+            "optimize",
+            str(sketch),
+            "-o",
+            str(folder),
+            "--max-evaluations",
+            str(int(self.budget.value)),
+            *(["--resume"] if resume else []),
+        ]
         log = open(folder / CHILD_LOG, "a")
-        self.process = subprocess.Popen(command, cwd=self.state.sandbox.root, stdout=log, stderr=subprocess.STDOUT,
-                                        stdin=subprocess.DEVNULL)
+        self.process = subprocess.Popen(
+            command, cwd=self.state.sandbox.root, stdout=log, stderr=subprocess.STDOUT, stdin=subprocess.DEVNULL
+        )
         log.close()
         self.folder = folder
         self._buttons()
@@ -132,11 +154,11 @@ class OptimizePanel:
             try:
                 self._refresh(was_running)
             except (OSError, ValueError, KeyError):
-                continue   # the log is being replaced; read it next time
+                continue  # the log is being replaced; read it next time
             was_running = self.running
 
     def _refresh(self, was_running: bool) -> None:
-        stage_one = self.folder / STAGE_ONE / "log.csv"      # the open-loop stage logs in its own folder
+        stage_one = self.folder / STAGE_ONE / "log.csv"  # the open-loop stage logs in its own folder
         log = read_log(self.folder / "log.csv" if (self.folder / "log.csv").is_file() else stage_one)
         if log and len(log["generation"]) != self.generations:
             self.generations = len(log["generation"])
@@ -147,7 +169,8 @@ class OptimizePanel:
             self.progress.content = (
                 f"`{self.state.sandbox.relative(self.folder)}` · generation {int(g[-1])} · "
                 f"{int(log['evaluations'][-1])} evaluations · {log['seconds'][-1]:.0f} s · best f "
-                f"{log['best_cost'][-1]:.4g} · violation {log['best_violation'][-1]:.3g}")
+                f"{log['best_cost'][-1]:.4g} · violation {log['best_violation'][-1]:.3g}"
+            )
             self._buttons()
         if was_running and not self.running:
             code = self.process.returncode

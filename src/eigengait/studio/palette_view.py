@@ -25,20 +25,23 @@ from eigengait.studio.figures import UNIT_CUBE_FACES, UNIT_CUBE_VERTICES, Figure
 from eigengait.studio.state import STATUSES, StudioState
 
 PHASES = ("air", "ground")
-STATUS_RGB = {"priority": np.array([40, 170, 70]), "allowed": np.array([140, 160, 195]),
-              "excluded": np.array([215, 55, 50])}
+STATUS_RGB = {
+    "priority": np.array([40, 170, 70]),
+    "allowed": np.array([140, 160, 195]),
+    "excluded": np.array([215, 55, 50]),
+}
 LOOP_FRAMES = 24
 LOOP_SECONDS = 1.6
 COPY_SCALE = 0.45
 COPY_YAW_DEG = -35.0
 COLUMNS = 6
-COLUMN_SPACING = 2.3     # copy widths (plus 0.2 m) from one copy to the next: room for a legible label
-LABEL_HEIGHT = 0.13      # fraction of the column spacing: label text height in the scene
+COLUMN_SPACING = 2.3  # copy widths (plus 0.2 m) from one copy to the next: room for a legible label
+LABEL_HEIGHT = 0.13  # fraction of the column spacing: label text height in the scene
 LEGEND = "green: priority  ·  grey-blue: allowed  ·  red: excluded"
-LABEL_SCALE = {"title": 1.6, "legend": 1.25}     # relative to a mode label
-WALL_X = -2.5            # m: the walls stand behind the stage
-WALL_GAP = 1.2           # m: half the space between the two walls (the stage sits in it)
-PSI_LIMIT = 200.0        # N·m: slider range ±
+LABEL_SCALE = {"title": 1.6, "legend": 1.25}  # relative to a mode label
+WALL_X = -2.5  # m: the walls stand behind the stage
+WALL_GAP = 1.2  # m: half the space between the two walls (the stage sits in it)
+PSI_LIMIT = 200.0  # N·m: slider range ±
 
 
 class PaletteView:
@@ -50,12 +53,16 @@ class PaletteView:
         self.scene_nodes: list = []
         self.folders: dict[str, viser.GuiFolderHandle] = {}
         self.rows: dict[str, dict[int, tuple[viser.GuiDropdownHandle, viser.GuiSliderHandle]]] = {}
-        self.copies: list[tuple[str, int]] = []          # (phase, mode) of each copy, in instance order
-        self.positions = self.wxyzs = None               # LOOP_FRAMES × instances × 3 / 4
+        self.copies: list[tuple[str, int]] = []  # (phase, mode) of each copy, in instance order
+        self.positions = self.wxyzs = None  # LOOP_FRAMES × instances × 3 / 4
         self.syncing = False
         self.shown_frame = -1
-        self.animate = server.gui.add_checkbox("animate palette", True, order=gui_order - 0.05,
-                                               hint="pause the mode animations (helps slow, GPU-less machines)")
+        self.animate = server.gui.add_checkbox(
+            "animate palette",
+            True,
+            order=gui_order - 0.05,
+            hint="pause the mode animations (helps slow, GPU-less machines)",
+        )
         state.subscribe("model", self.rebuild)
         state.subscribe("sketch", self.sync)
 
@@ -83,8 +90,9 @@ class PaletteView:
                 positions.append(p)
                 wxyzs.append(q)
                 copies.append((phase, i + 1))
-                labels.append((f"{phase}{i + 1}", f"{i + 1} · {modes.frequencies_hz[i]:.1f} Hz",
-                               cell - [0, 0, spacing[1] * 0.42]))
+                labels.append(
+                    (f"{phase}{i + 1}", f"{i + 1} · {modes.frequencies_hz[i]:.1f} Hz", cell - [0, 0, spacing[1] * 0.42])
+                )
             title = f"{phase.upper()} phase modes" + (f" ({modes.foot} toe pinned)" if modes.foot else "")
             top = rows * spacing[1]
             labels.append((f"{phase}_title", title, [WALL_X, side * (WALL_GAP + width / 2), top + 0.4]))
@@ -98,14 +106,30 @@ class PaletteView:
             self.geom_shade = np.tile(figure.colors, (len(copies), 1))
             self.shown_frame = 0
             self.mesh = self.server.scene.add_batched_meshes_simple(
-                "/palette/copies", UNIT_CUBE_VERTICES, UNIT_CUBE_FACES, batched_wxyzs=self.wxyzs[0],
-                batched_positions=self.positions[0], batched_scales=sizes, batched_colors=self._colors(),
-                flat_shading=True, lod="off", cast_shadow=False, receive_shadow=False)
+                "/palette/copies",
+                UNIT_CUBE_VERTICES,
+                UNIT_CUBE_FACES,
+                batched_wxyzs=self.wxyzs[0],
+                batched_positions=self.positions[0],
+                batched_scales=sizes,
+                batched_colors=self._colors(),
+                flat_shading=True,
+                lod="off",
+                cast_shadow=False,
+                receive_shadow=False,
+            )
             height = LABEL_HEIGHT * spacing[0]
             for name, text, position in labels:
-                self.scene_nodes.append(self.server.scene.add_label(
-                    f"/palette/labels/{name}", text, position=position, anchor="top-center",
-                    font_size_mode="scene", font_scene_height=height * LABEL_SCALE.get(name.split("_")[-1], 1.0)))
+                self.scene_nodes.append(
+                    self.server.scene.add_label(
+                        f"/palette/labels/{name}",
+                        text,
+                        position=position,
+                        anchor="top-center",
+                        font_size_mode="scene",
+                        font_scene_height=height * LABEL_SCALE.get(name.split("_")[-1], 1.0),
+                    )
+                )
         self._rebuild_gui()
 
     def _clear_scene(self) -> None:
@@ -136,8 +160,11 @@ class PaletteView:
         self.folders, self.rows = {}, {}
         for k, phase in enumerate(PHASES):
             modes = self.state.modes(phase)
-            folder = self.server.gui.add_folder(f"{phase.capitalize()} modes ({modes.count})",
-                                                order=self.gui_order + k / 10, expand_by_default=phase == "air")
+            folder = self.server.gui.add_folder(
+                f"{phase.capitalize()} modes ({modes.count})",
+                order=self.gui_order + k / 10,
+                expand_by_default=phase == "air",
+            )
             self.folders[phase] = folder
             self.rows[phase] = {}
             with folder:
@@ -146,12 +173,14 @@ class PaletteView:
         self.sync()
 
     def _mode_row(self, phase: str, mode: int, hz: float):
-        status = self.server.gui.add_dropdown(f"{phase} {mode} · {hz:.2f} Hz", STATUSES,
-                                              initial_value=self.state.status(phase, mode),
-                                              hint=f"{phase}-phase mode {mode}: priority (green) keeps its activation "
-                                                   "sign and size, allowed may be used, excluded stays zero")
-        slider = self.server.gui.add_slider(f"ψ {phase} {mode} (N·m)", -PSI_LIMIT, PSI_LIMIT, 0.5, 1.0,
-                                            visible=False)
+        status = self.server.gui.add_dropdown(
+            f"{phase} {mode} · {hz:.2f} Hz",
+            STATUSES,
+            initial_value=self.state.status(phase, mode),
+            hint=f"{phase}-phase mode {mode}: priority (green) keeps its activation "
+            "sign and size, allowed may be used, excluded stays zero",
+        )
+        slider = self.server.gui.add_slider(f"ψ {phase} {mode} (N·m)", -PSI_LIMIT, PSI_LIMIT, 0.5, 1.0, visible=False)
 
         @status.on_update
         @self.feedback.guarded
@@ -172,6 +201,7 @@ class PaletteView:
                 except UserInputError:
                     self.sync()
                     raise
+
         return status, slider
 
     def sync(self) -> None:

@@ -22,22 +22,28 @@ from eigengait.studio.model_files import confine_character
 from eigengait.studio.sandbox import Sandbox
 from eigengait.studio.stage import Stage
 
-EXPORT_FPS = 30.0        # frames/s of exported BVH and video (the CLI's --fps default), resampled by time
+EXPORT_FPS = 30.0  # frames/s of exported BVH and video (the CLI's --fps default), resampled by time
+
 
 class PlayPanel:
-    def __init__(self, server: viser.ViserServer, sandbox: Sandbox, stage: Stage, feedback: Feedback,
-                 gui_order: float):
+    def __init__(self, server: viser.ViserServer, sandbox: Sandbox, stage: Stage, feedback: Feedback, gui_order: float):
         self.server, self.sandbox, self.stage, self.feedback = server, sandbox, stage, feedback
         self.controller: ControllerFile | None = None
         self.world: World | None = None
         self.result: PlaybackResult | None = None
         gui = server.gui
         with gui.add_folder("Play (gravity on)", order=gui_order, expand_by_default=False):
-            self.path = gui.add_text("controller", (gait_names() or [""])[0],
-                                     hint="a shipped gait name or a controller .json inside the studio folder")
+            self.path = gui.add_text(
+                "controller",
+                (gait_names() or [""])[0],
+                hint="a shipped gait name or a controller .json inside the studio folder",
+            )
             self.cycles = gui.add_number("cycles", 6, min=1, max=50, step=1)
-            self.snap = gui.add_checkbox("snap each cycle", False, hint="snap back to the initial state at each "
-                                                                       "cycle end (the thesis's playback)")
+            self.snap = gui.add_checkbox(
+                "snap each cycle",
+                False,
+                hint="snap back to the initial state at each cycle end (the thesis's playback)",
+            )
             self.play = gui.add_button("Play on the ground", icon=viser.Icon.WALK)
             self.report = gui.add_markdown("")
             self.bvh_name = gui.add_text("BVH file", "gait.bvh")
@@ -76,7 +82,8 @@ class PlayPanel:
             f"**{path.name}** on {system.character.name}: {result.mean_speed_mps:.2f} m/s forward, "
             f"{result.cycles_completed}/{int(self.cycles.value)} cycles{' (fell)' if result.fell else ''}, "
             f"cost of transport {result.cost_of_transport:.3g}, cycle violation {result.cycle_violation:.3g}"
-            f"{', snapped each cycle' if result.snapped else ''}.")
+            f"{', snapped each cycle' if result.snapped else ''}."
+        )
         for button in (self.export_bvh, self.export_video, self.save):
             button.disabled = False
         self.feedback.info(f"Playing `{self.path.value}` with gravity.", client)
@@ -89,16 +96,19 @@ class PlayPanel:
 
     def _on_bvh(self, event: viser.GuiEvent) -> None:
         from eigengait.motion.bvh_export import write_trajectory_bvh
+
         result, world = self._played(), self.world
         path = self.sandbox.resolve(self.bvh_name.value, (".bvh",))
 
         def export() -> None:
             write_trajectory_bvh(world, result.qpos, result.fps, path, fps=EXPORT_FPS)
             self.feedback.info(f"Wrote `{self.sandbox.relative(path)}`.", event.client)
+
         self.feedback.write_asking(event.client, path, self.sandbox.relative(path), export)
 
     def _on_video(self, event: viser.GuiEvent) -> None:
         from eigengait.render.video import render_video
+
         result, world = self._played(), self.world
         path = self.sandbox.resolve(self.video_name.value, (".mp4", ".gif"))
 
@@ -106,6 +116,7 @@ class PlayPanel:
             self.feedback.info(f"Rendering `{self.sandbox.relative(path)}` …", event.client)
             render_video(world, result.qpos, result.fps, path, fps=EXPORT_FPS)
             self.feedback.info(f"Wrote `{self.sandbox.relative(path)}`.", event.client)
+
         self.feedback.write_asking(event.client, path, self.sandbox.relative(path), export)
 
     def _on_save(self, event: viser.GuiEvent) -> None:
@@ -116,4 +127,5 @@ class PlayPanel:
         def save() -> None:
             save_controller(controller, path)
             self.feedback.info(f"Saved the controller to `{self.sandbox.relative(path)}`.", event.client)
+
         self.feedback.write_asking(event.client, path, self.sandbox.relative(path), save)

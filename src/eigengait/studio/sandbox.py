@@ -8,7 +8,7 @@ from eigengait.errors import UserInputError
 
 
 class Sandbox:
-    """Resolves user-typed paths against `root`; anything that lands outside it (`..`, absolute, symlinks) is refused."""
+    """Resolves user-typed paths against `root`; anything landing outside it (`..`, absolute, symlinks) is refused."""
 
     def __init__(self, root: str | Path):
         self.root = Path(root).resolve()
@@ -19,12 +19,18 @@ class Sandbox:
         if not text:
             raise UserInputError("no file name given", fix="type a file name relative to the studio folder")
         if not text.isprintable():
-            raise UserInputError("the file name holds a control character (e.g. a NUL byte)", file=repr(text),
-                                 fix="type a plain file name relative to the studio folder")
+            raise UserInputError(
+                "the file name holds a control character (e.g. a NUL byte)",
+                file=repr(text),
+                fix="type a plain file name relative to the studio folder",
+            )
         path = (self.root / text).resolve()
         if not path.is_relative_to(self.root):
-            raise UserInputError(f"'{text}' is outside the studio folder and was refused", file=text,
-                                 fix=f"use a path inside {self.root}")
+            raise UserInputError(
+                f"'{text}' is outside the studio folder and was refused",
+                file=text,
+                fix=f"use a path inside {self.root}",
+            )
         if suffixes and path.suffix.lower() not in suffixes:
             raise UserInputError(f"'{text}' must end with {' or '.join(suffixes)}", file=text)
         if must_exist and not path.is_file():
@@ -41,5 +47,6 @@ class Sandbox:
 
     def files(self, pattern: str) -> list[str]:
         """Files inside the root matching a glob pattern (e.g. `**/*.xml`), as relative paths, sorted."""
-        return sorted(self.relative(p) for p in self.root.glob(pattern)
-                      if p.is_file() and p.resolve().is_relative_to(self.root))
+        return sorted(
+            self.relative(p) for p in self.root.glob(pattern) if p.is_file() and p.resolve().is_relative_to(self.root)
+        )

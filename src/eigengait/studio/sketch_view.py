@@ -20,14 +20,18 @@ from eigengait.studio.state import StudioState
 
 DEBOUNCE_SECONDS = 0.12
 SKETCH_CYCLES = 3
-TIMING_FIELDS = (("period", "period T (s)", 0.2, 2.0, 0.01), ("air_ratio", "air ratio α", 0.05, 0.95, 0.01),
-                 ("pulse_air", "air pulse δa (s)", 0.01, 0.5, 0.005),
-                 ("pulse_ground", "ground pulse δc (s)", 0.01, 0.5, 0.005))
+TIMING_FIELDS = (
+    ("period", "period T (s)", 0.2, 2.0, 0.01),
+    ("air_ratio", "air ratio α", 0.05, 0.95, 0.01),
+    ("pulse_air", "air pulse δa (s)", 0.01, 0.5, 0.005),
+    ("pulse_ground", "ground pulse δc (s)", 0.01, 0.5, 0.005),
+)
 
 
 class SketchView:
-    def __init__(self, server: viser.ViserServer, state: StudioState, stage: Stage, feedback: Feedback,
-                 gui_order: float):
+    def __init__(
+        self, server: viser.ViserServer, state: StudioState, stage: Stage, feedback: Feedback, gui_order: float
+    ):
         self.server, self.state, self.stage, self.feedback = server, state, stage, feedback
         self.wake = threading.Event()
         self.edited_at = 0.0
@@ -49,6 +53,7 @@ class SketchView:
         def _(event: viser.GuiEvent) -> None:
             if not self.syncing:
                 self.state.set_timing(**{field: slider.value})
+
         return slider
 
     def _request(self) -> None:
@@ -71,7 +76,7 @@ class SketchView:
             self.wake.clear()
             try:
                 self._simulate()
-            except Exception as exc:   # a sketch that cannot be simulated must not stop the worker
+            except Exception as exc:  # a sketch that cannot be simulated must not stop the worker
                 self.feedback.error(f"the sketch could not be simulated: {exc}")
 
     def _simulate(self) -> None:
@@ -87,4 +92,5 @@ class SketchView:
             f"{priority['air']} air + {priority['ground']} ground priority modes · {seconds:.2f} s simulated in "
             f"{run.wall_seconds * 1000:.0f} ms ({seconds / max(run.wall_seconds, 1e-9):.0f}× real time) · "
             f"largest joint rotation {run.max_joint_rotation_deg:.0f}° · on stage "
-            f"{self.latency_s * 1000:.0f} ms after the edit")
+            f"{self.latency_s * 1000:.0f} ms after the edit"
+        )

@@ -16,9 +16,9 @@ import viser
 from eigengait.sim.world import World
 from eigengait.studio.figures import UNIT_CUBE_FACES, UNIT_CUBE_VERTICES, Figure
 
-FLOOR_X = (-4.0, 40.0)          # m: the floor runs ahead of the stage, where played gaits go
-FLOOR_HALF_WIDTH = 6.0          # m
-FLOOR_LINE_SPACING = 1.0        # m
+FLOOR_X = (-4.0, 40.0)  # m: the floor runs ahead of the stage, where played gaits go
+FLOOR_HALF_WIDTH = 6.0  # m
+FLOOR_LINE_SPACING = 1.0  # m
 
 
 class Stage:
@@ -26,14 +26,14 @@ class Stage:
         self.server = server
         self.lock = threading.Lock()
         self.mesh: viser.BatchedMeshHandle | None = None
-        self.showing = ""                  # "sketch" or "playback"
+        self.showing = ""  # "sketch" or "playback"
         self.positions = self.wxyzs = self.roots = None
         self.fps = 30.0
         self.started = 0.0
         self.follow = False
         self.last_root: np.ndarray | None = None
         self.shown_frame = -1
-        self.shown = 0                     # how many motions have been shown (tests and latency read it)
+        self.shown = 0  # how many motions have been shown (tests and latency read it)
         self.floor = add_floor(server)
 
     def show(self, name: str, world: World, qpos: np.ndarray, fps: float, follow: bool = False) -> None:
@@ -46,9 +46,18 @@ class Stage:
                 if self.mesh is not None:
                     self.mesh.remove()
                 self.mesh = self.server.scene.add_batched_meshes_simple(
-                    "/stage/character", UNIT_CUBE_VERTICES, UNIT_CUBE_FACES, batched_wxyzs=wxyzs[0],
-                    batched_positions=positions[0], batched_scales=figure.sizes, batched_colors=figure.colors,
-                    flat_shading=True, lod="off", cast_shadow=False, receive_shadow=False)
+                    "/stage/character",
+                    UNIT_CUBE_VERTICES,
+                    UNIT_CUBE_FACES,
+                    batched_wxyzs=wxyzs[0],
+                    batched_positions=positions[0],
+                    batched_scales=figure.sizes,
+                    batched_colors=figure.colors,
+                    flat_shading=True,
+                    lod="off",
+                    cast_shadow=False,
+                    receive_shadow=False,
+                )
             self.showing, self.fps, self.follow = name, fps, follow
             self.positions, self.wxyzs, self.roots = positions, wxyzs, roots
             self.started = time.perf_counter()
@@ -95,6 +104,14 @@ def add_floor(server: viser.ViserServer) -> viser.BatchedMeshHandle:
     scales = [(length, width, 0.02)] + [(0.015, width, 0.002)] * len(xs) + [(length, 0.015, 0.002)] * len(ys)
     colors = [(236, 236, 232)] + [(185, 185, 185)] * (len(xs) + len(ys))
     return server.scene.add_batched_meshes_simple(
-        "/stage/floor", UNIT_CUBE_VERTICES, UNIT_CUBE_FACES, batched_wxyzs=np.tile([1.0, 0, 0, 0], (len(positions), 1)),
-        batched_positions=np.array(positions), batched_scales=np.array(scales), batched_colors=np.array(colors),
-        lod="off", cast_shadow=False, receive_shadow=False)
+        "/stage/floor",
+        UNIT_CUBE_VERTICES,
+        UNIT_CUBE_FACES,
+        batched_wxyzs=np.tile([1.0, 0, 0, 0], (len(positions), 1)),
+        batched_positions=np.array(positions),
+        batched_scales=np.array(scales),
+        batched_colors=np.array(colors),
+        lod="off",
+        cast_shadow=False,
+        receive_shadow=False,
+    )

@@ -27,8 +27,8 @@ from eigengait.studio.sandbox import Sandbox
 
 AUTOSAVE_NAME = "studio-autosave.sketch.yaml"
 STATUSES = ("priority", "allowed", "excluded")
-DEFAULT_ACTIVATION = 20.0     # N·m given to a mode when it is first marked priority
-NEW_SKETCH_ALLOWED = 12       # a new sketch allows the lowest modes (the thesis's "trivial selection")
+DEFAULT_ACTIVATION = 20.0  # N·m given to a mode when it is first marked priority
+NEW_SKETCH_ALLOWED = 12  # a new sketch allows the lowest modes (the thesis's "trivial selection")
 SKETCH_SUFFIXES = (".yaml", ".yml", ".json")
 
 
@@ -37,7 +37,7 @@ class StudioState:
         self.sandbox = sandbox
         self.lock = threading.RLock()
         self.sketch: Sketch | None = None
-        self.system: GaitSystem | None = None    # the sketch's system with gravity off: modes and sketch simulation
+        self.system: GaitSystem | None = None  # the sketch's system with gravity off: modes and sketch simulation
         self._listeners: dict[str, list[Callable[[], None]]] = {"model": [], "sketch": []}
 
     @property
@@ -141,15 +141,23 @@ class StudioState:
             priority = {m: v for m, v in self.sketch.phase(phase).priority.items() if statuses[m] == "priority"}
             if status == "priority" and mode not in priority:
                 priority[mode] = DEFAULT_ACTIVATION
-            self._edit({phase: {"priority": priority,
-                                "allowed": [m for m, s in statuses.items() if s == "allowed"],
-                                "excluded": [m for m, s in statuses.items() if s == "excluded"]}})
+            self._edit(
+                {
+                    phase: {
+                        "priority": priority,
+                        "allowed": [m for m, s in statuses.items() if s == "allowed"],
+                        "excluded": [m for m, s in statuses.items() if s == "excluded"],
+                    }
+                }
+            )
 
     def set_activation(self, phase: str, mode: int, psi: float) -> None:
         """Priority activation ψ (N·m) of a priority mode; zero is refused (it would make the mode unused)."""
         if psi == 0:
-            raise UserInputError(f"priority mode {mode} needs a non-zero activation",
-                                 fix="give it a positive or negative ψ, or mark it allowed")
+            raise UserInputError(
+                f"priority mode {mode} needs a non-zero activation",
+                fix="give it a positive or negative ψ, or mark it allowed",
+            )
         with self.lock:
             if mode not in self.sketch.phase(phase).priority:
                 raise UserInputError(f"{phase} mode {mode} is not a priority mode", fix="mark it priority first")

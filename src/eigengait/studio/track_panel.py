@@ -20,8 +20,7 @@ TRACKING_CHARACTERS = ("walker", "humanoid")
 
 
 class TrackPanel:
-    def __init__(self, server: viser.ViserServer, sandbox: Sandbox, stage: Stage, feedback: Feedback,
-                 gui_order: float):
+    def __init__(self, server: viser.ViserServer, sandbox: Sandbox, stage: Stage, feedback: Feedback, gui_order: float):
         self.sandbox, self.stage, self.feedback = sandbox, stage, feedback
         self.result = None
         gui = server.gui
@@ -29,8 +28,14 @@ class TrackPanel:
             self.clip = gui.add_text("BVH clip", "", hint="a .bvh file inside the studio folder")
             choices = [c for c in TRACKING_CHARACTERS if c in builtin_names()]
             self.character = gui.add_dropdown("character", choices, initial_value=choices[0])
-            self.robustness = gui.add_slider("robustness", min=0.0, max=1.0, step=0.05, initial_value=0.5,
-                                             hint="0 = physically correct … 1 = stance-foot torque cancelled")
+            self.robustness = gui.add_slider(
+                "robustness",
+                min=0.0,
+                max=1.0,
+                step=0.05,
+                initial_value=0.5,
+                hint="0 = physically correct … 1 = stance-foot torque cancelled",
+            )
             self.push = gui.add_text("push", "", hint="optional FORCE@TIME (N, s), sideways at the torso")
             self.run = gui.add_button("Track in physics", icon=viser.Icon.RUN)
             self.report = gui.add_markdown("")
@@ -42,14 +47,16 @@ class TrackPanel:
             raise UserInputError("no clip given", field="BVH clip", fix="type the name of a .bvh file in the folder")
         path = self.sandbox.resolve(str(text).strip(), (".bvh",), must_exist=True)
         push = self.push.value.strip() or None
-        world, reference, result = run_track(path, self.character.value, float(self.robustness.value), push,
-                                             None, 1, 0.0)
+        world, reference, result = run_track(
+            path, self.character.value, float(self.robustness.value), push, None, 1, 0.0
+        )
         self.result = result
         self.stage.show("tracking", world, result.qpos, 1.0 / result.frame_time, follow=True)
         state = f"fell at {result.fall_time_s:.2f} s" if result.fell else "did not fall"
         self.report.content = (
             f"**{path.name}** on {self.character.value}: tracked {result.duration_s:.2f} s of "
             f"{reference.duration:.2f} s ({state}); joint RMS {result.joint_rms_deg:.1f}°, COM error "
-            f"{result.com_error_m:.3f} m, mean artificial torque {result.artificial_torque:.1f} N·m.")
+            f"{result.com_error_m:.3f} m, mean artificial torque {result.artificial_torque:.1f} N·m."
+        )
         self.feedback.info(f"Tracking `{self.sandbox.relative(path)}` in physics.", client)
         return result

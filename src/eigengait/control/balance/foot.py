@@ -37,16 +37,21 @@ class FootModel:
         if self.grf_max_n == 0.0:
             return 0.0
         theta = np.arctan(1.0 / self.friction)
-        return float(abs(self.com_height_m * self.grf_max_n * np.cos(theta)
-                         + self.radius_m * self.grf_max_n * np.sin(theta)))
+        return float(
+            abs(self.com_height_m * self.grf_max_n * np.cos(theta) + self.radius_m * self.grf_max_n * np.sin(theta))
+        )
 
 
-def foot_model_for_robustness(robustness: float, weight_n: float, radius_m: float, com_height_m: float,
-                              friction: float = 1.0) -> FootModel:
+def foot_model_for_robustness(
+    robustness: float, weight_n: float, radius_m: float, com_height_m: float, friction: float = 1.0
+) -> FootModel:
     """Map the user's robustness R ∈ [0, 1] onto the foot model's GRF_max = R/(1−R) × weight."""
     if not 0.0 <= robustness <= 1.0 or not np.isfinite(robustness):
-        raise UserInputError(f"robustness {robustness} is out of range.", field="robustness",
-                             fix="use a value between 0 (physically correct) and 1 (fully compensated).")
+        raise UserInputError(
+            f"robustness {robustness} is out of range.",
+            field="robustness",
+            fix="use a value between 0 (physically correct) and 1 (fully compensated).",
+        )
     grf = np.inf if robustness == 1.0 else weight_n * robustness / (1.0 - robustness)
     return FootModel(radius_m, com_height_m, float(grf), friction, robustness)
 

@@ -55,16 +55,23 @@ def centroidal_inertia(model: mujoco.MjModel, data: mujoco.MjData, root_body: in
     rot = data.ximat[bodies].reshape(-1, 3, 3)
     inertia = rot * model.body_inertia[bodies][:, None, :] @ np.swapaxes(rot, -1, -2)
     r = data.xipos[bodies] - com
-    parallel = mass[:, None, None] * (np.einsum("bi,bi->b", r, r)[:, None, None] * np.eye(3)
-                                      - np.einsum("bi,bj->bij", r, r))
+    parallel = mass[:, None, None] * (
+        np.einsum("bi,bi->b", r, r)[:, None, None] * np.eye(3) - np.einsum("bi,bj->bij", r, r)
+    )
     out = np.zeros((6, 6))
     out[:3, :3] = (inertia + parallel).sum(axis=0)
     out[3:, 3:] = np.eye(3) * mass.sum()
     return out
 
 
-def foot_rooted_momentum_matrix(model: mujoco.MjModel, data: mujoco.MjData, momentum: np.ndarray,
-                                foot_body: int, root_dofs: np.ndarray, joint_dofs: np.ndarray) -> np.ndarray:
+def foot_rooted_momentum_matrix(
+    model: mujoco.MjModel,
+    data: mujoco.MjData,
+    momentum: np.ndarray,
+    foot_body: int,
+    root_dofs: np.ndarray,
+    joint_dofs: np.ndarray,
+) -> np.ndarray:
     """(6, n_joint_dofs): momentum per joint velocity with the foot held still (free-joint velocity eliminated)."""
     jacp = np.zeros((3, model.nv))
     jacr = np.zeros((3, model.nv))
@@ -74,8 +81,14 @@ def foot_rooted_momentum_matrix(model: mujoco.MjModel, data: mujoco.MjData, mome
     return momentum[:, joint_dofs] + momentum[:, root_dofs] @ root_velocity
 
 
-def momentum_jacobian(model: mujoco.MjModel, data: mujoco.MjData, root_body: int, foot_body: int,
-                      root_dofs: np.ndarray, joint_dofs: np.ndarray) -> np.ndarray:
+def momentum_jacobian(
+    model: mujoco.MjModel,
+    data: mujoco.MjData,
+    root_body: int,
+    foot_body: int,
+    root_dofs: np.ndarray,
+    joint_dofs: np.ndarray,
+) -> np.ndarray:
     """E16: J (6, n_joint_dofs) = M_total⁻¹ A_foot, mapping joint velocities to (ω_avg; v_com) about the COM."""
     momentum = centroidal_momentum_matrix(model, data, root_body)
     rooted = foot_rooted_momentum_matrix(model, data, momentum, foot_body, root_dofs, joint_dofs)

@@ -17,7 +17,13 @@ def joint_error(q_actual: np.ndarray, q_desired: np.ndarray) -> np.ndarray:
     return quat_log(quat_mul(quat_conj(q_actual), q_desired))
 
 
-def pd_torques(q_actual: np.ndarray, q_desired: np.ndarray, w_actual: np.ndarray, w_desired: np.ndarray,
-               k_s: np.ndarray, k_d: np.ndarray) -> np.ndarray:
+def pd_torques(
+    q_actual: np.ndarray,
+    q_desired: np.ndarray,
+    w_actual: np.ndarray,
+    w_desired: np.ndarray,
+    k_s: np.ndarray,
+    k_d: np.ndarray,
+) -> np.ndarray:
     """Joint torques (n, 3), N·m, child frame; k_s in N·m/rad and k_d in N·m·s/rad, each (n, 3) or broadcastable."""
     return k_s * joint_error(q_actual, q_desired) + k_d * (w_desired - w_actual)

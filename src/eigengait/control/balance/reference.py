@@ -17,7 +17,7 @@ import numpy as np
 
 from eigengait.sim.world import World
 
-CONTACT_HEIGHT = 0.05   # m
+CONTACT_HEIGHT = 0.05  # m
 SMOOTHING_FRAMES = 5
 
 
@@ -26,15 +26,15 @@ class Reference:
     """Per-frame reference of a motion at a fixed frame time (s); arrays have one row per frame."""
 
     frame_time: float
-    qpos: np.ndarray          # (F, nq)
-    qvel: np.ndarray          # (F, nv)
-    com: np.ndarray           # (F, 3) m
-    com_vel: np.ndarray       # (F, 3) m/s
+    qpos: np.ndarray  # (F, nq)
+    qvel: np.ndarray  # (F, nv)
+    com: np.ndarray  # (F, 3) m
+    com_vel: np.ndarray  # (F, 3) m/s
     angular_momentum: np.ndarray  # (F, 3) kg·m²/s about the COM
-    support: np.ndarray       # (F, 2) m, horizontal support point
+    support: np.ndarray  # (F, 2) m, horizontal support point
     foot_contact: np.ndarray  # (F, n_feet) bool, feet in the order of world.foot_spheres
     mass: float
-    com_acc: np.ndarray | None = None               # (F, 3) m/s²
+    com_acc: np.ndarray | None = None  # (F, 3) m/s²
     angular_momentum_rate: np.ndarray | None = None  # (F, 3) N·m
 
     def __post_init__(self):
@@ -109,8 +109,17 @@ def kinematic_replay(world: World, qpos: np.ndarray, frame_time: float) -> Refer
         if contact[i].any():
             support[i] = np.mean([points[f][:, :2].mean(axis=0) for f, c in zip(feet, contact[i]) if c], axis=0)
     support = _hold(support, com[:, :2])
-    return Reference(frame_time=frame_time, qpos=qpos, qvel=qvel, com=com, com_vel=com_vel, angular_momentum=ang,
-                     support=support, foot_contact=contact, mass=float(model.body_subtreemass[root]))
+    return Reference(
+        frame_time=frame_time,
+        qpos=qpos,
+        qvel=qvel,
+        com=com,
+        com_vel=com_vel,
+        angular_momentum=ang,
+        support=support,
+        foot_contact=contact,
+        mass=float(model.body_subtreemass[root]),
+    )
 
 
 def _hold(support: np.ndarray, fallback: np.ndarray) -> np.ndarray:

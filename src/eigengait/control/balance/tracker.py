@@ -22,8 +22,11 @@ import mujoco
 import numpy as np
 
 from eigengait.control.balance.foot import FootModel, compensation, foot_model_for_robustness
-from eigengait.control.balance.momentum import centroidal_inertia, centroidal_momentum_matrix, \
-    foot_rooted_momentum_matrix
+from eigengait.control.balance.momentum import (
+    centroidal_inertia,
+    centroidal_momentum_matrix,
+    foot_rooted_momentum_matrix,
+)
 from eigengait.control.balance.pd import joint_error
 from eigengait.control.balance.reference import Reference
 from eigengait.control.balance.rotations import quat_angle, quat_to_mat
@@ -46,8 +49,15 @@ class Push:
 
 # Stiff tracking gains (N·m/rad) by joint-name suffix, for the built-in bipeds (legs 400–1000, as in the
 # momentum-Jacobian tracking literature's 300–1000 range); k_d = damping_time × k_s.
-BIPED_GAINS = {"torso": 800.0, "head": 100.0, "upper_arm": 150.0, "forearm": 60.0,
-               "thigh": 1000.0, "shin": 600.0, "foot": 400.0}
+BIPED_GAINS = {
+    "torso": 800.0,
+    "head": 100.0,
+    "upper_arm": 150.0,
+    "forearm": 60.0,
+    "thigh": 1000.0,
+    "shin": 600.0,
+    "foot": 400.0,
+}
 
 
 @dataclass(frozen=True)
@@ -82,17 +92,23 @@ class TrackingResult:
     artificial_torque: float
     artificial_torque_max: float
     robustness: float
-    qpos: np.ndarray = field(repr=False)   # (T, nq) recorded at the reference frame rate
+    qpos: np.ndarray = field(repr=False)  # (T, nq) recorded at the reference frame rate
     frame_time: float = 0.0
     foot_skate_m: float | None = None
 
     def summary(self) -> dict:
         skate = None if self.foot_skate_m is None else round(self.foot_skate_m, 4)
-        return {"duration_s": round(self.duration_s, 4), "fell": self.fell, "fall_time_s": self.fall_time_s,
-                "foot_skate_m": skate,
-                "joint_rms_deg": round(self.joint_rms_deg, 3), "com_error_m": round(self.com_error_m, 4),
-                "artificial_torque": round(self.artificial_torque, 3),
-                "artificial_torque_max": round(self.artificial_torque_max, 3), "robustness": self.robustness}
+        return {
+            "duration_s": round(self.duration_s, 4),
+            "fell": self.fell,
+            "fall_time_s": self.fall_time_s,
+            "foot_skate_m": skate,
+            "joint_rms_deg": round(self.joint_rms_deg, 3),
+            "com_error_m": round(self.com_error_m, 4),
+            "artificial_torque": round(self.artificial_torque, 3),
+            "artificial_torque_max": round(self.artificial_torque_max, 3),
+            "robustness": self.robustness,
+        }
 
 
 def _subtree_mass_and_arm(model: mujoco.MjModel, data: mujoco.MjData, body: int) -> tuple[float, float]:
@@ -111,15 +127,17 @@ def _is_descendant(model: mujoco.MjModel, body: int, ancestor: int) -> bool:
 class Tracker:
     """Closed-loop tracking of a Reference on a private copy of the world's model."""
 
-    def __init__(self, world: World, reference: Reference, robustness: float,
-                 settings: TrackerSettings = TrackerSettings()):
+    def __init__(
+        self, world: World, reference: Reference, robustness: float, settings: TrackerSettings = TrackerSettings()
+    ):
         self.world, self.reference, self.settings = world, reference, settings
         self.model = model = copy.deepcopy(world.model)
         self.data = mujoco.MjData(model)
         mujoco.mj_forward(model, self.data)
         self.mass = float(model.body_subtreemass[world.root_body])
-        self.foot = foot_model_for_robustness(robustness, self.mass * GRAVITY, settings.foot_radius_m,
-                                              settings.foot_com_height_m, settings.foot_friction)
+        self.foot = foot_model_for_robustness(
+            robustness, self.mass * GRAVITY, settings.foot_radius_m, settings.foot_com_height_m, settings.foot_friction
+        )
         joints = world.internal_qpos_joints
         self.ball = [j for j in joints if int(model.jnt_type[j]) == int(mujoco.mjtJoint.mjJNT_BALL)]
         self.hinge = [j for j in joints if int(model.jnt_type[j]) == int(mujoco.mjtJoint.mjJNT_HINGE)]
@@ -135,8 +153,10 @@ class Tracker:
         self.joint_dofs = np.asarray(world.internal_qvel)
         self._set_gains()
         self.foot_bodies = {f: int(model.geom_bodyid[g[0]]) for f, g in world.foot_spheres.items()}
-        self.foot_dofs = {f: [d for d in range(model.nv) if model.dof_bodyid[d] == b and d in set(self.joint_dofs)]
-                          for f, b in self.foot_bodies.items()}
+        self.foot_dofs = {
+            f: [d for d in range(model.nv) if model.dof_bodyid[d] == b and d in set(self.joint_dofs)]
+            for f, b in self.foot_bodies.items()
+        }
         floor = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_GEOM, FLOOR)
         self.floor = floor
         self.foot_body_set = set(self.foot_bodies.values())
@@ -173,10 +193,11 @@ class Tracker:
         i, j, a = ref.frame_at(t)
         qpos = (1 - a) * ref.qpos[i] + a * ref.qpos[j]
         for adr in list(self.ball_qpos[:, 0]) + [self.root_qpos + 3]:
-            qpos[adr:adr + 4] /= np.linalg.norm(qpos[adr:adr + 4])
-        blend = {name: (1 - a) * getattr(ref, name)[i] + a * getattr(ref, name)[j]
-                 for name in ("qvel", "com", "com_vel", "angular_momentum", "support", "com_acc",
-                              "angular_momentum_rate")}
+            qpos[adr : adr + 4] /= np.linalg.norm(qpos[adr : adr + 4])
+        blend = {
+            name: (1 - a) * getattr(ref, name)[i] + a * getattr(ref, name)[j]
+            for name in ("qvel", "com", "com_vel", "angular_momentum", "support", "com_acc", "angular_momentum_rate")
+        }
         return {"qpos": qpos, **blend}
 
     # ------------------------------------------------------------------------------------------- stepping
@@ -231,20 +252,23 @@ class Tracker:
         mujoco.mj_subtreeVel(model, data)
         com, com_vel, angmom = data.subtree_com[root], data.subtree_linvel[root], data.subtree_angmom[root]
         gains = self.settings.virtual
-        force = virtual_force(com, com_vel, support, ref["com"], ref["com_vel"], ref["support"], self.mass,
-                              GRAVITY, gains, ref["com_acc"])
-        quat = data.qpos[self.root_qpos + 3:self.root_qpos + 7]
-        quat_ref = ref["qpos"][self.root_qpos + 3:self.root_qpos + 7]
+        force = virtual_force(
+            com, com_vel, support, ref["com"], ref["com_vel"], ref["support"], self.mass, GRAVITY, gains, ref["com_acc"]
+        )
+        quat = data.qpos[self.root_qpos + 3 : self.root_qpos + 7]
+        quat_ref = ref["qpos"][self.root_qpos + 3 : self.root_qpos + 7]
         omega = quat_to_mat(quat) @ data.qvel[self.root_dofs[3:]]
         omega_ref = quat_to_mat(quat_ref) @ ref["qvel"][self.root_dofs[3:]]
-        torque = virtual_torque(quat, quat_ref, omega, omega_ref, angmom, ref["angular_momentum"], gains,
-                                ref["angular_momentum_rate"])
+        torque = virtual_torque(
+            quat, quat_ref, omega, omega_ref, angmom, ref["angular_momentum"], gains, ref["angular_momentum_rate"]
+        )
         wrench = np.concatenate([torque, force])
         momentum = centroidal_momentum_matrix(model, data, root)
         inertia = centroidal_inertia(model, data, root)
         for f, normal in stance.items():
-            rooted = foot_rooted_momentum_matrix(model, data, momentum, self.foot_bodies[f], self.root_dofs,
-                                                 self.joint_dofs)
+            rooted = foot_rooted_momentum_matrix(
+                model, data, momentum, self.foot_bodies[f], self.root_dofs, self.joint_dofs
+            )
             jac = np.linalg.solve(inertia, rooted)
             tau[self.joint_dofs] += normal / total * (jac.T @ wrench)
         artificial, ratios = {}, []
@@ -274,8 +298,9 @@ class Tracker:
         if push is not None:
             push_body = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, push.body)
             if push_body < 0:
-                raise UserInputError(f"the push names body '{push.body}', which the character does not have.",
-                                     field="push")
+                raise UserInputError(
+                    f"the push names body '{push.body}', which the character does not have.", field="push"
+                )
         dt = model.opt.timestep * self.settings.control_every
         steps = int(round(duration / dt))
         joint_err, com_err, torques, qpos_log = [], [], [], [ref.qpos[0].copy()]
@@ -288,16 +313,15 @@ class Tracker:
             forces = self._stance_forces()
             tau_pd = self._pd(target)
             tau_eq, artificial = self._balance(target, forces)
-            data.ctrl[:self.world.nmotor] = (tau_pd + tau_eq)[self.joint_dofs]
+            data.ctrl[: self.world.nmotor] = (tau_pd + tau_eq)[self.joint_dofs]
             data.xfrc_applied[:, :3] = 0.0
             if push is not None and push.time_s <= t < push.time_s + PUSH_DURATION:
                 data.xfrc_applied[push_body, :3] = push.force
             joint_err.append(quat_angle(data.qpos[self.ball_qpos], target["qpos"][self.ball_qpos]))
             com_err.append(np.linalg.norm(data.subtree_com[self.world.root_body] - target["com"]))
             torques.append(artificial)
-            step(self.world, data, self.settings.control_every, model)   # a blow-up raises, naming time and body
-            if self._touches_floor_off_feet() or \
-                    data.subtree_com[self.world.root_body][2] < 0.5 * target["com"][2]:
+            step(self.world, data, self.settings.control_every, model)  # a blow-up raises, naming time and body
+            if self._touches_floor_off_feet() or data.subtree_com[self.world.root_body][2] < 0.5 * target["com"][2]:
                 fell_at = float(data.time)
                 break
             if data.time + 1e-9 >= next_record:
@@ -305,16 +329,27 @@ class Tracker:
                 next_record += ref.frame_time
         joint_err = np.concatenate(joint_err) if joint_err else np.zeros(1)
         return TrackingResult(
-            duration_s=float(data.time), fell=fell_at is not None, fall_time_s=fell_at,
-            joint_rms_deg=float(np.degrees(np.sqrt(np.mean(joint_err ** 2)))),
+            duration_s=float(data.time),
+            fell=fell_at is not None,
+            fall_time_s=fell_at,
+            joint_rms_deg=float(np.degrees(np.sqrt(np.mean(joint_err**2)))),
             com_error_m=float(np.sqrt(np.mean(np.square(com_err)))),
             artificial_torque=float(np.mean(torques)) if torques else 0.0,
             artificial_torque_max=float(np.max(torques)) if torques else 0.0,
-            robustness=self.foot.robustness, qpos=np.array(qpos_log), frame_time=ref.frame_time)
+            robustness=self.foot.robustness,
+            qpos=np.array(qpos_log),
+            frame_time=ref.frame_time,
+        )
 
 
-def track(world: World, reference: Reference, robustness: float, settings: TrackerSettings = TrackerSettings(),
-          duration_s: float | None = None, push: Push | None = None) -> TrackingResult:
+def track(
+    world: World,
+    reference: Reference,
+    robustness: float,
+    settings: TrackerSettings = TrackerSettings(),
+    duration_s: float | None = None,
+    push: Push | None = None,
+) -> TrackingResult:
     """Track `reference` on `world`'s character with the given robustness in [0, 1]."""
     return Tracker(world, reference, robustness, settings).run(duration_s, push)
 

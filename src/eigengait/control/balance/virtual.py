@@ -32,14 +32,23 @@ class VirtualGains:
     k_ts: float = 400.0
     k_td: float = 40.0
     k_ma: float = 2.0
-    feedforward: float = 1.0   # weight of the reference momentum rates Ṗ_ref, L̇_ref (0: the chapter's E23/E28)
-    absolute: bool = True      # COM error in world coordinates (False: E20, offsets from the support points)
-    gravity: float = 1.0       # weight of E21's gravity compensation (0 when other torques already carry the body)
+    feedforward: float = 1.0  # weight of the reference momentum rates Ṗ_ref, L̇_ref (0: the chapter's E23/E28)
+    absolute: bool = True  # COM error in world coordinates (False: E20, offsets from the support points)
+    gravity: float = 1.0  # weight of E21's gravity compensation (0 when other torques already carry the body)
 
 
-def virtual_force(com: np.ndarray, com_vel: np.ndarray, support: np.ndarray, com_ref: np.ndarray,
-                  com_vel_ref: np.ndarray, support_ref: np.ndarray, mass: float, gravity: float,
-                  gains: VirtualGains, com_acc_ref: np.ndarray | None = None) -> np.ndarray:
+def virtual_force(
+    com: np.ndarray,
+    com_vel: np.ndarray,
+    support: np.ndarray,
+    com_ref: np.ndarray,
+    com_vel_ref: np.ndarray,
+    support_ref: np.ndarray,
+    mass: float,
+    gravity: float,
+    gains: VirtualGains,
+    com_acc_ref: np.ndarray | None = None,
+) -> np.ndarray:
     """E19–E23: f_virtual (3,) N; support points are (2,) horizontal positions in m; com_acc_ref (3,) m/s²."""
     if gains.absolute:
         support, support_ref = np.zeros(2), np.zeros(2)
@@ -51,9 +60,16 @@ def virtual_force(com: np.ndarray, com_vel: np.ndarray, support: np.ndarray, com
     return control + weight + momentum + feedforward
 
 
-def virtual_torque(quat: np.ndarray, quat_ref: np.ndarray, omega: np.ndarray, omega_ref: np.ndarray,
-                   angmom: np.ndarray, angmom_ref: np.ndarray, gains: VirtualGains,
-                   angmom_rate_ref: np.ndarray | None = None) -> np.ndarray:
+def virtual_torque(
+    quat: np.ndarray,
+    quat_ref: np.ndarray,
+    omega: np.ndarray,
+    omega_ref: np.ndarray,
+    angmom: np.ndarray,
+    angmom_ref: np.ndarray,
+    gains: VirtualGains,
+    angmom_rate_ref: np.ndarray | None = None,
+) -> np.ndarray:
     """E24–E28: τ_virtual (3,) N·m from a body's world orientation/angular velocity and the momentum about the COM."""
     control = gains.k_ts * quat_log(quat_mul(quat_ref, quat_conj(quat))) + gains.k_td * (omega_ref - omega)
     feedforward = 0.0 if angmom_rate_ref is None else gains.feedforward * angmom_rate_ref
