@@ -61,10 +61,6 @@ class Character:
         """The planar root's slide/hinge joints (rigid degrees of freedom); empty for a free root."""
         return self.scene.root_joints
 
-    @property
-    def is_anisotropic(self) -> bool:
-        return any(np.ptp(k) > 0 for k in self.stiffness.values())
-
     def raw_spec(self) -> mujoco.MjSpec:
         """The user's MJCF as a fresh spec, prepared (`scene.py`) and with the guessed foot sites."""
         spec = _parse(self.path)

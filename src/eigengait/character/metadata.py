@@ -41,7 +41,7 @@ class Foot(BaseModel):
     heel: str | None = None
 
 
-class Mirror(BaseModel):
+class MirrorSpec(BaseModel):
     model_config = ConfigDict(extra="forbid")
     axis: Literal["x", "y", "z"] = "y"
     pairs: dict[str, str] = Field(default_factory=dict)
@@ -56,7 +56,7 @@ class CharacterMetadata(BaseModel):
     body: str | None = None
     feet: dict[str, Foot] = Field(default_factory=dict)
     gait_order: list[str] = Field(default_factory=list)
-    mirror: Mirror | None = None
+    mirror: MirrorSpec | None = None
     stiffness: dict[str, tuple[float, float, float] | float] | Literal["auto"] = Field(default_factory=dict)
     damping_ratio: float = Field(0.1, ge=0.0)
     relax_poses: dict[str, dict[str, tuple[float, float, float] | float]] = Field(default_factory=dict)

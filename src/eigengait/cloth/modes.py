@@ -26,7 +26,7 @@ DENSE_LIMIT = 3000
 
 
 @dataclass
-class ModeSet:
+class SurfaceModes:
     """``frequencies`` (K,) Hz, ``shapes`` (K, N, 3) mass-normalized (zero at fixed points), about ``positions``."""
 
     frequencies: np.ndarray
@@ -105,7 +105,7 @@ def equilibrium(model: ClothModel, *, iterations: int = 400, tolerance: float = 
     )
 
 
-def vibration_modes(model: ClothModel, positions: np.ndarray | None = None, count: int = 12) -> ModeSet:
+def vibration_modes(model: ClothModel, positions: np.ndarray | None = None, count: int = 12) -> SurfaceModes:
     """The ``count`` lowest non-zero modes of ``model`` linearized about ``positions`` (default: rest)."""
     x = model.rest_positions if positions is None else positions
     free = np.repeat(model.free, 3)
@@ -128,17 +128,17 @@ def vibration_modes(model: ClothModel, positions: np.ndarray | None = None, coun
     vec = vec / np.sqrt((m[:, None] * vec**2).sum(axis=0))
     shapes = np.zeros((len(w2), model.size * 3))
     shapes[:, free] = vec.T
-    return ModeSet(np.sqrt(w2) / (2 * np.pi), shapes.reshape(len(w2), model.size, 3), x.copy(), zero_modes)
+    return SurfaceModes(np.sqrt(w2) / (2 * np.pi), shapes.reshape(len(w2), model.size, 3), x.copy(), zero_modes)
 
 
-def out_of_plane_fraction(modes: ModeSet, normal=(0.0, 0.0, 1.0)) -> np.ndarray:
+def out_of_plane_fraction(modes: SurfaceModes, normal=(0.0, 0.0, 1.0)) -> np.ndarray:
     """(K,) share of each mode's squared amplitude along ``normal`` (1 = purely transverse)."""
     n = np.asarray(normal, float) / np.linalg.norm(normal)
     along = ((modes.shapes @ n) ** 2).sum(axis=1)
     return along / np.maximum((modes.shapes**2).sum(axis=(1, 2)), 1e-300)
 
 
-def draw_palette(model: ClothModel, modes: ModeSet, path: str | Path, *, columns: int | None = None) -> None:
+def draw_palette(model: ClothModel, modes: SurfaceModes, path: str | Path, *, columns: int | None = None) -> None:
     """Save a PNG with one tile per mode: the displaced surface, its number and frequency (Hz)."""
     import matplotlib
 

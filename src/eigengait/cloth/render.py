@@ -116,7 +116,7 @@ def _triangle_materials(faces, materials) -> list[int]:
     return [m for f, m in zip(faces, materials) for _ in range(len(f) - 2)]
 
 
-class FrameRenderer:
+class ClothFrameRenderer:
     """Draws frames of one model with a fixed camera; ``bounds`` (2, 3) m fixes the view box (see
     :func:`frame_bounds`); ``floor`` (m, world z) draws a checkered floor plane over the box's x–y extent."""
 
@@ -253,7 +253,7 @@ def render_run(
     frame); ``sheet`` gets a contact sheet of :data:`SHEET` video frames spread evenly over the run.
     """
     bounds = frame_bounds(model, [p for _, p in states.values()], floor)
-    renderer = FrameRenderer(model, bounds, camera=camera, title=title, floor=floor)
+    renderer = ClothFrameRenderer(model, bounds, camera=camera, title=title, floor=floor)
     png_index = {step: k for k, step in enumerate(png_steps)}
     video_steps = list(video_steps)
     picks = set(sheet_picks(len(video_steps)).tolist()) if sheet is not None else set()

@@ -51,10 +51,6 @@ class Reference:
     def duration(self) -> float:
         return (self.n_frames - 1) * self.frame_time
 
-    @property
-    def linear_momentum(self) -> np.ndarray:
-        return self.mass * self.com_vel
-
     def frame_at(self, t: float) -> tuple[int, int, float]:
         """Bracketing frames and blend weight of time t (s), clamped to the clip."""
         x = np.clip(t / self.frame_time, 0.0, self.n_frames - 1.0)
