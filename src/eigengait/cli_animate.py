@@ -49,7 +49,7 @@ def palette_command(
     output: Path = typer.Option(Path("palette.png"), "-o", "--output", help="PNG file to write."),
     count: Optional[int] = typer.Option(None, "--modes", help="Show modes 1..N (default: all)."),
     columns: Optional[int] = typer.Option(None, "--columns", min=1, help="Tiles per row (default: about square)."),
-    tile: int = typer.Option(240, "--tile", min=32, help="Tile size in pixels (even)."),
+    tile: int = typer.Option(240, "--tile", min=32, max=2048, help="Tile size in pixels (even)."),
     angle: float = typer.Option(DEFAULT_MAX_ROTATION_DEG, "--angle", help="Peak joint rotation shown, degrees."),
     force: bool = typer.Option(False, "--force", help="Overwrite an existing file."),
 ):

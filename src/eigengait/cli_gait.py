@@ -95,16 +95,16 @@ def optimize_command(
     from eigengait.optimize.mom import MomSettings
     from eigengait.optimize.staged import optimize_gait
 
-    for value, option, low in (
-        (evaluations, "--max-evaluations", 1),
-        (minutes, "--max-minutes", 0.01),
-        (generations, "--inner-generations", 1),
-        (max_outer, "--max-outer", 1),
-        (tolerance, "--cycle-tolerance", 1e-6),
-        (popsize, "--popsize", 2),
-        (workers, "--workers", 1),
+    for value, option, low, high in (
+        (evaluations, "--max-evaluations", 1, 1e9),
+        (minutes, "--max-minutes", 0.01, 1e6),
+        (generations, "--inner-generations", 1, 1e6),
+        (max_outer, "--max-outer", 1, 1e4),
+        (tolerance, "--cycle-tolerance", 1e-6, 1e3),
+        (popsize, "--popsize", 2, 10_000),
+        (workers, "--workers", 1, 1024),
     ):
-        check_range(value, option, low)
+        check_range(value, option, low, high)
     if force and resume:
         raise UserInputError(
             "--force and --resume do not go together",

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import json
 import pickle
+from pathlib import Path
 import sys
 
 import pytest
@@ -17,6 +18,7 @@ from eigengait.cli import main
 from eigengait.cloth.library import example_path
 from eigengait.control.library import resolve
 
+MOCAP = Path(__file__).resolve().parents[3] / "shared/data/mocap"
 LATIN1 = "name: caf\xe9\n".encode("latin-1")
 
 
@@ -53,6 +55,10 @@ OPTION_VALUES = {
     "palette-angle-nan": ["palette", "humanoid", "--angle", "nan", "-o", "{tmp}/p.png"],
     "animate-seconds-nan": ["animate", "humanoid", "--mix", "2:1", "--seconds", "nan", "--bvh", "{tmp}/a.bvh"],
     "cloth-time-step-negative": ["cloth", "run", "curtain", "-o", "{tmp}/out", "--time-step", "-1"],
+    "fps-a-billion": ["play", "kangaroo-hop", "--cycles", "1", "--bvh", "{tmp}/x.bvh", "--fps", "1e9"],
+    "popsize-a-hundred-million": ["optimize", "basic-run", "-o", "{tmp}/run", "--popsize", "100000000"],
+    "palette-tile-100000": ["palette", "humanoid", "--tile", "100000", "-o", "{tmp}/p.png"],
+    "track-start-frame-negative": ["track", "{mocap}/cmu_02_01_walk.bvh", "--start-frame", "-5"],
     "cloth-floor-nan": ["cloth", "run", "curtain", "-o", "{tmp}/out", "--floor", "nan"],
     "cloth-duration-nan": ["cloth", "run", "curtain", "-o", "{tmp}/out", "--duration", "nan"],
     "cloth-restitution-nan": ["cloth", "run", "curtain", "-o", "{tmp}/out", "--restitution", "nan"],
@@ -61,7 +67,7 @@ OPTION_VALUES = {
 
 @pytest.mark.parametrize("args", OPTION_VALUES.values(), ids=OPTION_VALUES.keys())
 def test_bad_option_values(args, tmp_path, capsys, monkeypatch):
-    assert_clean_refusal(*run_cli(capsys, monkeypatch, [a.format(tmp=tmp_path) for a in args]))
+    assert_clean_refusal(*run_cli(capsys, monkeypatch, [a.format(tmp=tmp_path, mocap=MOCAP) for a in args]))
     assert not (tmp_path / "run").exists()  # refused before any work started
 
 

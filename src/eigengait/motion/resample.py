@@ -26,16 +26,21 @@ def quaternion_addresses(model: mujoco.MjModel) -> np.ndarray:
     return np.array(addresses, dtype=int)
 
 
+MAX_FPS = 1000  # frames per second of a video or BVH
+
+
 def frame_times(duration_s: float, fps: float, speed: float = 1.0) -> np.ndarray:
     """Simulated times (s) of the frames of a video at `fps` that shows `duration_s` of motion at `speed`.
 
     Frame k shows simulated time k·speed/fps: speed 1 plays in real time, 0.5 in slow motion, 2 twice as fast.
     """
-    if not fps > 0:
-        raise UserInputError(f"frame rate {fps} is not positive", field="--fps", fix="use e.g. --fps 30")
-    if not speed > 0:
+    if not 0 < fps <= MAX_FPS:
         raise UserInputError(
-            f"playback speed {speed} is not positive", field="--speed", fix="use 1 for real time, 0.5 for slow motion"
+            f"frame rate {fps} is out of range", field="--fps", fix=f"use e.g. --fps 30 (at most {MAX_FPS})"
+        )
+    if not 0.01 <= speed <= 100:
+        raise UserInputError(
+            f"playback speed {speed} is out of range", field="--speed", fix="use 1 for real time, 0.5 for slow motion"
         )
     count = int(np.floor(duration_s * fps / speed + 1e-9)) + 1
     return np.arange(count) * (speed / fps)

@@ -266,9 +266,9 @@ def retarget(clip: BvhClip, world: World, mapping: Mapping, start_frame: int = 1
     """Character poses for frames ``start_frame..end`` of the clip (frame 0 of CMU files is a synthetic T-pose)."""
     if not 0 <= start_frame < clip.n_frames - 1:
         raise UserInputError(
-            f"start frame {start_frame} leaves fewer than two frames of {clip.n_frames}.",
-            field="start_frame",
-            fix="use a smaller start frame.",
+            f"start frame {start_frame} is outside the clip's frames 0..{clip.n_frames - 2} (two frames at least).",
+            field="--start-frame",
+            fix=f"use a start frame from 0 to {clip.n_frames - 2}.",
         )
     model = world.model
     pairs, root = _check_mapping(mapping, clip, world)

@@ -52,13 +52,16 @@ class CameraView:
         return forward, right, np.cross(right, forward)
 
 
+MAX_SIZE = 8192  # pixels per side of an offscreen image
+
+
 def visual_model(world: World, width: int, height: int) -> mujoco.MjModel:
     """A copy of the world's model with an offscreen buffer of the requested size and softer lighting."""
-    if width < 16 or height < 16 or width % 2 or height % 2:
+    if not (16 <= width <= MAX_SIZE and 16 <= height <= MAX_SIZE) or width % 2 or height % 2:
         raise UserInputError(
             f"image size {width}×{height} is not usable",
             field="--width/--height",
-            fix="use even sizes of at least 16 pixels (H.264 needs even sizes)",
+            fix=f"use even sizes from 16 to {MAX_SIZE} pixels (H.264 needs even sizes)",
         )
     model = copy.deepcopy(world.model)
     model.vis.global_.offwidth = max(width, model.vis.global_.offwidth)
