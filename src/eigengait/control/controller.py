@@ -157,17 +157,9 @@ def to_parameters(controller: ControllerFile, system: GaitSystem, source: str | 
                 field=field,
                 fix="regenerate the controller with `eigengait optimize`",
             )
-    activations = {}
-    for foot in system.active_feet:
-        for phase in ("air", "ground"):
-            psi = np.zeros(system.mode_count(phase))
-            for m, v in controller.activations.get(foot, {}).get(phase, {}).items():
-                if not 1 <= m <= len(psi):
-                    raise UserInputError(
-                        f"mode {m} does not exist ({len(psi)} modes)", file=source, field=f"activations.{foot}.{phase}"
-                    )
-                psi[m - 1] = v
-            activations[(foot, phase)] = psi
+    activations = system.dense_activations(
+        lambda foot, phase: controller.activations.get(foot, {}).get(phase, {}), source
+    )
     return GaitParameters(
         period=controller.period,
         air_ratio=controller.air_ratio,

@@ -6,7 +6,9 @@ initial states for MuJoCo.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import mujoco
 import numpy as np
@@ -84,6 +86,26 @@ class GaitSystem:
 
     def mode_count(self, phase: str) -> int:
         return self.basis_matrix(self.feet[0], phase).shape[1]
+
+    def dense_activations(
+        self, sparse: Callable[[str, str], dict[int, float]], source: str | Path | None = None
+    ) -> dict[tuple[str, str], np.ndarray]:
+        """ψ (N·m) per (active foot, phase) over every mode of its basis, from `sparse(foot, phase)`: 1-based mode
+        number -> ψ. A mode number the basis lacks is an error naming `source`."""
+        out = {}
+        for foot in self.active_feet:
+            for phase in ("air", "ground"):
+                psi = np.zeros(self.mode_count(phase))
+                for m, v in sparse(foot, phase).items():
+                    if not 1 <= m <= len(psi):
+                        raise UserInputError(
+                            f"mode {m} does not exist ({len(psi)} modes)",
+                            file=source,
+                            field=f"activations.{foot}.{phase}",
+                        )
+                    psi[m - 1] = v
+                out[(foot, phase)] = psi
+        return out
 
     def states(self, p: GaitParameters) -> list[State]:
         return schedule(self.feet, p.period, p.air_ratio, p.pulse_air, p.pulse_ground)

@@ -30,13 +30,7 @@ class SketchRun:
 
 def sketch_parameters(sk: Sketch, system: GaitSystem) -> GaitParameters:
     """The sketch's own controller: its timing, priority ψ only, relax pose at rest."""
-    activations = {}
-    for foot in system.active_feet:
-        for phase in ("air", "ground"):
-            psi = np.zeros(system.mode_count(phase))
-            for m, v in sk.phase(phase).priority.items():
-                psi[m - 1] = v
-            activations[(foot, phase)] = psi
+    activations = system.dense_activations(lambda foot, phase: sk.phase(phase).priority)
     model = system.world.model
     return GaitParameters(
         period=sk.timing.period,

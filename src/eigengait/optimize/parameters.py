@@ -129,14 +129,10 @@ class ParameterSpace:
         v = self.values(x)
         get = lambda name: float(v[self.index[name]])  # noqa: E731
         system, model = self.system, self.system.world.model
-        activations = {}
-        for foot in system.active_feet:
-            for phase in ("air", "ground"):
-                activations[(foot, phase)] = np.zeros(system.mode_count(phase))
-        for (foot, phase, m), value in zip(
-            self.psi_slots, v[[self.index[f"psi/{f}/{p}/{mm}"] for f, p, mm in self.psi_slots]]
-        ):
-            activations[(foot, phase)][m - 1] = value
+        sparse: dict[tuple[str, str], dict[int, float]] = {}
+        for foot, phase, m in self.psi_slots:
+            sparse.setdefault((foot, phase), {})[m] = get(f"psi/{foot}/{phase}/{m}")
+        activations = system.dense_activations(lambda foot, phase: sparse.get((foot, phase), {}))
         qpos = model.qpos0.copy()
         qvel = np.zeros(model.nv)
         shapes = system.air_modes.shapes
