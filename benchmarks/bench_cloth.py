@@ -54,7 +54,7 @@ def run_rate(n: int, seconds: float, *options: str, time_step: float = H) -> flo
     """Steps per second of ``cloth run`` on the sheet (in-process, no rendering)."""
     from typer.testing import CliRunner
 
-    from eigengait.cloth.cli import app
+    from eigengait.cli.cloth import app
 
     with tempfile.TemporaryDirectory() as folder:
         script = Path(folder) / "sheet.PAR"

@@ -8,12 +8,12 @@ from pathlib import Path
 import typer
 from typer.testing import CliRunner
 
-from eigengait.cli_track import register
+from eigengait.cli.track import register
 
 WALK = str(Path(__file__).resolve().parents[3] / "shared" / "data" / "mocap" / "cmu_02_01_walk.bvh")
 RUN = str(Path(__file__).resolve().parents[3] / "shared" / "data" / "mocap" / "cmu_16_36_run_daz.bvh")
 MAIN = (
-    "import sys, typer; from eigengait.cli_track import register; from eigengait.errors import UserInputError\n"
+    "import sys, typer; from eigengait.cli.track import register; from eigengait.errors import UserInputError\n"
     "app = typer.Typer(); register(app); app.command('noop')(lambda: None)\n"
     "try:\n    app(standalone_mode=False)\n"
     "except UserInputError as err:\n    print('error:', err, file=sys.stderr); sys.exit(2)\n"

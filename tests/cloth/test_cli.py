@@ -6,7 +6,7 @@ import sys
 import pytest
 from typer.testing import CliRunner
 
-from eigengait.cloth.cli import app
+from eigengait.cli.cloth import app
 from eigengait.cloth.library import EXAMPLES
 
 runner = CliRunner()
@@ -121,6 +121,6 @@ def test_unknown_integrator_and_example(tmp_path):
 
 def test_module_is_runnable():
     done = subprocess.run(
-        [sys.executable, "-m", "eigengait.cloth.cli", "examples"], capture_output=True, text=True, timeout=60
+        [sys.executable, "-m", "eigengait", "cloth", "examples"], capture_output=True, text=True, timeout=60
     )
     assert done.returncode == 0 and "tablecloth" in done.stdout

@@ -197,7 +197,7 @@ def test_point_attached_to_an_obstacle_sits_on_its_surface():
 def test_run_options_for_fabric(tmp_path):
     from typer.testing import CliRunner
 
-    from eigengait.cloth.cli import app
+    from eigengait.cli.cloth import app
 
     runner = CliRunner()
     ok = runner.invoke(

@@ -8,7 +8,7 @@ import pytest
 from typer.testing import CliRunner
 
 from eigengait.cloth import example_path, read_obt, read_par, script_model
-from eigengait.cloth.cli import app
+from eigengait.cli.cloth import app
 from eigengait.cloth.render import smooth_quads, vertex_normals
 from eigengait.cloth.simulate import run_samples, video_steps
 

@@ -5,7 +5,7 @@ import typer
 from typer.testing import CliRunner
 
 import eigengait.cli
-from eigengait.cli_animate import register
+from eigengait.cli.animate import register
 from eigengait.errors import UserInputError
 
 

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import typer
 
-from eigengait.cli_media import (
+from eigengait.cli.media import (
     BVH_UNITS_OPTION,
     CAMERA_OPTION,
     FPS_OPTION,

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import re
-import sys
 import warnings
 from contextlib import ExitStack
 from pathlib import Path
@@ -262,7 +261,3 @@ def modes(
             console.print(f"palette written to {palette}")
     except UserInputError as error:
         raise _fail(error) from None
-
-
-if __name__ == "__main__":
-    app(prog_name=f"{Path(sys.executable).name} -m eigengait.cloth.cli")

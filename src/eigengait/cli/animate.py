@@ -15,7 +15,7 @@ import typer
 from rich.console import Console
 from rich.table import Table
 
-from eigengait.cli_media import BVH_UNITS_OPTION, CAMERA_OPTION, SPEED_OPTION, MediaOptions
+from eigengait.cli.media import BVH_UNITS_OPTION, CAMERA_OPTION, SPEED_OPTION, MediaOptions
 from eigengait.errors import UserInputError
 from eigengait.inputs import check_range
 from eigengait.outputs import refuse_existing, require_suffix

@@ -14,7 +14,7 @@ import typer
 from rich.console import Console
 from rich.table import Table
 
-from eigengait.cli_character import BODY_HELP, STIFFNESS_HELP, print_notes
+from eigengait.cli.character import BODY_HELP, STIFFNESS_HELP, print_notes
 from eigengait import json_text
 from eigengait.errors import UserInputError
 from eigengait.outputs import keep_mujoco_log_out_of_the_folder, refuse_existing, require_suffix, write_atomically
@@ -125,13 +125,13 @@ def modes_command(
 
 
 def _register_command_groups() -> None:
-    from eigengait.cli_animate import register as register_animate
-    from eigengait.cli_character import register as register_character
-    from eigengait.cli_gait import register as register_gait
-    from eigengait.cli_studio import register as register_studio
-    from eigengait.cli_track import register as register_track
+    from eigengait.cli.animate import register as register_animate
+    from eigengait.cli.character import register as register_character
+    from eigengait.cli.gait import register as register_gait
+    from eigengait.cli.studio import register as register_studio
+    from eigengait.cli.track import register as register_track
 
-    from eigengait.cloth.cli import app as cloth_app
+    from eigengait.cli.cloth import app as cloth_app
 
     app.add_typer(cloth_app, name="cloth", help="The FLEX3D deformable-surface simulator.")
     register_animate(app)

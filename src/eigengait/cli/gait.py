@@ -11,7 +11,7 @@ import typer
 from rich.console import Console
 from rich.table import Table
 
-from eigengait.cli_media import (
+from eigengait.cli.media import (
     BVH_UNITS_OPTION,
     CAMERA_OPTION,
     FPS_OPTION,
