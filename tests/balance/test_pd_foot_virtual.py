@@ -5,7 +5,7 @@ import pytest
 
 from eigengait.control.balance.foot import compensation, foot_model_for_robustness
 from eigengait.control.balance.pd import joint_error, pd_torques
-from eigengait.control.balance.rotations import mat_to_quat, quat_exp, quat_mul, quat_to_mat
+from eigengait.geometry import mat_to_quat, quat_exp, quat_mul, quat_to_mat
 from eigengait.control.balance.virtual import VirtualGains, virtual_force, virtual_torque
 from eigengait.errors import UserInputError
 

@@ -15,7 +15,7 @@ from pydantic import BaseModel, ConfigDict, Field, field_validator
 
 from eigengait.control.feedback import FEATURES, HIP_GAINS, FeedbackGains
 
-from eigengait.control.files import dump, read_mapping, validate
+from eigengait.files import dump, read_mapping, validate
 from eigengait.control.gait import GaitParameters, GaitSystem
 from eigengait.errors import UserInputError
 from eigengait.json_text import finite

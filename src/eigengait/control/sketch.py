@@ -23,7 +23,7 @@ from typing import Literal
 
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
-from eigengait.control.files import read_mapping, validate
+from eigengait.files import read_mapping, validate
 from eigengait.errors import UserInputError
 
 FORMAT_VERSION = 1

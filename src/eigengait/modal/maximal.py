@@ -13,7 +13,8 @@ import mujoco
 import numpy as np
 
 from eigengait.modal.eigen import constrained_modes
-from eigengait.modal.spatial import relative_adjoint, skew, spatial_inertia
+from eigengait.modal.spatial import relative_adjoint, spatial_inertia
+from eigengait.geometry import skew
 from eigengait.sim.world import World
 
 

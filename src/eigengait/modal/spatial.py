@@ -4,10 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-
-def skew(p: np.ndarray) -> np.ndarray:
-    """[p], the matrix with [p] x = p × x."""
-    return np.array([[0, -p[2], p[1]], [p[2], 0, -p[0]], [-p[1], p[0], 0]])
+from eigengait.geometry import skew
 
 
 def adjoint(R: np.ndarray, t: np.ndarray) -> np.ndarray:

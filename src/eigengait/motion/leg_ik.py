@@ -11,7 +11,7 @@ from __future__ import annotations
 import mujoco
 import numpy as np
 
-from eigengait.control.balance.rotations import mat_to_quat, quat_log
+from eigengait.geometry import mat_to_quat, quat_log
 
 DAMPING = 0.05  # λ (m or rad)
 TOLERANCE = 1e-4

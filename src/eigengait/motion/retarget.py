@@ -31,7 +31,7 @@ import numpy as np
 import yaml
 from pydantic import BaseModel, ConfigDict, ValidationError, field_validator
 
-from eigengait.control.balance.rotations import mat_to_quat, min_arc, quat_log, quat_to_mat
+from eigengait.geometry import mat_to_quat, min_arc, quat_log, quat_to_mat
 from eigengait.errors import UserInputError
 from eigengait.motion.bvh import BvhClip, end_site_positions, global_transforms
 from eigengait.motion.conventions import detect_conventions

@@ -16,7 +16,7 @@ from pathlib import Path
 from eigengait.character import builtin_names, load_character
 from eigengait.character.relax import parse_relax_argument
 from eigengait.control.binding import mode_counts, sketch_system
-from eigengait.control.files import dump
+from eigengait.files import dump
 from eigengait.control.gait import GaitSystem
 from eigengait.control.library import preset_names, resolve
 from eigengait.control.sketch import Sketch, check_modes, load_sketch

@@ -16,12 +16,7 @@ from __future__ import annotations
 import mujoco
 import numpy as np
 
-
-def _skew(v: np.ndarray) -> np.ndarray:
-    """Skew matrices (..., 3, 3) with skew(a) @ b = a × b."""
-    x, y, z = np.moveaxis(v, -1, 0)
-    zero = np.zeros_like(x)
-    return np.stack([np.stack([zero, -z, y], -1), np.stack([z, zero, -x], -1), np.stack([-y, x, zero], -1)], -2)
+from eigengait.geometry import skew
 
 
 def subtree_bodies(model: mujoco.MjModel, root_body: int) -> np.ndarray:
@@ -41,7 +36,7 @@ def centroidal_momentum_matrix(model: mujoco.MjModel, data: mujoco.MjData, root_
     mass = model.body_mass[bodies]
     rot = data.ximat[bodies].reshape(-1, 3, 3)
     inertia = rot * model.body_inertia[bodies][:, None, :] @ np.swapaxes(rot, -1, -2)
-    arm = _skew(data.xipos[bodies] - com)
+    arm = skew(data.xipos[bodies] - com)
     angular = np.einsum("bij,bjn->in", inertia, jacr) + np.einsum("b,bij,bjn->in", mass, arm, jacp)
     linear = np.einsum("b,bjn->jn", mass, jacp)
     return np.vstack([angular, linear])

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from eigengait.control.balance.rotations import quat_conj, quat_log, quat_mul
+from eigengait.geometry import quat_conj, quat_log, quat_mul
 
 
 def joint_error(q_actual: np.ndarray, q_desired: np.ndarray) -> np.ndarray:

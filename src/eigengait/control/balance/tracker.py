@@ -29,7 +29,7 @@ from eigengait.control.balance.momentum import (
 )
 from eigengait.control.balance.pd import joint_error
 from eigengait.control.balance.reference import Reference
-from eigengait.control.balance.rotations import quat_angle, quat_to_mat
+from eigengait.geometry import quat_angle, quat_to_mat
 from eigengait.control.balance.virtual import VirtualGains, virtual_force, virtual_torque
 from eigengait.errors import UserInputError
 from eigengait.sim.stepping import step

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from eigengait.control.balance.rotations import quat_conj, quat_log, quat_mul
+from eigengait.geometry import quat_conj, quat_log, quat_mul
 
 HORIZONTAL = np.array([1.0, 1.0, 0.0])
 

@@ -1,4 +1,5 @@
-"""Vectorized rotation helpers. Quaternions are MuJoCo's (w, x, y, z), unit norm; arrays broadcast on leading axes."""
+"""Vectorized rotation helpers: quaternions (MuJoCo's w, x, y, z, unit norm) and skew matrices; arrays broadcast on
+leading axes."""
 
 from __future__ import annotations
 
@@ -120,3 +121,10 @@ def min_arc(a: np.ndarray, b: np.ndarray) -> np.ndarray:
         perp = np.cross(a, [1.0, 0.0, 0.0] if abs(a[0]) < 0.9 else [0.0, 1.0, 0.0])
         return quat_to_mat(quat_exp(np.pi * perp / np.linalg.norm(perp)))
     return quat_to_mat(quat_exp(axis / s * np.arctan2(s, c)))
+
+
+def skew(v: np.ndarray) -> np.ndarray:
+    """Skew matrices (..., 3, 3) of vectors (..., 3): skew(a) @ b = a × b."""
+    x, y, z = np.moveaxis(np.asarray(v, dtype=float), -1, 0)
+    zero = np.zeros_like(x)
+    return np.stack([np.stack([zero, -z, y], -1), np.stack([z, zero, -x], -1), np.stack([-y, x, zero], -1)], -2)
