@@ -141,10 +141,9 @@ def out_of_plane_fraction(modes: SurfaceModes, normal=(0.0, 0.0, 1.0)) -> np.nda
 def draw_palette(model: ClothModel, modes: SurfaceModes, path: str | Path, *, columns: int | None = None) -> None:
     """Save a PNG with one tile per mode: the displaced surface, its number and frequency (Hz)."""
     import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
     from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+
+    from eigengait.figures import agg_figure
 
     from eigengait.cloth.render import shade
 
@@ -153,7 +152,7 @@ def draw_palette(model: ClothModel, modes: SurfaceModes, path: str | Path, *, co
         raise UserInputError("there is no non-zero mode to draw.", fix="pin or pre-stretch the surface.")
     columns = columns or int(np.ceil(np.sqrt(count)))
     rows = int(np.ceil(count / columns))
-    fig = plt.figure(figsize=(3.2 * columns, 3.0 * rows), dpi=100)
+    fig = agg_figure(3.2 * columns, 3.0 * rows)
     x = modes.positions
     size = float(np.ptp(x, axis=0).max())
     lo, hi = x.min(axis=0) - 0.3 * size, x.max(axis=0) + 0.3 * size
@@ -168,7 +167,7 @@ def draw_palette(model: ClothModel, modes: SurfaceModes, path: str | Path, *, co
                 continue
             quads = shown[layout.quads]
             amplitude = np.linalg.norm(shape[layout.quads], axis=2).mean(axis=1)
-            base = plt.cm.viridis(amplitude / max(float(amplitude.max()), 1e-300))[:, :3]
+            base = matplotlib.colormaps["viridis"](amplitude / max(float(amplitude.max()), 1e-300))[:, :3]
             colours = shade(quads, (1.0, 1.0, 1.0))
             colours[:, :3] *= base
             ax.add_collection3d(Poly3DCollection(quads, facecolors=colours, edgecolors=(0, 0, 0, 0.1), linewidths=0.2))
@@ -180,4 +179,3 @@ def draw_palette(model: ClothModel, modes: SurfaceModes, path: str | Path, *, co
     fig.suptitle(f"vibration modes ({modes.zero_modes} zero modes dropped)", fontsize=11)
     fig.tight_layout()
     fig.savefig(path)
-    plt.close(fig)

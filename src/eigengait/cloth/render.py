@@ -12,16 +12,13 @@ import io
 from pathlib import Path
 from typing import Mapping, Sequence
 
-import matplotlib
+import imageio.v2 as imageio
+import numpy as np
+from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+from PIL import Image
 
-matplotlib.use("Agg")
-import imageio.v2 as imageio  # noqa: E402
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-from mpl_toolkits.mplot3d.art3d import Poly3DCollection  # noqa: E402
-from PIL import Image  # noqa: E402
-
-from eigengait.cloth.model import ClothModel  # noqa: E402
+from eigengait.cloth.model import ClothModel
+from eigengait.figures import agg_figure
 
 LIGHT = np.array([0.4, -0.6, 0.7]) / np.linalg.norm([0.4, -0.6, 0.7])
 SURFACE_COLOURS = [(0.75, 0.12, 0.15), (0.15, 0.35, 0.75), (0.9, 0.75, 0.2), (0.2, 0.6, 0.3)]
@@ -130,7 +127,7 @@ class ClothFrameRenderer:
         floor: float | None = None,
     ):
         self.model = model
-        self.fig = plt.figure(figsize=(size[0] / 100, size[1] / 100), dpi=100)
+        self.fig = agg_figure(size[0] / 100, size[1] / 100)
         self.ax = self.fig.add_subplot(projection="3d")
         lo, hi = bounds
         centre, half = 0.5 * (lo + hi), 0.5 * (hi - lo).max() * 1.05
@@ -201,7 +198,7 @@ class ClothFrameRenderer:
         return imageio.imread(buffer)[..., :3]
 
     def close(self) -> None:
-        plt.close(self.fig)
+        self.fig.clear()
 
 
 def frame_bounds(model: ClothModel, frames: Sequence[np.ndarray], floor: float | None = None) -> np.ndarray:

@@ -186,10 +186,7 @@ def write_log(folder: Path, rows: list[dict]) -> None:
 
 def write_plots(folder: Path, rows: list[dict], cycle_tolerance: float | None = None) -> None:
     """objective.png and violation.png against generation; the violation plot marks the cycle tolerance."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    from eigengait.figures import agg_figure
 
     if not rows:
         return
@@ -198,7 +195,8 @@ def write_plots(folder: Path, rows: list[dict], cycle_tolerance: float | None = 
         ("best_cost", "objective.png", "best objective f (dimensionless, log)"),
         ("best_violation", "violation.png", "best cycle violation max|φᵢ|\n(rad, m; log)"),
     ):
-        fig, ax = plt.subplots(figsize=(6, 3.2), dpi=110)
+        fig = agg_figure(6, 3.2, 110)
+        ax = fig.add_subplot()
         ax.semilogy(g, [max(r[key], 1e-12) for r in rows], color="#2a6fb0", lw=1.6, label="best so far")
         if key == "best_violation" and cycle_tolerance:
             ax.axhline(cycle_tolerance, color="#c0392b", lw=1.2, label=f"cycle tolerance {cycle_tolerance:g}")
@@ -214,7 +212,6 @@ def write_plots(folder: Path, rows: list[dict], cycle_tolerance: float | None = 
         fig.tight_layout()
         with replacing(folder / name) as temporary:
             fig.savefig(temporary)
-        plt.close(fig)
 
 
 def write_best(folder: Path, problem: Problem, state: MomState) -> None:

@@ -229,14 +229,11 @@ def palette_image(
 
 def _draw_labels(canvas: np.ndarray, layout: PaletteLayout, modes: ModeSet, max_rotation_deg: float) -> np.ndarray:
     """Title, legend and per-tile labels drawn with matplotlib onto the canvas, same pixel size."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    from eigengait.figures import agg_figure
 
     height, width = canvas.shape[:2]
     dpi = 100
-    fig = plt.figure(figsize=(width / dpi, height / dpi), dpi=dpi)
+    fig = agg_figure(width / dpi, height / dpi, dpi)
     ax = fig.add_axes((0, 0, 1, 1))
     ax.imshow(canvas, interpolation="nearest")
     ax.set_axis_off()
@@ -270,7 +267,6 @@ def _draw_labels(canvas: np.ndarray, layout: PaletteLayout, modes: ModeSet, max_
         )
     fig.canvas.draw()
     image = np.asarray(fig.canvas.buffer_rgba())[..., :3].copy()
-    plt.close(fig)
     return image
 
 
