@@ -77,9 +77,9 @@ def test_state_roles_and_hip_torque_follow_simbicon():
 def test_first_cycle_is_open_loop_and_zero_gains_change_nothing(gait):
     system, p = gait
     runner = ClosedLoopRunner(system)
-    open_loop = runner.run([p], 2, persistent=False)
+    open_loop = runner.run([p], 2)
     p.feedback = FeedbackGains(hip=np.full(len(HIP_GAINS), 50.0))
-    closed = runner.run([p], 2, persistent=False)
+    closed = runner.run([p], 2)
     p.feedback = FeedbackGains()
     n = int(round(p.period / system.world.model.opt.timestep))
     np.testing.assert_array_equal(open_loop.torques[0, :n], closed.torques[0, :n])  # the reference cycle
@@ -88,7 +88,7 @@ def test_first_cycle_is_open_loop_and_zero_gains_change_nothing(gait):
 
 def drift(runner, system, p, cycles=3):
     """Cycle-to-cycle drift: the largest cycle-end error of cycles 2.. (10 if it falls)."""
-    run = runner.run([p], cycles, persistent=False)
+    run = runner.run([p], cycles)
     if run.fell[0]:
         return 10.0
     blocks = cycle_errors(system, p, run.states[0], cycles)

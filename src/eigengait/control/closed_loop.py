@@ -147,6 +147,7 @@ class ClosedLoopRunner:
         world = system.world
         self.model = world.model
         self.datas = [mujoco.MjData(self.model) for _ in range(max(1, threads))]
+        self.pool = rollout.Rollout(nthread=threads if threads > 1 else 0)  # this runner's own threads
         self.reader = FeatureReader(world)
         self.motors = {f: hip_motors(world, f) for f in dict.fromkeys(system.feet)}
         self.standing_com = world.standing_com_height
@@ -155,11 +156,10 @@ class ClosedLoopRunner:
         self.steps_simulated = 0
 
     def close(self) -> None:
-        rollout.shutdown_persistent_pool()
+        """Stop this runner's threads (other runners and MuJoCo's shared pool are not touched)."""
+        self.pool.close()
 
-    def run(
-        self, params: list[GaitParameters], cycles: float, pushes: tuple[Push, ...] = (), persistent: bool = True
-    ) -> BatchRun:
+    def run(self, params: list[GaitParameters], cycles: float, pushes: tuple[Push, ...] = ()) -> BatchRun:
         model, system, dt = self.model, self.system, self.model.opt.timestep
         nq, nv, nu, n_motor = model.nq, model.nv, model.nu, system.world.nmotor
         P = len(params)
@@ -201,9 +201,7 @@ class ClosedLoopRunner:
                 on = (np.arange(a, b) * dt >= push.time) & (np.arange(a, b) * dt < push.time + PUSH_SECONDS)
                 control[:, on, nu + 1] = push.force
             state_before = state[idx]
-            s, d = rollout.rollout(
-                model, self.datas, state_before, control, control_spec=spec, persistent_pool=persistent
-            )
+            s, d = self.pool.rollout(model, self.datas, state_before, control, control_spec=spec)
             self.steps_simulated += idx.size * (b - a)
             states[idx, a:b], sensors[idx, a:b] = s, d
             torques[idx, a:b] = control[:, :, :n_motor]

@@ -92,7 +92,7 @@ def play(
     if snap:
         run, completed = _play_snapped(runner, p, cycles)
     else:
-        run = runner.run([p], cycles, pushes, persistent=False)
+        run = runner.run([p], cycles, pushes)
         completed = int(run.ended[0] // int(round(p.period / runner.model.opt.timestep)))
         completed = cycles if not run.fell[0] else min(completed, cycles - 1)
     if run.blow_up[0] is not None:
@@ -106,7 +106,7 @@ def _play_snapped(runner: ClosedLoopRunner, p: GaitParameters, cycles: int) -> t
     forward = runner.system.world.root.forward_qpos
     start = p
     for _ in range(cycles):
-        run = runner.run([start], 1, persistent=False)
+        run = runner.run([start], 1)
         parts.append(run)
         if run.fell[0]:
             blow_up = run.blow_up[0]
@@ -231,7 +231,7 @@ def push_robustness(
     survived = []
     for k in range(phases):
         push = Push(time=start + k * p.period / phases, force=force)
-        run = runner.run([p], cycle + cycles_after, (push,), persistent=False)
+        run = runner.run([p], cycle + cycles_after, (push,))
         if run.blow_up[0] is not None:
             raise_blow_up(system.world, *run.blow_up[0])
         survived.append(not bool(run.fell[0]))
