@@ -9,21 +9,32 @@ import pytest
 
 from eigengait.control.library import resolve
 from eigengait.json_text import dumps
-from eigengait.sim.stepping import MAX_CONTROL, MAX_SPEED, first_blow_up
+from eigengait.sim.stepping import MAX_CONTROL, MAX_SPEED, blown_up_dof, blown_up_steps, first_bad_torque
 from test_hostile_inputs import assert_clean_refusal, run_cli
 
 DOFS = np.array([6, 7, 8])  # motor i drives dof DOFS[i]
 
 
-def test_first_blow_up_finds_the_first_bad_step_and_its_dof():
+def first(mask: np.ndarray) -> int | None:
+    rows = np.flatnonzero(mask)
+    return int(rows[0]) if rows.size else None
+
+
+def test_the_first_blown_up_step_and_its_dof_are_found():
     qvel = np.zeros((10, 9))
-    torques = np.zeros((10, 3))
-    assert first_blow_up(qvel, torques, DOFS) is None
+    assert first(blown_up_steps(qvel)) is None
     qvel[6, 4] = np.nan
     qvel[8, 2] = 2 * MAX_SPEED
-    assert first_blow_up(qvel, torques, DOFS) == (6, 4)
+    assert first(blown_up_steps(qvel)) == 6 and blown_up_dof(qvel, 6) == 4
+    assert blown_up_dof(qvel, 8) == 2
+
+
+def test_an_impossible_torque_is_found_on_its_motors_dof():
+    torques = np.zeros((10, 3))
+    assert first_bad_torque(torques, DOFS) is None
     torques[3, 1] = 2 * MAX_CONTROL
-    assert first_blow_up(qvel, torques, DOFS) == (3, 7)
+    torques[5, 0] = np.inf
+    assert first_bad_torque(torques, DOFS) == (3, 7)
 
 
 def test_a_clock_that_jumps_back_is_a_reset_blow_up():
@@ -31,9 +42,16 @@ def test_a_clock_that_jumps_back_is_a_reset_blow_up():
     times = np.arange(11) * dt
     qvel = np.zeros((10, 9))
     qvel[:, 5] = np.linspace(0, 100, 10)
-    assert first_blow_up(qvel, np.zeros((10, 3)), DOFS, times, dt) is None
+    assert first(blown_up_steps(qvel, times, dt)) is None
     times[7:] = dt * np.arange(4)  # MuJoCo restarted the simulation at step 6
-    assert first_blow_up(qvel, np.zeros((10, 3)), DOFS, times, dt) == (6, 5)
+    assert first(blown_up_steps(qvel, times, dt)) == 6 and blown_up_dof(qvel, 6) == 5
+
+
+def test_blow_ups_are_found_for_a_whole_batch_at_once():
+    qvel = np.zeros((3, 10, 9))
+    qvel[1, 4, 0] = np.nan
+    blown = blown_up_steps(qvel)
+    assert blown.shape == (3, 10) and [first(row) for row in blown] == [None, 4, None]
 
 
 def test_json_text_has_no_nan_or_infinity():

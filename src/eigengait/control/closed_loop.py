@@ -28,7 +28,7 @@ from eigengait.control.feedback import (
 )
 from eigengait.control.gait import GaitParameters, GaitSystem
 from eigengait.sim.root import RootLayout
-from eigengait.sim.stepping import first_blow_up
+from eigengait.sim.stepping import blown_up_dof, blown_up_steps, first_bad_torque
 
 PUSH_SECONDS = 0.1  # s, duration of every push
 
@@ -179,12 +179,18 @@ class ClosedLoopRunner:
         spec = mujoco.mjtState.mjSTATE_CTRL | (mujoco.mjtState.mjSTATE_QFRC_APPLIED if pushes else 0)
         width = nu + (nv if pushes else 0)
         limit = system.torque_limit
+
+        def end(i: int, step: int) -> None:
+            """Candidate i stops after `step` steps, fallen."""
+            fell[i], alive[i], ended[i], fell_time[i] = True, False, step, step * dt
+
         for a in range(0, N, self.chunk):
             b = min(N, a + self.chunk)
             idx = np.flatnonzero(alive)
             if idx.size == 0:
                 break
             control = np.zeros((idx.size, b - a, width))
+            keep = np.ones(idx.size, bool)
             t = a * dt
             for k, i in enumerate(idx):
                 upto = min(b, steps[i])
@@ -194,36 +200,34 @@ class ClosedLoopRunner:
                 u = ff[i][a:upto].copy()
                 u[:, :n_motor] = np.clip(u[:, :n_motor] + tau_fb, -limit, limit)
                 control[k, : upto - a, :nu] = u
-            idx, control = self._drop_bad_controls(idx, control, a, blow_up, fell, alive, ended, fell_time)
+                bad_torque = first_bad_torque(u[:, :n_motor], self.motor_dofs)
+                if bad_torque is not None:  # never handed to MuJoCo, which would reset and hide it
+                    keep[k] = False
+                    end(i, a + bad_torque[0])
+                    blow_up[i] = (fell_time[i], bad_torque[1])
+            idx, control = idx[keep], control[keep]
             if idx.size == 0:
                 break
             for push in pushes:
                 on = (np.arange(a, b) * dt >= push.time) & (np.arange(a, b) * dt < push.time + PUSH_SECONDS)
                 control[:, on, nu + 1] = push.force
-            state_before = state[idx]
-            s, d = self.pool.rollout(model, self.datas, state_before, control, control_spec=spec)
+            clock = state[idx, :1]
+            s, d = self.pool.rollout(model, self.datas, state[idx], control, control_spec=spec)
             self.steps_simulated += idx.size * (b - a)
             states[idx, a:b], sensors[idx, a:b] = s, d
             torques[idx, a:b] = control[:, :, :n_motor]
             state[idx], sensors_now[idx] = s[:, -1], d[:, -1]
-            bad = fallen(s, d, system.world.root, nq, self.standing_com)
+            qvel = s[..., 1 + nq : 1 + nq + nv]
+            blown = blown_up_steps(qvel, np.concatenate([clock, s[..., 0]], axis=1), dt)
+            bad = fallen(s, d, system.world.root, nq, self.standing_com) | blown
             for k, i in enumerate(idx):
                 upto = min(b, steps[i]) - a
-                health = first_blow_up(
-                    s[k, :upto, 1 + nq : 1 + nq + nv],
-                    np.zeros((upto, 0)),
-                    self.motor_dofs,
-                    np.concatenate([[state_before[k, 0]], s[k, :upto, 0]]),
-                    dt,
-                )
-                if health is not None:
-                    blow_up[i] = ((a + health[0] + 1) * dt, health[1])
-                    bad[k, health[0]] = True
                 hit = np.flatnonzero(bad[k, :upto])
                 if hit.size:
-                    fell[i], alive[i] = True, False
-                    ended[i] = a + hit[0] + 1
-                    fell_time[i] = ended[i] * dt
+                    end(i, a + hit[0] + 1)
+                    diverged = np.flatnonzero(blown[k, :upto])
+                    if diverged.size:
+                        blow_up[i] = ((a + diverged[0] + 1) * dt, blown_up_dof(qvel[k], diverged[0]))
                 elif steps[i] <= b:
                     alive[i] = False
         return BatchRun(
@@ -236,19 +240,6 @@ class ClosedLoopRunner:
             fell_time=fell_time,
             blow_up=blow_up,
         )
-
-    def _drop_bad_controls(self, idx, control, a, blow_up, fell, alive, ended, fell_time):
-        """Candidates whose next torques are not finite or beyond what MuJoCo accepts blow up before stepping."""
-        n_motor, dt = self.system.world.nmotor, self.model.opt.timestep
-        keep = np.ones(idx.size, bool)
-        for k, i in enumerate(idx):
-            health = first_blow_up(np.zeros((control.shape[1], 0)), control[k, :, :n_motor], self.motor_dofs)
-            if health is not None:
-                keep[k], fell[i], alive[i] = False, True, False
-                ended[i] = a + health[0]
-                fell_time[i] = ended[i] * dt
-                blow_up[i] = (fell_time[i], health[1])
-        return idx[keep], control[keep]
 
     def _feedback(self, plan: FeedbackPlan, t: float, state: np.ndarray, sensors: np.ndarray) -> np.ndarray:
         k = plan.state_index(t)

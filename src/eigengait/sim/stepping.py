@@ -13,32 +13,29 @@ MAX_SPEED = 500.0  # rad/s or m/s on any dof: beyond this the simulation is cons
 MAX_CONTROL = 1e9  # N·m: MuJoCo resets the simulation on controls beyond ~1e10, hiding the blow-up
 
 
-def first_blow_up(
-    qvel: np.ndarray,
-    motor_torques: np.ndarray,
-    motor_dofs: np.ndarray,
-    times: np.ndarray | None = None,
-    dt: float = 0.0,
-) -> tuple[int, int] | None:
-    """(step, dof) of the first blow-up in a recording (steps × nv velocities, steps × motors torques), or None.
-
-    A torque that is not finite or beyond `MAX_CONTROL` counts at its step, on its motor's dof. With `times`
-    (s: before the first step, then after each) a clock that does not advance by `dt` means MuJoCo reset the
-    diverged simulation; the dof is then the fastest one just before the reset."""
-    bad_v = ~np.isfinite(qvel) | (np.abs(qvel) > MAX_SPEED)
-    bad_u = ~np.isfinite(motor_torques) | (np.abs(motor_torques) > MAX_CONTROL)
-    reset = np.zeros(len(qvel), bool)
+def blown_up_steps(qvel: np.ndarray, times: np.ndarray | None = None, dt: float = 0.0) -> np.ndarray:
+    """Which steps blew up (bool, qvel's shape without its last axis): a velocity that is not finite or beyond
+    `MAX_SPEED`, or, given `times` (s: before the first step, then after each, on the last axis), a clock that does
+    not advance by `dt`, which is how MuJoCo's silent reset of a diverged simulation shows."""
+    bad = (~np.isfinite(qvel) | (np.abs(qvel) > MAX_SPEED)).any(axis=-1)
     if times is not None:
-        reset = np.diff(times) < 0.5 * dt
-    rows = np.flatnonzero(bad_v.any(axis=1) | bad_u.any(axis=1) | reset)
-    if rows.size == 0:
-        return None
-    k = int(rows[0])
-    if bad_u[k].any():
-        return k, int(motor_dofs[np.argmax(bad_u[k])])
-    if bad_v[k].any():
-        return k, int(np.argmax(bad_v[k]))
-    return k, int(np.argmax(np.abs(qvel[max(k - 1, 0)])))
+        bad |= np.diff(times, axis=-1) < 0.5 * dt
+    return bad
+
+
+def blown_up_dof(qvel: np.ndarray, step: int) -> int:
+    """The dof to blame at a blown-up `step` of a recording (steps × nv): its first non-finite or runaway velocity,
+    else (a reset) the fastest dof one step earlier."""
+    bad = ~np.isfinite(qvel[step]) | (np.abs(qvel[step]) > MAX_SPEED)
+    return int(np.argmax(bad)) if bad.any() else int(np.argmax(np.abs(qvel[max(step - 1, 0)])))
+
+
+def first_bad_torque(torques: np.ndarray, motor_dofs: np.ndarray) -> tuple[int, int] | None:
+    """(step, dof) of the first torque (steps × motors, N·m) that is not finite or beyond `MAX_CONTROL`, or None;
+    `motor_dofs[i]` is motor i's dof."""
+    bad = ~np.isfinite(torques) | (np.abs(torques) > MAX_CONTROL)
+    rows = np.flatnonzero(bad.any(axis=1))
+    return None if rows.size == 0 else (int(rows[0]), int(motor_dofs[np.argmax(bad[rows[0]])]))
 
 
 def raise_blow_up(world: World, time: float, dof: int, file: str | None = None) -> None:
@@ -59,8 +56,7 @@ def step(world: World, data: mujoco.MjData, nstep: int = 1, model: mujoco.MjMode
     an edited copy of the world's."""
     warnings_before = int(data.warning[mujoco.mjtWarning.mjWARN_BADQACC].number)
     mujoco.mj_step(model or world.model, data, nstep)
-    found = first_blow_up(data.qvel[None], np.zeros((1, 0)), np.zeros(0, int))
-    dof = None if found is None else found[1]
+    dof = blown_up_dof(data.qvel[None], 0) if blown_up_steps(data.qvel) else None
     if int(data.warning[mujoco.mjtWarning.mjWARN_BADQACC].number) > warnings_before and dof is None:
         dof = int(np.argmax(np.abs(data.qacc))) if data.qacc.size else 0
     if dof is not None:
