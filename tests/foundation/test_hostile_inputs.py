@@ -94,6 +94,12 @@ def _short_state_controller() -> bytes:
     return json.dumps(data).encode()
 
 
+def _unknown_foot_controller() -> bytes:
+    data = json.loads(resolve("gait", "kangaroo-hop").read_text())
+    data["feet"] = ["paw"]
+    return json.dumps(data).encode()
+
+
 def _shipped_text(kind: str, name: str) -> str:
     path = example_path(name) if kind == "cloth" else resolve(kind, name)
     return path.read_text(encoding="utf-8")
@@ -113,6 +119,7 @@ FILES = {
         ["sketch", "{file}"],
     ),
     "bvh-5000-deep": ("deep.bvh", _deep_bvh(), ["track", "{file}", "--json"]),
+    "controller-unknown-foot": ("c.json", _unknown_foot_controller(), ["play", "{file}", "--cycles", "1"]),
     "controller-short-state": ("c.json", _short_state_controller(), ["play", "{file}", "--cycles", "1"]),
     "mjcf-garbage": ("bad.xml", b"<mujoco><worldbody><body", ["modes", "{file}"]),
     "mjcf-empty": ("empty.xml", b"", ["modes", "{file}"]),

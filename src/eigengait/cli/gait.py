@@ -189,7 +189,7 @@ def play_command(
     refuse_existing([video, bvh], force)
     path = resolve("gait", controller)
     c = load_controller(path)
-    system = system_for(c)
+    system = system_for(c, path)
     result = play(system, to_parameters(c, system, path), cycles, snap=snap, pushes=pushes, source=path)
     summary = {"controller": str(path), "character": c.character, **result.summary()}
     if as_json:

@@ -7,7 +7,6 @@ from pathlib import Path
 from eigengait.character import load_character
 from eigengait.control.gait import GaitSystem
 from eigengait.control.sketch import Sketch, check_modes
-from eigengait.errors import UserInputError
 from eigengait.sim.world import WorldOptions
 
 
@@ -16,14 +15,6 @@ def sketch_system(sketch: Sketch, gravity: bool = True, source: str | Path | Non
     the sketch's feet names `source`."""
     character = load_character(sketch.character)
     feet = sketch.feet or character.meta.gait_order
-    unknown = [f for f in feet if f not in character.feet]
-    if unknown:
-        raise UserInputError(
-            f"character '{character.name}' has no foot '{unknown[0]}'",
-            file=source,
-            field="feet",
-            fix=f"use feet among: {', '.join(character.feet) or '(none)'}",
-        )
     return GaitSystem(
         character,
         sketch.relax_pose,
@@ -32,6 +23,7 @@ def sketch_system(sketch: Sketch, gravity: bool = True, source: str | Path | Non
         sketch.basis,
         sketch.torque_limit,
         WorldOptions(gravity=gravity),
+        source,
     )
 
 

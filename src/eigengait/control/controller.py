@@ -172,8 +172,8 @@ def to_parameters(controller: ControllerFile, system: GaitSystem, source: str | 
     )
 
 
-def system_for(controller: ControllerFile) -> GaitSystem:
-    """Build the gait system a controller names."""
+def system_for(controller: ControllerFile, source: str | Path | None = None) -> GaitSystem:
+    """Build the gait system a controller names; an error in its feet names `source` (the controller file)."""
     from eigengait.character import load_character
 
     return GaitSystem(
@@ -183,4 +183,5 @@ def system_for(controller: ControllerFile) -> GaitSystem:
         controller.symmetric,
         controller.basis,
         controller.torque_limit,
+        source=source,
     )

@@ -49,18 +49,20 @@ class GaitSystem:
     basis: str = "modal"
     torque_limit: float = 400.0
     options: WorldOptions = field(default_factory=WorldOptions)
+    source: str | Path | None = None  # the sketch or controller file that chose the feet: their errors name it
 
     def __post_init__(self):
+        blamed = self.source or self.character.path
         for foot in self.feet:
             if foot not in self.character.feet:
                 raise UserInputError(
-                    f"unknown foot '{foot}'",
-                    file=self.character.path,
+                    f"character '{self.character.name}' has no foot '{foot}'",
+                    file=blamed,
                     field="feet",
                     fix=f"use feet among: {', '.join(self.character.feet) or '(none)'}",
                 )
         if not self.feet:
-            raise UserInputError("a gait needs at least one foot", file=self.character.path, field="feet")
+            raise UserInputError("a gait needs at least one foot", file=blamed, field="feet")
         self.world: World = build_world(self.character, self.pose, self.options)
         modal_world = build_world(self.character, self.pose, WorldOptions(gravity=False, floor=False))
         self.air_modes = compute_modes(modal_world, "air")
@@ -69,6 +71,7 @@ class GaitSystem:
         if self.mirror is not None and len(self.feet) != 2:
             raise UserInputError(
                 "a symmetric gait alternates exactly two feet",
+                file=blamed,
                 field="feet",
                 fix="give two mirrored feet, or set symmetric: false",
             )

@@ -71,7 +71,7 @@ class PlayPanel:
         controller = load_controller(path)
         if controller.character not in builtin_names():
             confine_character(self.sandbox, Path(controller.character))
-        system = system_for(controller)
+        system = system_for(controller, path)
         result = play(system, to_parameters(controller, system, path), int(self.cycles.value), snap=self.snap.value)
         if len(result.qpos) == 0:
             raise UserInputError("the controller produced no motion", file=path)
