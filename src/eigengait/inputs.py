@@ -20,8 +20,11 @@ def read_text(path: Path) -> str:
         return data.decode("latin-1")
 
 
-def check_range(value: float | None, option: str, low: float, high: float = math.inf, unit: str = "") -> None:
-    """One clear error unless `value` (None: not given) is finite and within [low, high]."""
+def check_range(
+    value: float | None, option: str, low: float, high: float = math.inf, unit: str = "", fix: str | None = None
+) -> None:
+    """One clear error unless `value` (None: not given) is finite and within [low, high]; `fix` replaces the
+    generic advice when the range has a meaning worth stating."""
     if value is None:
         return
     if not (math.isfinite(value) and low <= value <= high):
@@ -29,5 +32,5 @@ def check_range(value: float | None, option: str, low: float, high: float = math
         raise UserInputError(
             f"{option} {value} is out of range",
             field=option,
-            fix=f"use a finite value {span}{(' ' + unit) if unit else ''}",
+            fix=fix or f"use a finite value {span}{(' ' + unit) if unit else ''}",
         )

@@ -9,6 +9,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from eigengait.errors import UserInputError
+from eigengait.inputs import check_range
 
 
 def parse_push(text: str):
@@ -27,11 +28,6 @@ def parse_push(text: str):
     if at < 0:
         raise UserInputError(f"push time {at} s is negative.", field="--push", fix="use a time within the clip.")
     return Push(force=(0.0, value, 0.0), time_s=at)
-
-
-def _check_range(value: float, option: str, fix: str) -> None:
-    if not 0.0 <= value <= 1.0:
-        raise UserInputError(f"{option.lstrip('-')} {value} is out of range.", field=option, fix=fix)
 
 
 def reference_poses(
@@ -105,8 +101,10 @@ def run_track(
     from eigengait.motion.foot_metrics import foot_report
     from eigengait.motion.soles import sole_points
 
-    _check_range(robustness, "--robustness", "use a value between 0 (physically correct) and 1 (fully compensated).")
-    _check_range(tolerance, "--tolerance", "use a value between 0 (never switch balance off) and 1.")
+    check_range(
+        robustness, "--robustness", 0, 1, fix="use a value between 0 (physically correct) and 1 (fully compensated)."
+    )
+    check_range(tolerance, "--tolerance", 0, 1, fix="use a value between 0 (never switch balance off) and 1.")
     push_spec = parse_push(push) if push else None
     ref = reference_poses(clip_path, character, mapping, start_frame, clean)
     world = ref["world"]
