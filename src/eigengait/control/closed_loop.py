@@ -27,6 +27,8 @@ from eigengait.control.feedback import (
     state_roles,
 )
 from eigengait.control.gait import GaitParameters, GaitSystem
+from eigengait.control.phase_clock import MAX_WAIT, PhaseClock
+from eigengait.sim.contacts import spheres_touching
 from eigengait.sim.root import RootLayout
 from eigengait.sim.stepping import blown_up_dof, blown_up_steps, first_bad_torque
 
@@ -51,6 +53,7 @@ class BatchRun:
     steps: np.ndarray  # steps asked for per candidate
     fell_time: np.ndarray  # s, when each fallen candidate fell (nan if it did not)
     blow_up: list = None  # per candidate: (time s, dof) of a blow-up, or None
+    cycle_ends: list = None  # per candidate: index of the last step of each completed cycle
 
 
 def fallen(states: np.ndarray, sensors: np.ndarray, root: RootLayout, nq: int, standing_com: float) -> np.ndarray:
@@ -60,18 +63,26 @@ def fallen(states: np.ndarray, sensors: np.ndarray, root: RootLayout, nq: int, s
     return (sensors[..., 2] < 0.5 * standing_com) | (up_z < 0) | ~finite
 
 
-def cycle_errors(system: GaitSystem, p: GaitParameters, states: np.ndarray, cycles: int) -> np.ndarray:
-    """Hard cyclic constraint over `cycles` played cycles (states: steps × MuJoCo full physics state).
+def clock_cycle_ends(period: float, timestep: float, cycles: int) -> list[int]:
+    """Index of the last physics step of each of `cycles` cycles played on the fixed clock."""
+    return [int(round(c * period / timestep)) - 1 for c in range(1, cycles + 1)]
+
+
+def cycle_errors(
+    system: GaitSystem, p: GaitParameters, states: np.ndarray, cycles: int, ends: list[int] | None = None
+) -> np.ndarray:
+    """Hard cyclic constraint over `cycles` played cycles (states: steps × MuJoCo full physics state; `ends`: the
+    last step of each cycle, by default the fixed clock's).
 
     One block per cycle k: the state at its end against the state at its start ((q₀, q̇₀) for the first); for
-    symmetric gaits one more block: the mirrored state at T/2 of the first cycle against (q₀, q̇₀).
+    symmetric gaits one more block: the mirrored state half a cycle in against (q₀, q̇₀).
     """
     nq, nv, dt = system.world.model.nq, system.world.model.nv, system.world.model.opt.timestep
     q = lambda k: states[k, 1 : 1 + nq]  # noqa: E731
     v = lambda k: states[k, 1 + nq : 1 + nq + nv]  # noqa: E731
+    ends = clock_cycle_ends(p.period, dt, cycles) if ends is None else ends
     errors, start = [], None
-    for c in range(1, cycles + 1):
-        k = int(round(c * p.period / dt)) - 1
+    for k in ends[:cycles]:
         ref = (p.qpos0, p.qvel0) if start is None else (q(start), v(start))
         errors.append(system.state_error(*ref, q(k), v(k)))
         start = k
@@ -104,16 +115,16 @@ class FeedbackPlan:
         self.ref_phase: list[float] = []  # first-cycle readings: phase (s) and features
         self.ref_value: list[np.ndarray] = []
 
-    def record(self, t: float, features: np.ndarray) -> bool:
-        """Store a first-cycle reading; True while the reference is still being recorded."""
-        if t < self.period - 1e-9:
-            self.ref_phase.append(t)
+    def record(self, cycle: int, phase: float, features: np.ndarray) -> bool:
+        """Store a first-cycle reading (phase in s); True while the reference is still being recorded."""
+        if cycle == 0:
+            self.ref_phase.append(phase)
             self.ref_value.append(features)
             return True
         return False
 
-    def state_index(self, t: float) -> int:
-        return int(np.searchsorted(self.starts, t % self.period, side="right") - 1)
+    def state_index(self, phase: float) -> int:
+        return int(np.searchsorted(self.starts, phase, side="right") - 1)
 
     def reference(self, phase: float) -> np.ndarray:
         """Reference features at a cycle phase (s), interpolated between the reference cycle's readings."""
@@ -153,6 +164,13 @@ class ClosedLoopRunner:
         self.standing_com = world.standing_com_height
         self.chunk = max(1, int(round(FEEDBACK_DT / self.model.opt.timestep)))
         self.motor_dofs = np.asarray(world.internal_qvel)
+        self.feet = {
+            f: (
+                [world.foot_sensor[s] for s in (pt.toe, pt.heel) if s],
+                float(self.model.geom_size[world.foot_spheres[f][0], 0]),
+            )
+            for f, pt in world.character.feet.items()
+        }
         self.steps_simulated = 0
 
     def close(self) -> None:
@@ -164,9 +182,15 @@ class ClosedLoopRunner:
         nq, nv, nu, n_motor = model.nq, model.nv, model.nu, system.world.nmotor
         P = len(params)
         ff = [system.controls(p, span=cycles * p.period) for p in params]
-        steps = np.array([len(u) for u in ff])
+        # a touchdown-timed gait plays until it completes `cycles` cycles, its late touchdowns allowed for
+        stretch = [1.0 if p.trigger == "clock" else 1.0 + MAX_WAIT for p in params]
+        steps = np.array([int(len(u) * k) for u, k in zip(ff, stretch)])
         N = int(steps.max())
         plans = [FeedbackPlan(system, p, self.motors) for p in params]
+        clocks = [
+            PhaseClock(system.states(p), system.controls(p, cycles=1), dt) if p.trigger == "touchdown" else None
+            for p in params
+        ]
         state = np.stack([system.initial_state(p) for p in params])
         sensors_now = np.stack([system.initial_sensors(p) for p in params])
         nstate = state.shape[1]
@@ -196,8 +220,13 @@ class ClosedLoopRunner:
                 upto = min(b, steps[i])
                 if upto <= a:
                     continue
-                tau_fb = self._feedback(plans[i], t, state[i], sensors_now[i])
-                u = ff[i][a:upto].copy()
+                clock, period = clocks[i], params[i].period
+                if clock is None:
+                    tau_fb = self._feedback(plans[i], int(t // period), t % period, state[i], sensors_now[i])
+                    u = ff[i][a:upto].copy()
+                else:
+                    tau_fb = self._feedback(plans[i], clock.cycle, clock.phase_time(dt), state[i], sensors_now[i])
+                    u = clock.controls(upto - a)
                 u[:, :n_motor] = np.clip(u[:, :n_motor] + tau_fb, -limit, limit)
                 control[k, : upto - a, :nu] = u
                 bad_torque = first_bad_torque(u[:, :n_motor], self.motor_dofs)
@@ -211,14 +240,14 @@ class ClosedLoopRunner:
             for push in pushes:
                 on = (np.arange(a, b) * dt >= push.time) & (np.arange(a, b) * dt < push.time + PUSH_SECONDS)
                 control[:, on, nu + 1] = push.force
-            clock = state[idx, :1]
+            time_before = state[idx, :1]
             s, d = self.pool.rollout(model, self.datas, state[idx], control, control_spec=spec)
             self.steps_simulated += idx.size * (b - a)
             states[idx, a:b], sensors[idx, a:b] = s, d
             torques[idx, a:b] = control[:, :, :n_motor]
             state[idx], sensors_now[idx] = s[:, -1], d[:, -1]
             qvel = s[..., 1 + nq : 1 + nq + nv]
-            blown = blown_up_steps(qvel, np.concatenate([clock, s[..., 0]], axis=1), dt)
+            blown = blown_up_steps(qvel, np.concatenate([time_before, s[..., 0]], axis=1), dt)
             bad = fallen(s, d, system.world.root, nq, self.standing_com) | blown
             for k, i in enumerate(idx):
                 upto = min(b, steps[i]) - a
@@ -230,6 +259,10 @@ class ClosedLoopRunner:
                         blow_up[i] = ((a + diverged[0] + 1) * dt, blown_up_dof(qvel[k], diverged[0]))
                 elif steps[i] <= b:
                     alive[i] = False
+                elif clocks[i] is not None and clocks[i].cycle >= cycles:
+                    alive[i], ended[i], steps[i] = False, clocks[i].cycle_ends[int(np.ceil(cycles)) - 1] + 1, b
+                if clocks[i] is not None:
+                    clocks[i].observe(self._touching(sensors_now[i]))
         return BatchRun(
             states=states,
             sensors=sensors,
@@ -239,11 +272,22 @@ class ClosedLoopRunner:
             steps=steps,
             fell_time=fell_time,
             blow_up=blow_up,
+            cycle_ends=[
+                clock_cycle_ends(p.period, dt, int(ended[i] * dt / p.period + 1e-9)) if c is None else c.cycle_ends
+                for i, (p, c) in enumerate(zip(params, clocks))
+            ],
         )
 
-    def _feedback(self, plan: FeedbackPlan, t: float, state: np.ndarray, sensors: np.ndarray) -> np.ndarray:
-        k = plan.state_index(t)
+    def _feedback(
+        self, plan: FeedbackPlan, cycle: int, phase: float, state: np.ndarray, sensors: np.ndarray
+    ) -> np.ndarray:
+        """Feedback torque at a cycle's `phase` (s) from the current state and sensors."""
+        k = plan.state_index(phase)
         features = self.reader.read(state, sensors, plan.roles[k].support)
-        if plan.record(t, features) or not plan.enabled:
+        if plan.record(cycle, phase, features) or not plan.enabled:
             return 0.0
-        return plan.G[k] @ (features - plan.reference(t % plan.period))
+        return plan.G[k] @ (features - plan.reference(phase))
+
+    def _touching(self, sensors: np.ndarray) -> dict[str, bool]:
+        """Whether each foot touches the ground (`sim/contacts.py`), from its contact spheres' centre sensors."""
+        return {f: bool(spheres_touching(sensors[np.add(adrs, 2)], r).any()) for f, (adrs, r) in self.feet.items()}

@@ -78,6 +78,7 @@ class ControllerFile(BaseModel):
     air_ratio: float = Field(ge=0, le=1)
     pulse_air: float = Field(gt=0)
     pulse_ground: float = Field(gt=0)
+    trigger: Literal["clock", "touchdown"] = "clock"
     activations: dict[str, dict[str, dict[int, float]]]  # foot -> phase -> mode number -> ψ (N·m)
     initial_qpos: list[float]
     initial_qvel: list[Annotated[float, Field(ge=-MAX_SPEED, le=MAX_SPEED)]]
@@ -102,6 +103,7 @@ def to_file(system: GaitSystem, p: GaitParameters, name: str = "", metrics: dict
         air_ratio=p.air_ratio,
         pulse_air=p.pulse_air,
         pulse_ground=p.pulse_ground,
+        trigger=p.trigger,
         activations=acts,
         initial_qpos=[float(v) for v in p.qpos0],
         initial_qvel=[float(v) for v in p.qvel0],
@@ -165,6 +167,7 @@ def to_parameters(controller: ControllerFile, system: GaitSystem, source: str | 
         air_ratio=controller.air_ratio,
         pulse_air=controller.pulse_air,
         pulse_ground=controller.pulse_ground,
+        trigger=controller.trigger,
         activations=activations,
         qpos0=np.array(controller.initial_qpos),
         qvel0=np.array(controller.initial_qvel),

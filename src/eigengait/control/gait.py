@@ -28,7 +28,7 @@ VELOCITY_WEIGHT = 0.1  # s: a velocity mismatch of 1 rad/s counts as 0.1 rad in 
 @dataclass
 class GaitParameters:
     """One controller: timing (s), activations ψ (N·m) per (foot, phase) over ALL modes of that basis, q₀, q̇₀,
-    and the balance-feedback gains (none: open loop)."""
+    the balance-feedback gains (none: open loop) and what starts a ground state (the clock or a touchdown)."""
 
     period: float
     air_ratio: float
@@ -38,6 +38,7 @@ class GaitParameters:
     qpos0: np.ndarray
     qvel0: np.ndarray
     feedback: FeedbackGains = field(default_factory=FeedbackGains)
+    trigger: str = "clock"  # what starts a ground state: "clock" (fixed times) or "touchdown" (phase_clock.py)
 
 
 @dataclass

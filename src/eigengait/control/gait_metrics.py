@@ -1,8 +1,8 @@
 """Gait-quality figures of a played motion: cadence, stride, flight, duty factors, slip, tilt, footfall, jumps.
 
 Everything is measured on frames sampled at `fps` in MuJoCo's z-up world (x forward, metres, seconds); frame i is
-at t = i / fps. A foot is on the ground when one of its contact spheres' bottom (centre z − radius) is within
-`tolerance` of the floor (z = 0); gaps, then contacts, shorter than `DEBOUNCE_S` inside the recording are ignored,
+at t = i / fps. A foot is on the ground by the rule of `sim/contacts.py` (a contact sphere's bottom within 5 mm of
+the floor); gaps, then contacts, shorter than `DEBOUNCE_S` inside the recording are ignored,
 so a grazing frame is neither a step nor a flight.
 """
 
@@ -14,7 +14,8 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
-CONTACT_TOLERANCE = 0.005  # m
+from eigengait.sim.contacts import spheres_touching
+
 DEBOUNCE_S = 0.02  # s
 SAME_STEP_S = 0.05  # s: touchdowns of different feet this close count as one step
 _ROTATION_DOFS = {
@@ -56,17 +57,17 @@ def _debounce(on: np.ndarray, min_frames: float) -> np.ndarray:
     return on
 
 
-def _sphere_contacts(rec: GaitRecording, foot: str, tolerance: float) -> np.ndarray:
-    """(F × k) bool: each contact sphere of the foot has its bottom within `tolerance` (m) of the floor."""
-    return rec.foot_points[foot][..., 2] - rec.foot_radius[foot] <= tolerance
+def _sphere_contacts(rec: GaitRecording, foot: str) -> np.ndarray:
+    """(F × k) bool: each contact sphere of the foot touches the ground (`sim/contacts.py`)."""
+    return spheres_touching(rec.foot_points[foot][..., 2], rec.foot_radius[foot])
 
 
-def foot_contacts(rec: GaitRecording, tolerance: float = CONTACT_TOLERANCE) -> dict[str, np.ndarray]:
-    """foot -> (F,) bool: some contact sphere's bottom (z − r) is within `tolerance` (m) of the floor, debounced
-    (gaps, then contacts, shorter than `DEBOUNCE_S` inside the recording ignored)."""
+def foot_contacts(rec: GaitRecording) -> dict[str, np.ndarray]:
+    """foot -> (F,) bool: some contact sphere touches the ground, debounced (gaps, then contacts, shorter than
+    `DEBOUNCE_S` inside the recording ignored)."""
     out = {}
     for foot in rec.foot_points:
-        on = _sphere_contacts(rec, foot, tolerance).any(axis=1)
+        on = _sphere_contacts(rec, foot).any(axis=1)
         out[foot] = _debounce(on, DEBOUNCE_S * rec.fps) if len(on) > 2 else on
     return out
 
@@ -161,10 +162,7 @@ def gait_metrics(model: mujoco.MjModel, rec: GaitRecording) -> dict:
     contacts = foot_contacts(rec)
     touchdowns = {f: _touchdowns(c) for f, c in contacts.items()}
     in_contact = np.any(list(contacts.values()), axis=0) if contacts else np.zeros(frames, bool)
-    slips = {
-        f: _stance_slips(rec.foot_points[f], _sphere_contacts(rec, f, CONTACT_TOLERANCE), c)
-        for f, c in contacts.items()
-    }
+    slips = {f: _stance_slips(rec.foot_points[f], _sphere_contacts(rec, f), c) for f, c in contacts.items()}
     slip = {f: _round(s.mean()) if s.size else None for f, s in slips.items()}
     free = model.njnt > 0 and model.jnt_type[0] == mujoco.mjtJoint.mjJNT_FREE
     pitch, roll = _root_tilt_deg(rec.qpos[:, 3:7]) if free else (np.full(frames, np.nan),) * 2

@@ -93,8 +93,7 @@ def play(
         run, completed = _play_snapped(runner, p, cycles)
     else:
         run = runner.run([p], cycles, pushes)
-        completed = int(run.ended[0] // int(round(p.period / runner.model.opt.timestep)))
-        completed = cycles if not run.fell[0] else min(completed, cycles - 1)
+        completed = min(len(run.cycle_ends[0]), cycles)
     if run.blow_up[0] is not None:
         raise_blow_up(system.world, *run.blow_up[0], file=source)
     return _result(system, p, run, completed, snap, fps, pushes)
@@ -192,7 +191,7 @@ def _result(
 def _violation(system: GaitSystem, p: GaitParameters, run: BatchRun, completed: int) -> float:
     if completed < 1:
         return float("nan")
-    return float(np.abs(cycle_errors(system, p, run.states[0], completed)).max())
+    return float(np.abs(cycle_errors(system, p, run.states[0], completed, run.cycle_ends[0])).max())
 
 
 def _snapped_violation(system: GaitSystem, p: GaitParameters, run: BatchRun) -> float:

@@ -64,6 +64,9 @@ class Timing(BaseModel):
     air_ratio: float = Field(0.5, ge=0, le=1, description="air share α of each foot's time")
     pulse_air: float = Field(0.1, gt=0, description="air pulse duration δa (s)")
     pulse_ground: float = Field(0.1, gt=0, description="ground pulse duration δc (s)")
+    trigger: Literal["clock", "touchdown"] = Field(
+        "clock", description="what starts a ground state: the fixed clock, or the foot's touchdown"
+    )
 
 
 class Initial(BaseModel):

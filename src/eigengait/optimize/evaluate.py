@@ -123,9 +123,10 @@ class BatchEvaluator:
         }
         if run.fell[i]:
             soft["fall"] = FALL_PENALTY * (2.0 - end / run.steps[i])
+        if run.fell[i] or len(run.cycle_ends[i]) < self.cycles:  # fallen, or touchdowns too late to finish
             cycle = np.full(self.constraint_size, FALLEN_CYCLE_ERROR)
         else:
-            cycle = cycle_errors(self.system, p, run.states[i], self.cycles)
+            cycle = cycle_errors(self.system, p, run.states[i], self.cycles, run.cycle_ends[i])
         cost = terms.OBJECTIVE_WEIGHT * terms.speed_objective(mean_vel[0]) * energy + terms.SOFT_WEIGHT * sum(
             soft.values()
         )

@@ -151,6 +151,7 @@ class ParameterSpace:
             air_ratio=get("air_ratio"),
             pulse_air=get("pulse_air"),
             pulse_ground=get("pulse_ground"),
+            trigger=self.sketch.timing.trigger,
             activations=activations,
             qpos0=qpos,
             qvel0=qvel,

@@ -1,7 +1,7 @@
 """Foot contacts of a simulated trajectory, and the footfall diagram (one bar per foot against time).
 
-A foot is on the ground in a frame when one of its toe/heel contact spheres — the geoms the engine collides
-with the floor — reaches within `CONTACT_TOLERANCE_M` of the floor plane (z = 0). Colours are fixed per foot
+A foot is on the ground in a frame by the rule of `sim/contacts.py` (one of its toe/heel contact spheres within
+5 mm of the floor plane). Colours are fixed per foot
 order, so videos, strips and diagrams agree.
 """
 
@@ -10,9 +10,9 @@ from __future__ import annotations
 import mujoco
 import numpy as np
 
+from eigengait.sim.contacts import spheres_touching
 from eigengait.sim.world import World
 
-CONTACT_TOLERANCE_M = 0.005
 FOOT_COLOURS = (
     (0.13, 0.47, 0.80),
     (0.89, 0.35, 0.13),
@@ -37,9 +37,8 @@ def contact_points(world: World, data: mujoco.MjData) -> dict[str, np.ndarray | 
     """Per foot, the mean world position (m) of its spheres touching the floor in `data`, or None if airborne."""
     model, points = world.model, {}
     for foot, spheres in world.foot_spheres.items():
-        bottom = data.geom_xpos[spheres, 2] - model.geom_size[spheres, 0]
-        touching = [s for s, z in zip(spheres, bottom) if z <= CONTACT_TOLERANCE_M]
-        points[foot] = data.geom_xpos[touching].mean(axis=0) if touching else None
+        touching = np.asarray(spheres)[spheres_touching(data.geom_xpos[spheres, 2], model.geom_size[spheres, 0])]
+        points[foot] = data.geom_xpos[touching].mean(axis=0) if touching.size else None
     return points
 
 

@@ -1,0 +1,16 @@
+"""The one rule for "this foot is on the ground", shared by the controller, the gait metrics and the renderer.
+
+A foot touches the ground when one of its contact spheres (the geoms the engine collides with the floor plane
+z = 0) has its bottom, centre z − radius, within `CONTACT_TOLERANCE` of the floor.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+CONTACT_TOLERANCE = 0.005  # m
+
+
+def spheres_touching(centre_z: np.ndarray, radius: np.ndarray | float) -> np.ndarray:
+    """Per sphere (any shape): its bottom is within `CONTACT_TOLERANCE` (m) of the floor."""
+    return np.asarray(centre_z) - radius <= CONTACT_TOLERANCE
