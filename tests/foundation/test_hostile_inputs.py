@@ -38,6 +38,9 @@ def assert_clean_refusal(code: int, err: str) -> None:
 
 OPTION_VALUES = {
     "cycles-not-a-number": ["play", "basic-run", "--cycles", "abc"],
+    "harden-copies-zero": ["harden", "kangaroo-hop", "-o", "{tmp}/run", "--copies", "0"],
+    "harden-impulse-nan": ["harden", "kangaroo-hop", "-o", "{tmp}/run", "--push-impulse", "nan"],
+    "harden-horizon-two": ["harden", "kangaroo-hop", "-o", "{tmp}/run", "--horizon", "2"],
     "port-out-of-range": ["studio", "--port", "99999"],
     "port-zero": ["studio", "--port", "0"],
     "host-unknown": ["studio", "--host", "nosuch.invalid"],

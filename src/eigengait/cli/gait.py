@@ -204,6 +204,67 @@ def play_command(
     write_media(system.world, result.qpos, result.fps, media, status_console(as_json))
 
 
+def harden_command(
+    controller: str = typer.Argument(..., help="Controller file or shipped gait name."),
+    output: Path = typer.Option(..., "-o", "--output", help="Run folder."),
+    minutes: float = typer.Option(15.0, "--max-minutes", help="Wall-clock budget (min)."),
+    seed: int = typer.Option(1, "--seed", help="Random seed of the search and of the sampled pushes."),
+    popsize: int = typer.Option(12, "--popsize", help="Candidates per generation."),
+    copies: int = typer.Option(3, "--copies", help="Plays per candidate: one undisturbed, the others pushed."),
+    impulse: float = typer.Option(0.6, "--push-impulse", help="Largest sampled push (N·s per kg of body mass)."),
+    horizon: int = typer.Option(8, "--horizon", help="Cycles played at the start (grows as candidates survive)."),
+    workers: int = typer.Option(1, "--workers", help="Simulation threads."),
+    resume: bool = typer.Option(False, "--resume", help="Continue the run in --output."),
+    force: bool = typer.Option(False, "--force", help="Start over: delete an earlier run's files in --output."),
+):
+    """Optimize a gait's survival with no reset under sampled sideways pushes (pulses, timing, hip feedback)."""
+    from eigengait.control.controller import load_controller, system_for, to_parameters
+    from eigengait.control.library import resolve
+    from eigengait.control.playback import play
+    from eigengait.optimize.survival import CHECKPOINT, SurvivalSettings, harden
+
+    for value, option, low, high in (
+        (minutes, "--max-minutes", 0.01, 1e6),
+        (popsize, "--popsize", 4, 10_000),
+        (copies, "--copies", 1, 100),
+        (impulse, "--push-impulse", 0.0, 10.0),
+        (horizon, "--horizon", 4, 100),
+        (workers, "--workers", 1, 1024),
+    ):
+        check_range(value, option, low, high)
+    if force and resume:
+        raise UserInputError("--force and --resume do not go together", field="--force")
+    path = resolve("gait", controller)
+    c = load_controller(path)
+    system = system_for(c, path)
+    start = to_parameters(c, system, path)
+    check_folder(output)
+    if (output / CHECKPOINT).exists() and not (resume or force):
+        raise UserInputError(
+            "the folder holds an earlier survival run and was left untouched",
+            file=output,
+            fix="pass --resume to continue it, or add --force to start over",
+        )
+    settings = SurvivalSettings(
+        minutes=minutes,
+        seed=seed,
+        popsize=popsize,
+        copies=copies,
+        push_impulse=(min(0.2, impulse), impulse),
+        horizon=horizon,
+        max_horizon=max(24, horizon),
+        threads=workers,
+    )
+    before = play(system, start, cycles=20, source=path)
+    result = harden(system, start, before.mean_speed_mps, output, settings, resume, c.name, console.print)
+    after = play(system, result, cycles=20)
+    console.print(
+        f"survival with no reset (20 cycles): {before.cycles_completed} -> {after.cycles_completed} cycles; "
+        f"speed {before.mean_speed_mps:.2f} -> {after.mean_speed_mps:.2f} m/s"
+    )
+    console.print(f"run folder: {output} (best_controller.json, log.csv, {CHECKPOINT})")
+
+
 def gaits_command(as_json: bool = typer.Option(False, "--json", help="Print JSON.")):
     """List the shipped optimized gaits."""
     from eigengait.control.controller import load_controller
@@ -317,5 +378,6 @@ def register(app: typer.Typer) -> None:
     app.command("sketch")(sketch_command)
     app.command("optimize")(optimize_command)
     app.command("play")(play_command)
+    app.command("harden")(harden_command)
     app.command("gaits")(gaits_command)
     app.command("demo")(demo_command)

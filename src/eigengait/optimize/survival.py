@@ -1,0 +1,225 @@
+"""Harden a gait: optimize how long it survives, with no reset, under sampled sideways pushes.
+
+After Wang, Fleet & Hertzmann (2010, "Optimizing walking controllers for uncertain inputs and environments"): the
+objective is the expected outcome over random disturbances, not the cyclic constraint. Each candidate is played
+`copies` times from (q₀, q̇₀): once undisturbed and otherwise pushed sideways once, at a random time between the
+second cycle and three cycles before the horizon, with a random sign and an impulse drawn from `push_impulse`
+(N·s per kg of body mass, over 0.1 s). Every candidate of a generation meets the same pushes (common random
+numbers), so their ranking compares controllers, not luck. The cost of one candidate is
+
+    mean over copies of (1 − cycles survived / H)  +  SPEED_WEIGHT · max(0, v* − v) / v*
+
+with v the mean forward COM speed of the copies and v* = `speed_share` × the starting gait's speed, so a gait
+cannot buy survival by standing still. The horizon H starts at `horizon` cycles and grows by `HORIZON_STEP` (up
+to `max_horizon`) whenever the generation's median candidate survives it: the optimizer always sees the fall it
+has to prevent.
+
+Searched (normalized, 0 = the starting gait): the period (±20 %), the air ratio (±0.1), both pulse durations
+(±30 %), every non-zero activation ψ (± half its size, at least ±5 N·m) and the eight `hip` feedback gains
+(± 0.3 m g h per normalized unit, added when the gait had none). The initial state and the trigger are kept.
+
+A run folder holds `survival.json` (settings and every generation's candidates and costs: the checkpoint, replayed
+on resume through CMA-ES from the same seed), `log.csv` and `best_controller.json`.
+"""
+
+from __future__ import annotations
+
+import json
+import time
+from dataclasses import asdict, dataclass, replace
+from pathlib import Path
+
+import cma
+import numpy as np
+
+from eigengait.control.closed_loop import PUSH_SECONDS, ClosedLoopRunner, Push
+from eigengait.control.controller import save_controller, to_file
+from eigengait.control.feedback import FeedbackGains
+from eigengait.control.gait import GaitParameters, GaitSystem
+from eigengait.errors import UserInputError
+from eigengait.outputs import write_atomically
+from eigengait.sim.world import GRAVITY
+
+SPEED_WEIGHT = 0.5
+HORIZON_STEP = 4  # cycles added when the median candidate survives the horizon
+CHECKPOINT = "survival.json"
+VALIDATION_GENERATION = -1  # the pushes of the final choice: a stream no generation uses
+
+
+@dataclass(frozen=True)
+class SurvivalSettings:
+    minutes: float  # wall-clock budget
+    generations: int | None = None  # optional cap on the generations (resumed ones included)
+    seed: int = 1
+    popsize: int = 12
+    copies: int = 3  # plays per candidate: one undisturbed, the others pushed once
+    push_impulse: tuple[float, float] = (0.2, 0.6)  # N·s/kg, range of the sampled pushes
+    horizon: int = 8  # cycles, at the start
+    max_horizon: int = 24
+    speed_share: float = 0.9  # the gait must keep this share of its starting speed
+    sigma0: float = 0.3
+    threads: int = 1
+
+
+class SurvivalSpace:
+    """Normalized offsets z from a starting gait, and back (`decode`)."""
+
+    def __init__(self, system: GaitSystem, start: GaitParameters):
+        self.start = start
+        self.slots = [(key, int(i)) for key, psi in start.activations.items() for i in np.flatnonzero(psi)]
+        self.psi_scale = np.array([max(0.5 * abs(start.activations[k][i]), 5.0) for k, i in self.slots])
+        world = system.world
+        self.gain_scale = 0.3 * world.mass() * GRAVITY * world.standing_com_height
+        self.hip0 = start.feedback.hip if start.feedback.hip is not None else np.zeros(8)
+        self.size = 4 + len(self.slots) + 8
+
+    def decode(self, z: np.ndarray) -> GaitParameters:
+        s, n = self.start, len(self.slots)
+        activations = {k: v.copy() for k, v in s.activations.items()}
+        for (key, i), scale, dz in zip(self.slots, self.psi_scale, z[4 : 4 + n]):
+            activations[key][i] += scale * dz
+        return replace(
+            s,
+            period=s.period * (1 + 0.2 * np.tanh(z[0])),
+            air_ratio=float(np.clip(s.air_ratio + 0.1 * np.tanh(z[1]), 0.02, 0.98)),
+            pulse_air=s.pulse_air * (1 + 0.3 * np.tanh(z[2])),
+            pulse_ground=s.pulse_ground * (1 + 0.3 * np.tanh(z[3])),
+            activations=activations,
+            feedback=FeedbackGains(hip=self.hip0 + self.gain_scale * z[4 + n :], modal=s.feedback.modal),
+        )
+
+
+def generation_pushes(settings: SurvivalSettings, generation: int, period: float, horizon: int, mass: float):
+    """The pushes of one generation: None for the undisturbed copy, then one `Push` per other copy."""
+    rng = np.random.default_rng([settings.seed, generation % 2**32])
+    pushes = [None]
+    for _ in range(settings.copies - 1):
+        impulse = rng.uniform(*settings.push_impulse) * rng.choice([-1.0, 1.0])
+        at = rng.uniform(1.0, max(1.0, horizon - 3.0)) * period
+        pushes.append(Push(time=float(at), force=float(impulse * mass / PUSH_SECONDS)))
+    return pushes
+
+
+class SurvivalScorer:
+    """Plays a generation's candidates under its pushes and scores them (lower is better)."""
+
+    def __init__(self, system: GaitSystem, start: GaitParameters, settings: SurvivalSettings, start_speed: float):
+        self.system, self.settings = system, settings
+        self.runner = ClosedLoopRunner(system, settings.threads)
+        self.mass = system.world.mass()
+        self.target_speed = max(settings.speed_share * start_speed, 0.05)
+        self.period = start.period
+
+    def close(self) -> None:
+        self.runner.close()
+
+    def score(self, params: list[GaitParameters], generation: int, horizon: int) -> tuple[np.ndarray, np.ndarray]:
+        """(cost, mean cycles survived) per candidate."""
+        dt = self.runner.model.opt.timestep
+        cycles = np.zeros((len(params), self.settings.copies))
+        speed = np.zeros_like(cycles)
+        for c, push in enumerate(generation_pushes(self.settings, generation, self.period, horizon, self.mass)):
+            run = self.runner.run(params, horizon, () if push is None else (push,))
+            for i, p in enumerate(params):
+                end = max(int(run.ended[i]), 1)
+                cycles[i, c] = min(len(run.cycle_ends[i]) + (end * dt % p.period) / p.period, horizon)
+                speed[i, c] = (run.sensors[i, end - 1, 0] - run.sensors[i, 0, 0]) / (end * dt)
+        lag = np.clip(self.target_speed - speed.mean(axis=1), 0, None) / self.target_speed
+        return (1 - cycles.mean(axis=1) / horizon) + SPEED_WEIGHT * lag, cycles.mean(axis=1)
+
+
+def harden(
+    system: GaitSystem,
+    start: GaitParameters,
+    start_speed: float,
+    folder: Path,
+    settings: SurvivalSettings,
+    resume: bool = False,
+    name: str = "",
+    progress=print,
+) -> GaitParameters:
+    """Run (or resume) the survival optimization in `folder`; returns the best controller, also saved there."""
+    folder.mkdir(parents=True, exist_ok=True)
+    checkpoint = folder / CHECKPOINT
+    history = _load_history(checkpoint, settings) if resume else []
+    space = SurvivalSpace(system, start)
+    scorer = SurvivalScorer(system, start, settings, start_speed)
+    es = cma.CMAEvolutionStrategy(
+        np.zeros(space.size), settings.sigma0, {"popsize": settings.popsize, "seed": settings.seed, "verbose": -9}
+    )
+    horizon, best = settings.horizon, None
+    for record in history:  # replay: the same seed asks the same candidates
+        es.ask()
+        es.tell([np.array(z) for z in record["candidates"]], record["costs"])
+        horizon, best = record["next_horizon"], record["best"]
+    spent = history[-1]["elapsed"] if history else 0.0
+    t0 = time.perf_counter() - spent
+    try:
+        while time.perf_counter() - t0 < settings.minutes * 60 and len(history) < (settings.generations or 1 << 30):
+            zs = es.ask()
+            costs, survived = scorer.score([space.decode(z) for z in zs], es.countiter, horizon)
+            es.tell(zs, costs.tolist())
+            k = int(np.argmin(costs))
+            if best is None or horizon > best["horizon"] or costs[k] < best["cost"]:
+                best = {"cost": float(costs[k]), "horizon": horizon, "z": [float(v) for v in zs[k]]}
+            next_horizon = horizon
+            if np.median(survived) >= horizon - 0.5:
+                next_horizon = min(horizon + HORIZON_STEP, settings.max_horizon)
+            history.append(
+                {
+                    "candidates": [[float(v) for v in z] for z in zs],
+                    "costs": [float(c) for c in costs],
+                    "next_horizon": next_horizon,
+                    "best": best,
+                    "elapsed": time.perf_counter() - t0,
+                }
+            )
+            _save(checkpoint, settings, history)
+            _log(folder / "log.csv", history)
+            progress(
+                f"generation {len(history)}: horizon {horizon} cycles, best survives {survived[k]:.1f} "
+                f"(median {np.median(survived):.1f}), cost {costs[k]:.3f}, {time.perf_counter() - t0:.0f} s"
+            )
+            horizon = next_horizon
+        result = _validated(scorer, space, es, best, horizon) if best else start
+    finally:
+        scorer.close()
+    save_controller(to_file(system, result, name), folder / "best_controller.json")
+    return result
+
+
+def _validated(scorer: SurvivalScorer, space: SurvivalSpace, es, best: dict, horizon: int) -> GaitParameters:
+    """The better of the best candidate seen and the search's mean, on pushes no generation has met."""
+    choices = [np.array(best["z"]), np.asarray(es.mean)]
+    costs, _ = scorer.score([space.decode(z) for z in choices], VALIDATION_GENERATION, horizon)
+    return space.decode(choices[int(np.argmin(costs))])
+
+
+def _save(path: Path, settings: SurvivalSettings, history: list[dict]) -> None:
+    write_atomically(path, json.dumps({"settings": asdict(settings), "generations": history}))
+
+
+def _load_history(path: Path, settings: SurvivalSettings) -> list[dict]:
+    if not path.is_file():
+        raise UserInputError("no survival run to resume here", file=path, fix="start the run without --resume")
+    try:
+        data = json.loads(path.read_text())
+        saved = data["settings"]
+        history = data["generations"]
+    except (ValueError, KeyError, TypeError):
+        raise UserInputError("cannot read the checkpoint", file=path, fix="start over with --force") from None
+    mine = {k: v for k, v in asdict(settings).items() if k not in ("minutes", "generations", "threads")}
+    theirs = {k: (tuple(v) if isinstance(v, list) else v) for k, v in saved.items() if k in mine}
+    if theirs != mine:
+        changed = ", ".join(k for k in mine if theirs.get(k) != mine[k])
+        raise UserInputError(
+            f"the run was started with other settings ({changed})", file=path, fix="resume with the same options"
+        )
+    return history
+
+
+def _log(path: Path, history: list[dict]) -> None:
+    rows = ["generation,horizon,best_cost,generation_best_cost,seconds"]
+    for g, h in enumerate(history, 1):
+        rows.append(f"{g},{h['best']['horizon']},{h['best']['cost']:.6f},{min(h['costs']):.6f},{h['elapsed']:.1f}")
+    write_atomically(path, "\n".join(rows) + "\n")

@@ -1,0 +1,68 @@
+"""The survival stage: its sampled pushes, its search space, and a resumed run that replays the same search."""
+
+import json
+
+import numpy as np
+import pytest
+
+from eigengait.control.closed_loop import PUSH_SECONDS
+from eigengait.control.controller import load_controller, system_for, to_parameters
+from eigengait.control.library import resolve
+from eigengait.optimize.survival import SurvivalSettings, SurvivalSpace, generation_pushes, harden
+
+
+@pytest.fixture(scope="module")
+def kangaroo():
+    path = resolve("gait", "kangaroo-hop")
+    c = load_controller(path)
+    system = system_for(c, path)
+    return system, to_parameters(c, system, path)
+
+
+def test_pushes_are_reproducible_and_within_their_ranges():
+    settings = SurvivalSettings(minutes=1, copies=50, push_impulse=(0.2, 0.6), seed=3)
+    mass, period, horizon = 70.0, 0.5, 12
+    pushes = generation_pushes(settings, 7, period, horizon, mass)
+    assert pushes[0] is None and len(pushes) == 50
+    impulses = np.array([abs(p.force) * PUSH_SECONDS / mass for p in pushes[1:]])
+    times = np.array([p.time for p in pushes[1:]])
+    assert impulses.min() >= 0.2 and impulses.max() <= 0.6
+    assert times.min() >= period and times.max() <= (horizon - 3) * period
+    assert {np.sign(p.force) for p in pushes[1:]} == {-1.0, 1.0}
+    assert generation_pushes(settings, 7, period, horizon, mass) == pushes  # common to every candidate
+    assert generation_pushes(settings, 8, period, horizon, mass) != pushes
+
+
+def test_zero_offsets_decode_to_the_starting_gait(kangaroo):
+    system, start = kangaroo
+    space = SurvivalSpace(system, start)
+    p = space.decode(np.zeros(space.size))
+    assert (p.period, p.air_ratio, p.pulse_air, p.pulse_ground) == pytest.approx(
+        (start.period, start.air_ratio, start.pulse_air, start.pulse_ground)
+    )
+    for key, psi in start.activations.items():
+        np.testing.assert_allclose(p.activations[key], psi)
+    np.testing.assert_allclose(p.feedback.hip, start.feedback.hip)
+    moved = space.decode(np.r_[np.zeros(4), np.ones(space.size - 4)])
+    changed = [k for k in start.activations if not np.allclose(moved.activations[k], start.activations[k])]
+    assert changed and not np.allclose(moved.feedback.hip, start.feedback.hip)
+
+
+def test_a_resumed_run_continues_the_same_search(kangaroo, tmp_path):
+    system, start = kangaroo
+    settings = SurvivalSettings(minutes=60, popsize=4, copies=2, horizon=4, generations=3)
+    harden(system, start, 1.0, tmp_path / "straight", settings, progress=lambda _: None)
+    harden(
+        system,
+        start,
+        1.0,
+        tmp_path / "split",
+        SurvivalSettings(**{**settings.__dict__, "generations": 2}),
+        progress=lambda _: None,
+    )
+    harden(system, start, 1.0, tmp_path / "split", settings, resume=True, progress=lambda _: None)
+    straight = json.loads((tmp_path / "straight" / "survival.json").read_text())["generations"]
+    split = json.loads((tmp_path / "split" / "survival.json").read_text())["generations"]
+    assert len(straight) == len(split) == 3
+    np.testing.assert_allclose(straight[2]["candidates"], split[2]["candidates"])
+    assert straight[2]["costs"] == pytest.approx(split[2]["costs"])
