@@ -186,3 +186,32 @@ def test_a_foot_that_never_lands_gives_nulls_and_valid_json(model):
     assert m["cadence_spm"] == 0.0 and m["flight_fraction"] == 1.0
     assert m["footfall"] == {"f": None} and m["stance_slip_max_m"] is None and m["stride_m"] is None
     json.dumps(m, allow_nan=False)
+
+
+PLANAR = """<mujoco><worldbody><body name="torso">
+  <joint name="rootx" type="slide" axis="1 0 0"/><joint name="rootz" type="slide" axis="0 0 1"/>
+  <joint name="rooty" type="hinge" axis="0 1 0"/><geom type="box" size=".1 .1 .1"/>
+  <body name="leg" pos="0 0 -.2"><joint name="hip" type="hinge" axis="0 1 0"/><geom type="box" size=".05 .05 .05"/>
+  </body></body></worldbody></mujoco>"""
+
+
+def test_a_planar_root_reports_its_pitch_and_its_jumps():
+    model = mujoco.MjModel.from_xml_string(PLANAR)
+    frames = 60
+    qpos = np.zeros((frames, model.nq))
+    qpos[:, 0] = np.arange(frames) * 0.01  # 1 cm per frame forward
+    qpos[30, 0] += 0.05  # one 5 cm jump forward (and back)
+    qpos[:, 1] = 1.0
+    qpos[:, 2] = np.radians(np.linspace(-10, 20, frames))  # pitch about +y: nose down positive
+    rec = GaitRecording(
+        fps=FPS,
+        period=PERIOD,
+        qpos=qpos,
+        com=np.zeros((frames, 3)),
+        foot_points={"f": foot(np.ones(frames, bool))},
+        foot_radius={"f": R},
+    )
+    m = gait_metrics(model, rec)
+    assert m["torso_pitch_deg"] == pytest.approx([-10, 20], abs=1e-3)
+    assert m["torso_roll_deg"] == [0.0, 0.0]
+    assert m["max_root_jump_m"] == pytest.approx(0.06, abs=1e-4)

@@ -15,6 +15,7 @@ import mujoco
 import numpy as np
 
 from eigengait.sim.contacts import spheres_touching
+from eigengait.sim.root import root_layout
 
 DEBOUNCE_S = 0.02  # s
 SAME_STEP_S = 0.05  # s: touchdowns of different feet this close count as one step
@@ -31,8 +32,8 @@ class GaitRecording:
 
     fps: float
     period: float  # s, one controller cycle (phase = (t mod period) / period, t = frame / fps)
-    qpos: np.ndarray  # F × nq MuJoCo positions; joint 0 is the root (free: pos xyz, quat wxyz;
-    # other roots give no tilt or root jump)
+    qpos: np.ndarray  # F × nq MuJoCo positions; the root's joints come first (free: pos xyz, quat wxyz;
+    # planar: its slides and its pitch hinge)
     com: np.ndarray  # F × 3 whole-body COM (m)
     foot_points: dict[str, np.ndarray]  # foot name -> F × k × 3 world positions of the foot's contact-sphere centres
     foot_radius: dict[str, float]  # foot name -> contact-sphere radius (m)
@@ -120,6 +121,23 @@ def _root_tilt_deg(quat: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return np.degrees(pitch), np.degrees(roll)
 
 
+def _root_tilt_series(model: mujoco.MjModel, qpos: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Pitch and roll (degrees) per frame: `_root_tilt_deg` of a free root; a planar root's hinge about y as pitch
+    (same sign convention) and no roll; NaN without either."""
+    root = root_layout(model, int(model.jnt_bodyid[0])) if model.njnt else None
+    if root is not None and root.quat_qpos is not None:
+        return _root_tilt_deg(qpos[:, root.quat_qpos : root.quat_qpos + 4])
+    if root is not None and root.pitch_qpos is not None:
+        return np.degrees(root.pitch_sign * qpos[:, root.pitch_qpos]), np.zeros(len(qpos))
+    return (np.full(len(qpos), np.nan),) * 2
+
+
+def _max_root_jump_m(model: mujoco.MjModel, qpos: np.ndarray) -> float:
+    """Largest root translation between consecutive frames (m), free or planar root."""
+    position = root_layout(model, int(model.jnt_bodyid[0])).position(qpos)
+    return float(np.linalg.norm(np.diff(position, axis=0), axis=1).max())
+
+
 def _rotation_dofs(model: mujoco.MjModel) -> list[np.ndarray]:
     """Velocity indices of each joint's rotation: a free joint's last 3, a ball joint's 3, a hinge's 1."""
     out = []
@@ -155,8 +173,9 @@ def gait_metrics(model: mujoco.MjModel, rec: GaitRecording) -> dict:
     forward (x) speed between the first and last frames, (x_last − x_first) / ((F − 1) / fps), times the period.
     `stance_slip_m` per foot is the mean over its stances of `_stance_slips`, `stance_slip_max_m` the largest foot
     value; `footfall` per foot is `_footfall` of its touchdowns.
-    `torso_pitch_deg` and `torso_roll_deg` are [min, max] of `_root_tilt_deg`. `max_frame_jump_deg` is the largest
-    joint rotation between consecutive frames, `max_root_jump_m` the largest root translation (qpos[0:3]).
+    `torso_pitch_deg` and `torso_roll_deg` are [min, max] of `_root_tilt_series` (a planar root: its pitch hinge,
+    roll 0). `max_frame_jump_deg` is the largest joint rotation between consecutive frames, `max_root_jump_m` the
+    largest root translation (a planar root: its forward and vertical slides).
     """
     frames = len(rec.qpos)
     contacts = foot_contacts(rec)
@@ -164,8 +183,7 @@ def gait_metrics(model: mujoco.MjModel, rec: GaitRecording) -> dict:
     in_contact = np.any(list(contacts.values()), axis=0) if contacts else np.zeros(frames, bool)
     slips = {f: _stance_slips(rec.foot_points[f], _sphere_contacts(rec, f), c) for f, c in contacts.items()}
     slip = {f: _round(s.mean()) if s.size else None for f, s in slips.items()}
-    free = model.njnt > 0 and model.jnt_type[0] == mujoco.mjtJoint.mjJNT_FREE
-    pitch, roll = _root_tilt_deg(rec.qpos[:, 3:7]) if free else (np.full(frames, np.nan),) * 2
+    pitch, roll = _root_tilt_series(model, rec.qpos)
     moved = frames > 1
     return {
         "cadence_spm": _round(60.0 * _step_count(touchdowns, SAME_STEP_S * rec.fps) * rec.fps / frames),
@@ -178,7 +196,5 @@ def gait_metrics(model: mujoco.MjModel, rec: GaitRecording) -> dict:
         "torso_roll_deg": [_round(roll.min()), _round(roll.max())],
         "footfall": {f: _footfall(t, rec.fps, rec.period) for f, t in touchdowns.items()},
         "max_frame_jump_deg": _round(_max_frame_jump_deg(model, rec.qpos)) if moved else None,
-        "max_root_jump_m": (
-            _round(np.linalg.norm(np.diff(rec.qpos[:, 0:3], axis=0), axis=1).max()) if moved and free else None
-        ),
+        "max_root_jump_m": _round(_max_root_jump_m(model, rec.qpos)) if moved and model.njnt else None,
     }

@@ -41,6 +41,16 @@ class RootLayout:
         elif self.pitch_qpos is not None:
             qpos[self.pitch_qpos] += self.pitch_sign * pitch
 
+    def position(self, qpos: np.ndarray) -> np.ndarray:
+        """World position (…, 3) of the root for qpos rows (…, nq); a planar root's missing axes read 0."""
+        if self.quat_qpos is not None:
+            return qpos[..., self.quat_qpos - 3 : self.quat_qpos]
+        out = np.zeros(qpos.shape[:-1] + (3,))
+        for axis, adr in ((0, self.forward_qpos), (2, self.height_qpos)):
+            if adr is not None:
+                out[..., axis] = qpos[..., adr]
+        return out
+
     def up_z(self, qpos: np.ndarray) -> np.ndarray:
         """World z of the root's up axis for qpos rows (…, nq): 1 upright, < 0 upside down."""
         if self.quat_qpos is not None:
