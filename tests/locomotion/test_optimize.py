@@ -14,6 +14,7 @@ from eigengait.optimize.checkpoint import load_state, save_state
 from eigengait.optimize.methods import make_optimizer
 from eigengait.optimize.mom import MomSettings, MomState
 from eigengait.optimize.problem import Problem
+from eigengait.optimize.parameters import ParameterSpace, feedback_gain_count
 
 
 def toy_evaluate(X):
@@ -167,3 +168,12 @@ def test_adaptive_augmented_lagrangian_meets_the_cyclic_constraint(tmp_path):
             optimizer = make_optimizer(toy_evaluate, settings, state)
     assert state.finished == "cyclic"
     np.testing.assert_allclose(state.best_x[:2], 0.7, atol=1e-3)
+
+
+@pytest.mark.parametrize("mechanisms", [[], ["hip"], ["modal"], ["hip", "modal"]])
+def test_the_gain_count_matches_the_parameter_space(problem, mechanisms):
+    sketch = problem.sketch.model_copy(
+        update={"feedback": problem.sketch.feedback.model_copy(update={"mechanisms": mechanisms})}
+    )
+    space = ParameterSpace(problem.system, sketch)
+    assert feedback_gain_count(sketch) == sum(e.name.startswith("fb/") for e in space.entries)

@@ -35,6 +35,16 @@ class Entry:
     initial: float
 
 
+def feedback_gain_count(sketch: Sketch) -> int:
+    """How many feedback gains the sketch's mechanisms add to the parameter space (see `_add_feedback`)."""
+    mechanisms = sketch.feedback.mechanisms
+    hip = len(HIP_GAINS) if "hip" in mechanisms else 0
+    modal = (
+        sum(len(sketch.phase(ph).priority) * len(FEATURES) for ph in ("air", "ground")) if "modal" in mechanisms else 0
+    )
+    return hip + modal
+
+
 class ParameterSpace:
     def __init__(self, system: GaitSystem, sketch: Sketch):
         self.system, self.sketch = system, sketch

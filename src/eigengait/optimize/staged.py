@@ -20,6 +20,7 @@ import numpy as np
 from eigengait.control.sketch import Sketch
 from eigengait.optimize.checkpoint import load_state
 from eigengait.optimize.mom import MomSettings, MomState
+from eigengait.optimize.parameters import feedback_gain_count
 from eigengait.optimize.run import optimize
 
 OPEN_LOOP_SHARE = 0.4  # at most this share of the evaluation or time budget goes to stage 1
@@ -109,7 +110,7 @@ def closed_loop_stage(
     sketch_source: str | Path | None = None,
 ) -> MomState:
     """Stage 2 from an open-loop run's best, every feedback gain at zero."""
-    gains = _feedback_size(sketch, sketch_source)
+    gains = feedback_gain_count(sketch)
     x_start = np.r_[first.best_x, np.full(gains, 0.5)]  # normalized 0.5 = zero gain
     return optimize(
         sketch,
@@ -122,10 +123,3 @@ def closed_loop_stage(
         sketch_source,
         x_start=x_start,
     )
-
-
-def _feedback_size(sketch: Sketch, source) -> int:
-    from eigengait.optimize.problem import Problem
-
-    space = Problem.from_sketch(sketch, source).space
-    return sum(1 for e in space.entries if e.name.startswith("fb/"))
