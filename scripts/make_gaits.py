@@ -1,8 +1,10 @@
 """Regenerate the shipped optimized gaits in src/eigengait/data/gaits/ with eigengait's own optimizer.
 
-Usage: python scripts/make_gaits.py [GAIT ...] [--evaluations N] [--max-outer N] [--runs DIR]
-Each gait is a sketch preset optimized from a fixed seed; the best controller of the run is copied into the
-package with its playback metrics. Runs are kept in DIR (default out/gait-runs) and resume if interrupted.
+Usage: python scripts/make_gaits.py [GAIT ...] [--evaluations N] [--max-outer N] [--runs DIR] [--harden-minutes M]
+Each gait is a sketch preset optimized from a fixed seed, then (with --harden-minutes) hardened against falls
+under sampled pushes (`eigengait harden`, optimize/survival.py); the best controller is copied into the package
+with its playback metrics. `--harden-only` hardens the shipped gaits as they are. Runs are kept in DIR (default
+out/gait-runs) and resume if interrupted.
 """
 
 from __future__ import annotations
@@ -17,6 +19,7 @@ from eigengait.control.playback import play, push_robustness
 from eigengait.control.sketch import load_sketch
 from eigengait.optimize.mom import MomSettings
 from eigengait.optimize.staged import optimize_gait
+from eigengait.optimize.survival import CHECKPOINT, SurvivalSettings, harden
 
 GAITS = {
     "humanoid-basic-run": "basic-run",
@@ -29,7 +32,7 @@ PACKAGE = Path(__file__).resolve().parents[1] / "src" / "eigengait" / "data" / "
 
 def make(
     gait: str, evaluations: int, runs: Path, seed: int, max_outer: int, minutes: float | None, horizon: int | None
-) -> None:
+):
     sketch_path = resolve("sketch", GAITS[gait])
     folder = runs / gait
     resume = folder.exists()
@@ -58,7 +61,19 @@ def make(
         "optimizer_seconds": round(state.elapsed, 1),
         "horizon_cycles": sketch.feedback.horizon_cycles,
     }
-    measure(controller)
+    return controller
+
+
+def hardened(controller, folder: Path, minutes: float, seed: int):
+    """The controller after `minutes` of survival optimization in `folder` (resumed if interrupted)."""
+    system = system_for(controller)
+    start = to_parameters(controller, system)
+    speed = play(system, start, cycles=20).mean_speed_mps
+    settings = SurvivalSettings(minutes=minutes, seed=seed)
+    harden(system, start, speed, folder, settings, resume=(folder / CHECKPOINT).exists(), name=controller.name)
+    out = load_controller(folder / "best_controller.json")
+    out.name, out.metrics = controller.name, {**controller.metrics, "hardening_minutes": minutes}
+    return out
 
 
 def measure(controller) -> None:
@@ -69,7 +84,7 @@ def measure(controller) -> None:
     pushes = push_robustness(system, params)
     kept = {
         k: controller.metrics[k]
-        for k in ("cycle_tolerance", "evaluations", "optimizer_seconds", "horizon_cycles")
+        for k in ("cycle_tolerance", "evaluations", "optimizer_seconds", "horizon_cycles", "hardening_minutes")
         if k in controller.metrics
     }
     controller.metrics = {k: v for k, v in free.items() if isinstance(v, (int, float, bool)) and v is not None}
@@ -87,13 +102,21 @@ def main() -> None:
     parser.add_argument("--max-outer", type=int, default=20, help="multiplier iterations at most")
     parser.add_argument("--minutes", type=float, default=None, help="wall-clock budget per gait")
     parser.add_argument("--horizon", type=int, default=None, help="cycles per candidate (default: the sketch's)")
+    parser.add_argument("--harden-minutes", type=float, default=0.0, help="survival optimization after (min)")
+    parser.add_argument("--harden-only", action="store_true", help="harden the shipped gaits (no optimization)")
     parser.add_argument("--measure-only", action="store_true", help="re-measure the shipped gaits (no optimization)")
     args = parser.parse_args()
     for gait in args.gaits:
         if args.measure_only:
             measure(load_controller(PACKAGE / f"{gait}.json"))
             continue
-        make(gait, args.evaluations, args.runs, args.seed, args.max_outer, args.minutes, args.horizon)
+        if args.harden_only:
+            controller = load_controller(PACKAGE / f"{gait}.json")
+        else:
+            controller = make(gait, args.evaluations, args.runs, args.seed, args.max_outer, args.minutes, args.horizon)
+        if args.harden_minutes:
+            controller = hardened(controller, args.runs / gait / "hardened", args.harden_minutes, args.seed)
+        measure(controller)
 
 
 if __name__ == "__main__":
