@@ -83,6 +83,7 @@ def test_biped_cadence_flight_duty_footfall_slip_and_stride(model):
     assert m["footfall"] == pytest.approx({"left": 0.1, "right": 0.6})
     assert m["stance_slip_m"] == pytest.approx({"left": 0.02, "right": 0.0})
     assert m["stance_slip_max_m"] == pytest.approx(0.02)
+    assert m["swing_clearance_m"] == pytest.approx({"left": 0.05, "right": 0.05})
     assert m["stride_m"] == pytest.approx(1.5 * PERIOD)
     assert m["torso_pitch_deg"] == m["torso_roll_deg"] == [0.0, 0.0]
     assert m["max_frame_jump_deg"] == m["max_root_jump_m"] == 0.0
@@ -215,3 +216,12 @@ def test_a_planar_root_reports_its_pitch_and_its_jumps():
     assert m["torso_pitch_deg"] == pytest.approx([-10, 20], abs=1e-3)
     assert m["torso_roll_deg"] == [0.0, 0.0]
     assert m["max_root_jump_m"] == pytest.approx(0.06, abs=1e-4)
+
+
+def test_a_shuffle_counts_as_flight_but_shows_its_millimetre_clearance(model):
+    on = stance(8, 31)
+    feet = {"f": foot(on)}
+    feet["f"][~on, :, 2] = R + 0.008  # lifts 8 mm: off the ground by the 5 mm rule
+    m = gait_metrics(model, recording(model, feet))
+    assert m["flight_fraction"] == pytest.approx(0.7)
+    assert m["swing_clearance_m"] == pytest.approx({"f": 0.008})

@@ -85,6 +85,15 @@ def _stance_slips(points: np.ndarray, spheres: np.ndarray, contact: np.ndarray) 
     return slip
 
 
+def _swing_clearances(points: np.ndarray, radius: float, contact: np.ndarray) -> np.ndarray:
+    """Per swing (a run off the ground that both begins and ends inside the recording): the highest the foot's
+    lowest contact sphere bottom rises above the floor, in m. points F × k × 3."""
+    bottom = points[..., 2].min(axis=1) - radius
+    starts, ends = _runs(~contact)
+    inside = (starts > 0) & (ends < len(contact))
+    return np.array([bottom[a:b].max() for a, b in zip(starts[inside], ends[inside])])
+
+
 def _touchdowns(contact: np.ndarray) -> np.ndarray:
     """Frame indices where a contact begins after a frame without it (rising edges)."""
     starts, _ = _runs(contact)
@@ -172,7 +181,9 @@ def gait_metrics(model: mujoco.MjModel, rec: GaitRecording) -> dict:
     `flight_fraction` (share of frames with no foot in contact), `duty_factor` per foot. `stride_m` is the COM's
     forward (x) speed between the first and last frames, (x_last − x_first) / ((F − 1) / fps), times the period.
     `stance_slip_m` per foot is the mean over its stances of `_stance_slips`, `stance_slip_max_m` the largest foot
-    value; `footfall` per foot is `_footfall` of its touchdowns.
+    value; `swing_clearance_m` per foot is the mean over its swings of `_swing_clearances` (how high the foot
+    lifts: a shuffle that grazes the floor counts as flight but shows millimetres here); `footfall` per foot is
+    `_footfall` of its touchdowns.
     `torso_pitch_deg` and `torso_roll_deg` are [min, max] of `_root_tilt_series` (a planar root: its pitch hinge,
     roll 0). `max_frame_jump_deg` is the largest joint rotation between consecutive frames, `max_root_jump_m` the
     largest root translation (a planar root: its forward and vertical slides).
@@ -183,6 +194,7 @@ def gait_metrics(model: mujoco.MjModel, rec: GaitRecording) -> dict:
     in_contact = np.any(list(contacts.values()), axis=0) if contacts else np.zeros(frames, bool)
     slips = {f: _stance_slips(rec.foot_points[f], _sphere_contacts(rec, f), c) for f, c in contacts.items()}
     slip = {f: _round(s.mean()) if s.size else None for f, s in slips.items()}
+    clearances = {f: _swing_clearances(rec.foot_points[f], rec.foot_radius[f], c) for f, c in contacts.items()}
     pitch, roll = _root_tilt_series(model, rec.qpos)
     moved = frames > 1
     return {
@@ -192,6 +204,7 @@ def gait_metrics(model: mujoco.MjModel, rec: GaitRecording) -> dict:
         "duty_factor": {f: _round(c.mean()) for f, c in contacts.items()},
         "stance_slip_m": slip,
         "stance_slip_max_m": max((s for s in slip.values() if s is not None), default=None),
+        "swing_clearance_m": {f: _round(c.mean()) if c.size else None for f, c in clearances.items()},
         "torso_pitch_deg": [_round(pitch.min()), _round(pitch.max())],
         "torso_roll_deg": [_round(roll.min()), _round(roll.max())],
         "footfall": {f: _footfall(t, rec.fps, rec.period) for f, t in touchdowns.items()},
