@@ -38,6 +38,18 @@ def assert_clean_refusal(code: int, err: str) -> None:
 
 OPTION_VALUES = {
     "cycles-not-a-number": ["play", "basic-run", "--cycles", "abc"],
+    "random-sketch-procedure-three": [
+        "sketch",
+        "new",
+        "humanoid",
+        "--random",
+        "1",
+        "--procedure",
+        "3",
+        "-o",
+        "{tmp}/s.yaml",
+    ],
+    "random-sketch-seed-negative": ["sketch", "new", "humanoid", "--random", "-1", "-o", "{tmp}/s.yaml"],
     "harden-copies-zero": ["harden", "kangaroo-hop", "-o", "{tmp}/run", "--copies", "0"],
     "harden-impulse-nan": ["harden", "kangaroo-hop", "-o", "{tmp}/run", "--push-impulse", "nan"],
     "harden-horizon-two": ["harden", "kangaroo-hop", "-o", "{tmp}/run", "--horizon", "2"],

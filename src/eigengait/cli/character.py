@@ -13,6 +13,8 @@ from rich.table import Table
 
 from eigengait import json_text
 from eigengait.outputs import refuse_existing, write_atomically
+from eigengait.errors import UserInputError
+from eigengait.inputs import check_range
 
 console = Console()
 BODY_HELP = "Root body of the creature in a scene with several (default: the largest articulated tree)."
@@ -80,15 +82,23 @@ def sketch_new_command(
     output: Path = typer.Option(..., "-o", "--output", help="Sketch file to write (.yaml)."),
     body: Optional[str] = body_option(),
     stiffness: Optional[str] = stiffness_option(),
+    random: Optional[int] = typer.Option(
+        None, "--random", help="Draw the priority modes and signs from this seed (the thesis's random sketches)."
+    ),
+    procedure: int = typer.Option(1, "--procedure", help="With --random: 1 (3 air + 4 ground modes, ±0.4) or 2."),
     force: bool = typer.Option(False, "--force", help="Overwrite existing files."),
 ):
-    """Write a starter sketch; for a user's MJCF (or a sidecar with --body/--stiffness), also a character sidecar
-    `NAME.eigengait.yaml` beside it that the sketch refers to."""
+    """Write a starter sketch (or with --random a random one, thesis §5.3.4); for a user's MJCF (or a sidecar with
+    --body/--stiffness), also a character sidecar `NAME.eigengait.yaml` beside it that the sketch refers to."""
     from eigengait.character import builtin_names, load_character
     from eigengait.character.metadata import SIDECAR_SUFFIX
     from eigengait.character.report import sidecar_yaml
+    from eigengait.control.random_sketch import PROCEDURES, random_sketch
     from eigengait.control.starter import starter_sketch
 
+    if procedure not in PROCEDURES:
+        raise UserInputError(f"unknown procedure {procedure}", field="--procedure", fix="use 1 or 2")
+    check_range(random, "--random", 0, 2**63 - 1)
     character = load_character(model, body=body, stiffness=stiffness)
     print_notes(character)
     builtin = model in builtin_names()
@@ -97,7 +107,11 @@ def sketch_new_command(
     refuse_existing([output, sidecar], force)
     target = character.reference if standalone else sidecar
     reference = model if builtin else os.path.relpath(target.resolve(), output.resolve().parent)
-    sketch = starter_sketch(character, reference)
+    sketch = (
+        starter_sketch(character, reference)
+        if random is None
+        else random_sketch(character, reference, random, procedure)
+    )
     if sidecar is not None:
         write_atomically(sidecar, sidecar_yaml(character, sidecar))
         console.print(f"wrote {sidecar}")
