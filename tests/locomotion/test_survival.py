@@ -66,3 +66,24 @@ def test_a_resumed_run_continues_the_same_search(kangaroo, tmp_path):
     assert len(straight) == len(split) == 3
     np.testing.assert_allclose(straight[2]["candidates"], split[2]["candidates"])
     assert straight[2]["costs"] == pytest.approx(split[2]["costs"])
+
+
+def test_harden_command_writes_a_playable_controller_and_refuses_to_clobber(tmp_path):
+    import subprocess
+    import sys
+
+    run = tmp_path / "run"
+    args = [sys.executable, "-m", "eigengait", "harden", "kangaroo-hop", "-o", str(run), "--popsize", "4"]
+    done = subprocess.run([*args, "--max-minutes", "0.05"], capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, done.stderr
+    assert "survival with no reset (20 cycles):" in done.stdout
+    assert (run / "best_controller.json").is_file() and (run / "log.csv").is_file()
+    played = subprocess.run(
+        [sys.executable, "-m", "eigengait", "play", str(run / "best_controller.json"), "--cycles", "1", "--json"],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    assert played.returncode == 0 and json.loads(played.stdout)["cycles_completed"] == 1
+    again = subprocess.run(args, capture_output=True, text=True, timeout=300)
+    assert again.returncode == 2 and "--resume" in again.stderr
