@@ -19,7 +19,7 @@ from eigengait.control.playback import play, push_robustness
 from eigengait.control.sketch import load_sketch
 from eigengait.optimize.mom import MomSettings
 from eigengait.optimize.staged import optimize_gait
-from eigengait.optimize.survival import CHECKPOINT, SurvivalSettings, harden
+from eigengait.optimize.survival import CHECKPOINT, StartingFigures, SurvivalSettings, harden
 
 GAITS = {
     "humanoid-basic-run": "basic-run",
@@ -68,9 +68,10 @@ def hardened(controller, folder: Path, minutes: float, seed: int):
     """The controller after `minutes` of survival optimization in `folder` (resumed if interrupted)."""
     system = system_for(controller)
     start = to_parameters(controller, system)
-    speed = play(system, start, cycles=20).mean_speed_mps
+    before = play(system, start, cycles=20)
+    figures = StartingFigures(speed=before.mean_speed_mps, effort=before.mean_squared_torque)
     settings = SurvivalSettings(minutes=minutes, seed=seed)
-    harden(system, start, speed, folder, settings, resume=(folder / CHECKPOINT).exists(), name=controller.name)
+    harden(system, start, figures, folder, settings, resume=(folder / CHECKPOINT).exists(), name=controller.name)
     out = load_controller(folder / "best_controller.json")
     out.name, out.metrics = controller.name, {**controller.metrics, "hardening_minutes": minutes}
     return out

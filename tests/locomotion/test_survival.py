@@ -8,7 +8,16 @@ import pytest
 from eigengait.control.closed_loop import PUSH_SECONDS
 from eigengait.control.controller import load_controller, system_for, to_parameters
 from eigengait.control.library import resolve
-from eigengait.optimize.survival import SurvivalSettings, SurvivalSpace, generation_pushes, harden
+from eigengait.optimize.survival import (
+    StartingFigures,
+    SurvivalSettings,
+    SurvivalSpace,
+    generation_pushes,
+    harden,
+)
+
+
+FIGURES = StartingFigures(speed=1.0, effort=6000.0)
 
 
 @pytest.fixture(scope="module")
@@ -51,16 +60,16 @@ def test_zero_offsets_decode_to_the_starting_gait(kangaroo):
 def test_a_resumed_run_continues_the_same_search(kangaroo, tmp_path):
     system, start = kangaroo
     settings = SurvivalSettings(minutes=60, popsize=4, copies=2, horizon=4, generations=3)
-    harden(system, start, 1.0, tmp_path / "straight", settings, progress=lambda _: None)
+    harden(system, start, FIGURES, tmp_path / "straight", settings, progress=lambda _: None)
     harden(
         system,
         start,
-        1.0,
+        FIGURES,
         tmp_path / "split",
         SurvivalSettings(**{**settings.__dict__, "generations": 2}),
         progress=lambda _: None,
     )
-    harden(system, start, 1.0, tmp_path / "split", settings, resume=True, progress=lambda _: None)
+    harden(system, start, FIGURES, tmp_path / "split", settings, resume=True, progress=lambda _: None)
     straight = json.loads((tmp_path / "straight" / "survival.json").read_text())["generations"]
     split = json.loads((tmp_path / "split" / "survival.json").read_text())["generations"]
     assert len(straight) == len(split) == 3
@@ -87,3 +96,22 @@ def test_harden_command_writes_a_playable_controller_and_refuses_to_clobber(tmp_
     assert played.returncode == 0 and json.loads(played.stdout)["cycles_completed"] == 1
     again = subprocess.run(args, capture_output=True, text=True, timeout=300)
     assert again.returncode == 2 and "--resume" in again.stderr
+
+
+def test_the_cost_charges_lost_speed_and_extra_effort(kangaroo):
+    from eigengait.optimize.survival import SurvivalScorer
+
+    system, start = kangaroo
+    settings = SurvivalSettings(minutes=1, copies=1, horizon=4)
+
+    def cost(speed, effort):
+        scorer = SurvivalScorer(system, start, settings, StartingFigures(speed=speed, effort=effort))
+        try:
+            return scorer.score([start], generation=0, horizon=4)
+        finally:
+            scorer.close()
+
+    free, survived = cost(0.0, 1e12)  # no speed to keep, effort far below the reference
+    assert free[0] == pytest.approx(1 - survived[0] / 4)
+    assert cost(100.0, 1e12)[0][0] == pytest.approx(free[0] + 0.5 * (1 - 0), abs=0.02)  # nearly all speed lost
+    assert cost(0.0, 1.0)[0][0] > free[0] + 100  # thousands of times the reference effort

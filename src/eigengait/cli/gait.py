@@ -221,7 +221,7 @@ def harden_command(
     from eigengait.control.controller import load_controller, system_for, to_parameters
     from eigengait.control.library import resolve
     from eigengait.control.playback import play
-    from eigengait.optimize.survival import CHECKPOINT, SurvivalSettings, harden
+    from eigengait.optimize.survival import CHECKPOINT, StartingFigures, SurvivalSettings, harden
 
     for value, option, low, high in (
         (minutes, "--max-minutes", 0.01, 1e6),
@@ -256,11 +256,13 @@ def harden_command(
         threads=workers,
     )
     before = play(system, start, cycles=20, source=path)
-    result = harden(system, start, before.mean_speed_mps, output, settings, resume, c.name, console.print)
+    figures = StartingFigures(speed=before.mean_speed_mps, effort=before.mean_squared_torque)
+    result = harden(system, start, figures, output, settings, resume, c.name, console.print)
     after = play(system, result, cycles=20)
     console.print(
         f"survival with no reset (20 cycles): {before.cycles_completed} -> {after.cycles_completed} cycles; "
-        f"speed {before.mean_speed_mps:.2f} -> {after.mean_speed_mps:.2f} m/s"
+        f"speed {before.mean_speed_mps:.2f} -> {after.mean_speed_mps:.2f} m/s; mean squared torque "
+        f"{before.mean_squared_torque:.0f} -> {after.mean_squared_torque:.0f} (N·m)²"
     )
     console.print(f"run folder: {output} (best_controller.json, log.csv, {CHECKPOINT})")
 

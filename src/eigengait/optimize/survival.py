@@ -8,9 +8,11 @@ second cycle and three cycles before the horizon, with a random sign and an impu
 numbers), so their ranking compares controllers, not luck. The cost of one candidate is
 
     mean over copies of (1 − cycles survived / H)  +  SPEED_WEIGHT · max(0, v* − v) / v*
+                                                 +  EFFORT_WEIGHT · max(0, E / E* − 1)
 
-with v the mean forward COM speed of the copies and v* = `speed_share` × the starting gait's speed, so a gait
-cannot buy survival by standing still. The horizon H starts at `horizon` cycles and grows by `HORIZON_STEP` (up
+with v the mean forward COM speed of the copies, v* = `speed_share` × the starting gait's speed, E the mean
+squared motor torque (the thesis's E_energia) and E* = `effort_share` × the starting gait's: a gait cannot buy
+survival by standing still or by flailing. The horizon H starts at `horizon` cycles and grows by `HORIZON_STEP` (up
 to `max_horizon`) whenever the generation's median candidate survives it: the optimizer always sees the fall it
 has to prevent.
 
@@ -41,9 +43,18 @@ from eigengait.outputs import write_atomically
 from eigengait.sim.world import GRAVITY
 
 SPEED_WEIGHT = 0.5
+EFFORT_WEIGHT = 0.5
 HORIZON_STEP = 4  # cycles added when the median candidate survives the horizon
 CHECKPOINT = "survival.json"
 VALIDATION_GENERATION = -1  # the pushes of the final choice: a stream no generation uses
+
+
+@dataclass(frozen=True)
+class StartingFigures:
+    """What the starting gait does, played 20 cycles undisturbed: the references of the speed and effort terms."""
+
+    speed: float  # m/s, mean forward COM speed
+    effort: float  # (N·m)², mean over steps of Σ_j τ_j²
 
 
 @dataclass(frozen=True)
@@ -57,6 +68,7 @@ class SurvivalSettings:
     horizon: int = 8  # cycles, at the start
     max_horizon: int = 24
     speed_share: float = 0.9  # the gait must keep this share of its starting speed
+    effort_share: float = 1.2  # and use at most this share of its starting mean squared torque
     sigma0: float = 0.3
     threads: int = 1
 
@@ -103,11 +115,12 @@ def generation_pushes(settings: SurvivalSettings, generation: int, period: float
 class SurvivalScorer:
     """Plays a generation's candidates under its pushes and scores them (lower is better)."""
 
-    def __init__(self, system: GaitSystem, start: GaitParameters, settings: SurvivalSettings, start_speed: float):
+    def __init__(self, system: GaitSystem, start: GaitParameters, settings: SurvivalSettings, figures: StartingFigures):
         self.system, self.settings = system, settings
         self.runner = ClosedLoopRunner(system, settings.threads)
         self.mass = system.world.mass()
-        self.target_speed = max(settings.speed_share * start_speed, 0.05)
+        self.target_speed = max(settings.speed_share * figures.speed, 0.05)
+        self.target_effort = max(settings.effort_share * figures.effort, 1e-9)
         self.period = start.period
 
     def close(self) -> None:
@@ -117,21 +130,24 @@ class SurvivalScorer:
         """(cost, mean cycles survived) per candidate."""
         dt = self.runner.model.opt.timestep
         cycles = np.zeros((len(params), self.settings.copies))
-        speed = np.zeros_like(cycles)
+        speed, effort = np.zeros_like(cycles), np.zeros_like(cycles)
         for c, push in enumerate(generation_pushes(self.settings, generation, self.period, horizon, self.mass)):
             run = self.runner.run(params, horizon, () if push is None else (push,))
             for i, p in enumerate(params):
                 end = max(int(run.ended[i]), 1)
                 cycles[i, c] = min(len(run.cycle_ends[i]) + (end * dt % p.period) / p.period, horizon)
                 speed[i, c] = (run.sensors[i, end - 1, 0] - run.sensors[i, 0, 0]) / (end * dt)
+                effort[i, c] = np.mean(np.sum(run.torques[i, :end] ** 2, axis=1))
         lag = np.clip(self.target_speed - speed.mean(axis=1), 0, None) / self.target_speed
-        return (1 - cycles.mean(axis=1) / horizon) + SPEED_WEIGHT * lag, cycles.mean(axis=1)
+        excess = np.clip(effort.mean(axis=1) / self.target_effort - 1, 0, None)
+        cost = (1 - cycles.mean(axis=1) / horizon) + SPEED_WEIGHT * lag + EFFORT_WEIGHT * excess
+        return cost, cycles.mean(axis=1)
 
 
 def harden(
     system: GaitSystem,
     start: GaitParameters,
-    start_speed: float,
+    figures: StartingFigures,
     folder: Path,
     settings: SurvivalSettings,
     resume: bool = False,
@@ -143,7 +159,7 @@ def harden(
     checkpoint = folder / CHECKPOINT
     history = _load_history(checkpoint, settings) if resume else []
     space = SurvivalSpace(system, start)
-    scorer = SurvivalScorer(system, start, settings, start_speed)
+    scorer = SurvivalScorer(system, start, settings, figures)
     es = cma.CMAEvolutionStrategy(
         np.zeros(space.size), settings.sigma0, {"popsize": settings.popsize, "seed": settings.seed, "verbose": -9}
     )
