@@ -1,6 +1,7 @@
 """Play every shipped gait 20 cycles with physics only and print its quality against the locomotion targets.
 
-Usage: python scripts/gait_table.py   (prints a Markdown table and, below it, each failed target)
+Usage: python scripts/gait_table.py   (prints a Markdown table and, below it, each failed target; the swing
+clearance column is the lowest of the feet's mean swing clearances, "none" when a foot never lifts)
 Targets (docs/locomotion.md): every gait 20 cycles without falling, no joint jump over 15° and no root jump over
 6 cm between 60 Hz frames, stance slip ≤ 3 cm, root pitch and roll within ±30°; per gait a speed, flight and
 cadence or footfall pattern; the run and the trot survive 4 of 5 sideways pushes of 0.5 N·s/kg in cycle 3.
@@ -59,10 +60,10 @@ def targets(name: str, m: dict, pushes: list[bool]) -> dict[str, bool]:
 
 def main() -> None:
     print(
-        "| gait | cycles | speed (m/s) | cadence (steps/min) | flight | stance slip (m) | pitch (°) | roll (°) | "
-        "max jump (°) | pushes (of 5) | targets met |"
+        "| gait | cycles | speed (m/s) | cadence (steps/min) | flight | swing clearance (m) | stance slip (m) | "
+        "pitch (°) | roll (°) | max jump (°) | mean τ² ((N·m)²) | pushes (of 5) | targets met |"
     )
-    print("|---|---:|---:|---:|---:|---:|---|---|---:|---:|---|")
+    print("|---|---:|---:|---:|---:|---:|---:|---|---|---:|---:|---:|---|")
     failures = []
     for name in gait_names():
         controller = load_controller(resolve("gait", name))
@@ -74,10 +75,13 @@ def main() -> None:
         failures += [f"{name}: {k}" for k, ok in met.items() if not ok]
         pitch = "{:.0f} … {:.0f}".format(*m["torso_pitch_deg"])
         roll = "{:.0f} … {:.0f}".format(*m["torso_roll_deg"])
+        lifts = [c for c in m["swing_clearance_m"].values() if c is not None]
+        clearance = f"{min(lifts):.3f}" if lifts else "none"
         print(
             f"| `{name}` | {m['cycles_completed']}{' (fell)' if m['fell'] else ''} | {m['mean_speed_mps']:.2f} | "
-            f"{m['cadence_spm']:.0f} | {m['flight_fraction']:.2f} | {m['stance_slip_max_m']} | {pitch} | {roll} | "
-            f"{m['max_frame_jump_deg']:.1f} | {sum(pushes)} | {sum(met.values())} of {len(met)} |"
+            f"{m['cadence_spm']:.0f} | {m['flight_fraction']:.2f} | {clearance} | {m['stance_slip_max_m']} | "
+            f"{pitch} | {roll} | {m['max_frame_jump_deg']:.1f} | {m['mean_squared_torque']:.0f} | {sum(pushes)} | "
+            f"{sum(met.values())} of {len(met)} |"
         )
     print()
     for f in failures:
