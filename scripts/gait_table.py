@@ -75,8 +75,8 @@ def main() -> None:
         failures += [f"{name}: {k}" for k, ok in met.items() if not ok]
         pitch = "{:.0f} … {:.0f}".format(*m["torso_pitch_deg"])
         roll = "{:.0f} … {:.0f}".format(*m["torso_roll_deg"])
-        lifts = [c for c in m["swing_clearance_m"].values() if c is not None]
-        clearance = f"{min(lifts):.3f}" if lifts else "none"
+        lifts = list(m["swing_clearance_m"].values())
+        clearance = "none" if None in lifts else f"{min(lifts):.3f}"
         print(
             f"| `{name}` | {m['cycles_completed']}{' (fell)' if m['fell'] else ''} | {m['mean_speed_mps']:.2f} | "
             f"{m['cadence_spm']:.0f} | {m['flight_fraction']:.2f} | {clearance} | {m['stance_slip_max_m']} | "
