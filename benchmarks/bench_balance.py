@@ -108,7 +108,7 @@ def main() -> None:
     for r in ROBUSTNESS:
         survived = None
         for force in PUSHES:
-            res = track(world, reference, r, push=Push((0.0, float(force), 0.0), 0.5) if force else None)
+            res = track(world, reference, r, pushes=(Push((0.0, float(force), 0.0), 0.5),) if force else ())
             if res.fell:
                 break
             survived = force

@@ -126,6 +126,7 @@ def modes_command(
 
 def _register_command_groups() -> None:
     from eigengait.cli.animate import register as register_animate
+    from eigengait.cli.balance import register as register_balance
     from eigengait.cli.character import register as register_character
     from eigengait.cli.gait import register as register_gait
     from eigengait.cli.studio import register as register_studio
@@ -138,6 +139,7 @@ def _register_command_groups() -> None:
     register_character(app, character_app)
     register_gait(app)
     register_track(app)
+    register_balance(app)
     register_studio(app)
 
 

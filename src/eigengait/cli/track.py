@@ -6,6 +6,13 @@ from pathlib import Path
 
 import typer
 
+from eigengait.cli.balance_options import (
+    FOOT_FRICTION_OPTION,
+    FOOT_HEIGHT_OPTION,
+    FOOT_RADIUS_OPTION,
+    ROBUSTNESS_OPTION,
+    balance_settings,
+)
 from eigengait.cli.media import (
     BVH_UNITS_OPTION,
     CAMERA_OPTION,
@@ -18,7 +25,7 @@ from eigengait.cli.media import (
 from eigengait import json_text
 from eigengait.outputs import refuse_existing
 
-PUSH_HELP = "Push the torso sideways: FORCE@TIME in N and s (e.g. 150@1.0), held for 0.1 s along +y."
+PUSH_HELP = "Push the torso sideways: FORCE@TIME[,...] in N and s (e.g. 150@1.0), each held for 0.1 s along +y."
 
 
 def register(app: typer.Typer) -> None:
@@ -33,12 +40,10 @@ def register(app: typer.Typer) -> None:
             help="Built-in character name or MJCF path (default: the walker, the "
             "humanoid with ankles; 'humanoid' has none and tracks worse).",
         ),
-        robustness: float = typer.Option(
-            0.5,
-            "--robustness",
-            help="0 = physically correct (no artificial torque) … 1 = stance-foot "
-            "torque fully cancelled (very stable).",
-        ),
+        robustness: float = ROBUSTNESS_OPTION,
+        foot_radius: float = FOOT_RADIUS_OPTION,
+        foot_height: float = FOOT_HEIGHT_OPTION,
+        foot_friction: float = FOOT_FRICTION_OPTION,
         push: str = typer.Option(None, "--push", help=PUSH_HELP),
         mapping: Path = typer.Option(None, "--mapping", help="YAML mapping BVH joints → MJCF joints."),
         start_frame: int = typer.Option(1, "--start-frame", help="First clip frame used (CMU frame 0 is a T-pose)."),
@@ -72,6 +77,7 @@ def register(app: typer.Typer) -> None:
         """Track a motion-capture clip in physics with the balance controller."""
         from eigengait.motion.tracking import kinematic_summary, reference_poses, run_track
 
+        foot = balance_settings(robustness, foot_radius, foot_height, foot_friction)
         media = MediaOptions(video=video, bvh=bvh, fps=fps, speed=speed, camera=camera, bvh_units=bvh_units).check()
         refuse_existing([video, bvh], force)
         units = {"bvh_units": bvh_units} if bvh else {}
@@ -81,7 +87,7 @@ def register(app: typer.Typer) -> None:
             _print_kinematic({**kinematic_summary(ref, clean_feet), **units}, as_json)
             return
         world, reference, result = run_track(
-            clip, character, robustness, push, mapping, start_frame, tolerance, clean_feet
+            clip, character, robustness, push, mapping, start_frame, tolerance, clean_feet, foot
         )
         write_media(world, result.qpos, 1.0 / result.frame_time, media, status_console(as_json))
         if as_json:

@@ -203,14 +203,20 @@ def _snapped_violation(system: GaitSystem, p: GaitParameters, run: BatchRun) -> 
 
 def _pushes_survived(pushes: tuple[Push, ...], run: BatchRun) -> int:
     """A push is survived when the gait does not fall before the next push (or the end of the playback)."""
-    if not run.fell[0]:
-        return len(pushes)
-    fall = float(run.fell_time[0])
-    times = sorted(p.time for p in pushes)
+    return pushes_survived([p.time for p in pushes], float(run.fell_time[0]) if run.fell[0] else None)
+
+
+def pushes_survived(times_s: list[float], fall_time_s: float | None) -> int:
+    """How many pushes (start times in s, each lasting PUSH_SECONDS) were survived, given when the character fell
+    (None: it did not): a push is survived when the fall, if any, comes after the next push (or after the end of
+    the run for the last one)."""
+    if fall_time_s is None:
+        return len(times_s)
+    times = sorted(times_s)
     return sum(
         1
         for k, t in enumerate(times)
-        if (times[k + 1] if k + 1 < len(times) else np.inf) <= fall and t + PUSH_SECONDS <= fall
+        if (times[k + 1] if k + 1 < len(times) else np.inf) <= fall_time_s and t + PUSH_SECONDS <= fall_time_s
     )
 
 

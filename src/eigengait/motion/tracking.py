@@ -8,26 +8,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from eigengait.errors import UserInputError
 from eigengait.inputs import check_range
-
-
-def parse_push(text: str):
-    """'150@1.0' → Push of 150 N along +y at t = 1.0 s."""
-    from eigengait.control.balance.tracker import Push
-
-    force, sep, time = text.partition("@")
-    try:
-        if not sep:
-            raise ValueError
-        value, at = float(force), float(time)
-    except ValueError:
-        raise UserInputError(
-            f"cannot read push '{text}'.", field="--push", fix="write FORCE@TIME, e.g. 150@1.0 (newtons, seconds)."
-        ) from None
-    if at < 0:
-        raise UserInputError(f"push time {at} s is negative.", field="--push", fix="use a time within the clip.")
-    return Push(force=(0.0, value, 0.0), time_s=at)
 
 
 def reference_poses(
@@ -93,9 +74,14 @@ def run_track(
     start_frame: int,
     tolerance: float,
     clean: bool = False,
+    foot: dict | None = None,
 ) -> tuple[object, object, object]:
     """Load, retarget, clean the feet (unless `clean` is False), replay and track; returns (world, reference,
-    result); result.foot_skate_m is the simulated motion's skate (m, mean per stance, `foot_metrics`)."""
+    result); result.foot_skate_m is the simulated motion's skate (m, mean per stance, `foot_metrics`).
+
+    `push`: `play --push` text, FORCE@TIME[,FORCE@TIME…], sideways (+y) on the torso; `foot`: the foot model as
+    `TrackerSettings` keyword arguments (foot_radius_m, foot_com_height_m, foot_friction), default the settings'."""
+    from eigengait.control.balance.pushes import sideways_pushes
     from eigengait.control.balance.reference import kinematic_replay
     from eigengait.control.balance.tracker import TrackerSettings, track
     from eigengait.motion.foot_metrics import foot_report
@@ -105,10 +91,10 @@ def run_track(
         robustness, "--robustness", 0, 1, fix="use a value between 0 (physically correct) and 1 (fully compensated)."
     )
     check_range(tolerance, "--tolerance", 0, 1, fix="use a value between 0 (never switch balance off) and 1.")
-    push_spec = parse_push(push) if push else None
+    pushes = sideways_pushes([push], "torso") if push else ()
     ref = reference_poses(clip_path, character, mapping, start_frame, clean)
     world = ref["world"]
     reference = kinematic_replay(world, ref["qpos"], ref["frame_time"])
-    result = track(world, reference, robustness, TrackerSettings(tolerance=tolerance), push=push_spec)
+    result = track(world, reference, robustness, TrackerSettings(tolerance=tolerance, **(foot or {})), pushes=pushes)
     result.foot_skate_m = foot_report(sole_points(world, result.qpos), result.frame_time).foot_skate_m
     return world, reference, result

@@ -1,8 +1,9 @@
 """Track a motion-capture clip (a BVH file inside the studio folder) in physics with the balance controller.
 
-The robustness slider is the foot model's one parameter: 0 = physically correct (no artificial torque at the
-stance foot), 1 = the stance-foot torque fully cancelled (very stable). The tracked motion plays on the stage with
-the camera following; the report gives the tracking errors and the artificial torque used.
+The robustness slider is the foot model's main parameter: 0 = physically correct (no artificial torque at the
+stance foot), 1 = the stance-foot torque fully cancelled (very stable); beside it, the cylinder foot's radius, COM
+height and friction set how much torque a given robustness cancels (control/balance/foot.py). The tracked motion
+plays on the stage with the camera following; the report gives the tracking errors and the artificial torque used.
 """
 
 from __future__ import annotations
@@ -36,6 +37,9 @@ class TrackPanel:
                 initial_value=0.5,
                 hint="0 = physically correct … 1 = stance-foot torque cancelled",
             )
+            self.foot_radius = gui.add_number("foot radius (m)", 0.1, min=0.0, max=1.0, step=0.01)
+            self.foot_height = gui.add_number("foot COM height (m)", 0.05, min=0.0, max=1.0, step=0.01)
+            self.foot_friction = gui.add_number("foot friction μ", 1.0, min=0.01, max=10.0, step=0.1)
             self.push = gui.add_text("push", "", hint="optional FORCE@TIME (N, s), sideways at the torso")
             self.run = gui.add_button("Track in physics", icon=viser.Icon.RUN)
             self.report = gui.add_markdown("")
@@ -47,8 +51,13 @@ class TrackPanel:
             raise UserInputError("no clip given", field="BVH clip", fix="type the name of a .bvh file in the folder")
         path = self.sandbox.resolve(str(text).strip(), (".bvh",), must_exist=True)
         push = self.push.value.strip() or None
+        foot = {
+            "foot_radius_m": float(self.foot_radius.value),
+            "foot_com_height_m": float(self.foot_height.value),
+            "foot_friction": float(self.foot_friction.value),
+        }
         world, reference, result = run_track(
-            path, self.character.value, float(self.robustness.value), push, None, 1, 0.0
+            path, self.character.value, float(self.robustness.value), push, None, 1, 0.0, foot=foot
         )
         self.result = result
         self.stage.show("tracking", world, result.qpos, 1.0 / result.frame_time, follow=True)

@@ -16,6 +16,7 @@ Per control step (every ``control_every`` physics steps, torques held in between
 from __future__ import annotations
 
 import copy
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import mujoco
@@ -287,20 +288,32 @@ class Tracker:
             magnitude += float(np.linalg.norm(torque_f))
         return tau, magnitude
 
-    def run(self, duration_s: float | None = None, push: Push | None = None) -> TrackingResult:
-        """Simulate from the reference's first frame for duration_s (default: the whole reference)."""
+    def _push_bodies(self, pushes: Sequence[Push]) -> list[int]:
+        """Body id of each push; a body the character does not have is a UserInputError."""
+        ids = [mujoco.mj_name2id(self.model, mujoco.mjtObj.mjOBJ_BODY, p.body) for p in pushes]
+        for push, body in zip(pushes, ids):
+            if body < 0:
+                raise UserInputError(
+                    f"the push names body '{push.body}', which the character does not have.", field="push"
+                )
+        return ids
+
+    def _apply_pushes(self, pushes: Sequence[Push], bodies: list[int], t: float) -> None:
+        """Set the external forces (N, world) of the pushes active at time t (s); all others are zero."""
+        self.data.xfrc_applied[:, :3] = 0.0
+        for push, body in zip(pushes, bodies):
+            if push.time_s <= t < push.time_s + PUSH_DURATION:
+                self.data.xfrc_applied[body, :3] += push.force
+
+    def run(self, duration_s: float | None = None, pushes: Sequence[Push] = ()) -> TrackingResult:
+        """Simulate from the reference's first frame for duration_s (default: the whole reference), with the
+        given pushes."""
         model, data, ref = self.model, self.data, self.reference
         duration = ref.duration if duration_s is None else min(duration_s, ref.duration)
         data.qpos[:] = ref.qpos[0]
         data.qvel[:] = ref.qvel[0]
         mujoco.mj_forward(model, data)
-        push_body = None
-        if push is not None:
-            push_body = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, push.body)
-            if push_body < 0:
-                raise UserInputError(
-                    f"the push names body '{push.body}', which the character does not have.", field="push"
-                )
+        push_bodies = self._push_bodies(pushes)
         dt = model.opt.timestep * self.settings.control_every
         steps = int(round(duration / dt))
         joint_err, com_err, torques, qpos_log = [], [], [], [ref.qpos[0].copy()]
@@ -314,9 +327,7 @@ class Tracker:
             tau_pd = self._pd(target)
             tau_eq, artificial = self._balance(target, forces)
             data.ctrl[: self.world.nmotor] = (tau_pd + tau_eq)[self.joint_dofs]
-            data.xfrc_applied[:, :3] = 0.0
-            if push is not None and push.time_s <= t < push.time_s + PUSH_DURATION:
-                data.xfrc_applied[push_body, :3] = push.force
+            self._apply_pushes(pushes, push_bodies, t)
             joint_err.append(quat_angle(data.qpos[self.ball_qpos], target["qpos"][self.ball_qpos]))
             com_err.append(np.linalg.norm(data.subtree_com[self.world.root_body] - target["com"]))
             torques.append(artificial)
@@ -348,10 +359,10 @@ def track(
     robustness: float,
     settings: TrackerSettings = TrackerSettings(),
     duration_s: float | None = None,
-    push: Push | None = None,
+    pushes: Sequence[Push] = (),
 ) -> TrackingResult:
     """Track `reference` on `world`'s character with the given robustness in [0, 1]."""
-    return Tracker(world, reference, robustness, settings).run(duration_s, push)
+    return Tracker(world, reference, robustness, settings).run(duration_s, pushes)
 
 
 __all__ = ["FootModel", "Push", "Tracker", "TrackerSettings", "TrackingResult", "track"]
