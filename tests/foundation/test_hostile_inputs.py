@@ -50,6 +50,7 @@ OPTION_VALUES = {
         "{tmp}/s.yaml",
     ],
     "random-sketch-seed-negative": ["sketch", "new", "humanoid", "--random", "-1", "-o", "{tmp}/s.yaml"],
+    "demo-harden-minutes-negative": ["demo", "--output", "{tmp}/demo", "--harden-minutes", "-1"],
     "harden-copies-zero": ["harden", "kangaroo-hop", "-o", "{tmp}/run", "--copies", "0"],
     "harden-impulse-nan": ["harden", "kangaroo-hop", "-o", "{tmp}/run", "--push-impulse", "nan"],
     "harden-horizon-two": ["harden", "kangaroo-hop", "-o", "{tmp}/run", "--horizon", "2"],

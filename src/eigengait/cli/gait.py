@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 import time
 from datetime import datetime
 from pathlib import Path
@@ -305,9 +306,13 @@ def demo_command(
     output: Path = typer.Option(Path("out/demo"), "--output", help="Parent folder; each demo gets a new subfolder."),
     evaluations: int = typer.Option(200000, "--max-evaluations", help="Optimization budget (evaluations)."),
     minutes: float = typer.Option(8.0, "--max-minutes", help="Optimization budget (wall-clock minutes)."),
+    harden_minutes: float = typer.Option(
+        3.0, "--harden-minutes", help="Survival optimization under sampled pushes after it (minutes; 0: none)."
+    ),
     seed: int = typer.Option(1, "--seed"),
 ):
-    """The main job on the humanoid: modes -> palette -> basic-run sketch -> optimization -> playback -> video, BVH."""
+    """The main job on the humanoid: modes -> palette -> basic-run sketch -> optimization -> hardening -> playback
+    -> video, BVH."""
     from eigengait.character import load_character
     from eigengait.control.controller import load_controller, system_for, to_parameters
     from eigengait.control.library import resolve
@@ -316,9 +321,11 @@ def demo_command(
     from eigengait.modal import compute_modes
     from eigengait.optimize.mom import MomSettings
     from eigengait.optimize.staged import optimize_gait
+    from eigengait.optimize.survival import StartingFigures, SurvivalSettings, harden
     from eigengait.render.palette import write_palette
     from eigengait.sim import WorldOptions, build_world
 
+    check_range(harden_minutes, "--harden-minutes", 0, 1e6)
     folder = _new_folder(output, datetime.now().strftime("run-%Y%m%d-%H%M%S"))
     t0 = time.perf_counter()
     character = load_character("humanoid")
@@ -332,7 +339,7 @@ def demo_command(
     kinematic = build_mix(world, modes["air"], parse_mix(DEMO_KINEMATIC_MIX), base_hz=DEMO_KINEMATIC_BASE_HZ)
     _, qpos = mix_trajectory(world, kinematic, seconds=4.0, fps=30.0)
     console.print(
-        f"[1/4] modes and palettes: {folder}/palette_air.png, palette_ground.png; "
+        f"[1/5] modes and palettes: {folder}/palette_air.png, palette_ground.png; "
         f"kinematic two-mode gait (air modes {DEMO_KINEMATIC_MIX}):"
     )
     write_media(world, qpos, 30.0, MediaOptions(folder / "kinematic.mp4", folder / "kinematic.bvh"), console)
@@ -351,16 +358,27 @@ def demo_command(
         sketch_source=sketch_path,
     )
     console.print(
-        f"[2/4] optimization ({state.finished}): cycle violation {state.best.violation:.3g}, "
+        f"[2/5] optimization ({state.finished}): cycle violation {state.best.violation:.3g}, "
         f"{state.evaluations} evaluations in {state.elapsed:.0f} s"
     )
     c = load_controller(folder / "optimization" / "best_controller.json")
     system = system_for(c)
-    result = play(system, to_parameters(c, system), cycles=20)
+    params = to_parameters(c, system)
+    if harden_minutes > 0:
+        before = play(system, params, cycles=20)
+        figures = StartingFigures(speed=before.mean_speed_mps, effort=before.mean_squared_torque)
+        settings = SurvivalSettings(minutes=harden_minutes, seed=seed, threads=os.cpu_count() or 1)
+        params = harden(system, params, figures, folder / "hardening", settings, progress=lambda _: None)
+        console.print(
+            f"[3/5] hardening under sampled pushes ({harden_minutes:g} min): survives "
+            f"{before.cycles_completed} -> {play(system, params, cycles=20).cycles_completed} of 20 cycles "
+            f"({folder}/hardening/best_controller.json)"
+        )
+    result = play(system, params, cycles=20)
     write_atomically(folder / "playback.json", json_text.dumps(result.summary(), indent=2))
-    console.print(f"[3/4] playback: {json_text.dumps(result.summary())}")
+    console.print(f"[4/5] playback: {json_text.dumps(result.summary())}")
     write_media(system.world, result.qpos, result.fps, MediaOptions(folder / "gait.mp4", folder / "gait.bvh"), console)
-    console.print(f"[4/4] done in {time.perf_counter() - t0:.0f} s. Outputs in {folder}")
+    console.print(f"[5/5] done in {time.perf_counter() - t0:.0f} s. Outputs in {folder}")
 
 
 def _new_folder(parent: Path, name: str) -> Path:
