@@ -29,6 +29,7 @@ from eigengait.control.feedback import (
 from eigengait.control.gait import GaitParameters, GaitSystem
 from eigengait.control.phase_clock import MAX_WAIT, PhaseClock
 from eigengait.sim.contacts import spheres_touching
+from eigengait.sim.falls import has_fallen
 from eigengait.sim.root import RootLayout
 from eigengait.sim.stepping import blown_up_dof, blown_up_steps, first_bad_torque
 
@@ -57,10 +58,9 @@ class BatchRun:
 
 
 def fallen(states: np.ndarray, sensors: np.ndarray, root: RootLayout, nq: int, standing_com: float) -> np.ndarray:
-    """Per row: COM below half its standing height, root upside down, or a non-finite state."""
-    up_z = root.up_z(states[..., 1 : 1 + nq])
+    """Per row: fallen by `sim/falls.py`'s rule (against the standing COM height), or a non-finite state."""
     finite = np.isfinite(states[..., 1:]).all(axis=-1) & (np.abs(states[..., 1:]) < 1e6).all(axis=-1)
-    return (sensors[..., 2] < 0.5 * standing_com) | (up_z < 0) | ~finite
+    return has_fallen(sensors[..., 2], standing_com, root.up_z(states[..., 1 : 1 + nq])) | ~finite
 
 
 def clock_cycle_ends(period: float, timestep: float, cycles: int) -> list[int]:

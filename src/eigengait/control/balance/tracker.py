@@ -33,6 +33,7 @@ from eigengait.control.balance.reference import Reference
 from eigengait.geometry import quat_angle, quat_to_mat
 from eigengait.control.balance.virtual import VirtualGains, virtual_force, virtual_torque
 from eigengait.errors import UserInputError
+from eigengait.sim.falls import has_fallen
 from eigengait.sim.stepping import step
 from eigengait.sim.world import FLOOR, GRAVITY, World
 
@@ -332,7 +333,9 @@ class Tracker:
             com_err.append(np.linalg.norm(data.subtree_com[self.world.root_body] - target["com"]))
             torques.append(artificial)
             step(self.world, data, self.settings.control_every, model)  # a blow-up raises, naming time and body
-            if self._touches_floor_off_feet() or data.subtree_com[self.world.root_body][2] < 0.5 * target["com"][2]:
+            com_z = data.subtree_com[self.world.root_body][2]
+            up_z = self.world.root.up_z(data.qpos)
+            if has_fallen(com_z, target["com"][2], up_z, self._touches_floor_off_feet()):
                 fell_at = float(data.time)
                 break
             if data.time + 1e-9 >= next_record:
