@@ -305,7 +305,7 @@ def gaits_command(as_json: bool = typer.Option(False, "--json", help="Print JSON
 def demo_command(
     output: Path = typer.Option(Path("out/demo"), "--output", help="Parent folder; each demo gets a new subfolder."),
     evaluations: int = typer.Option(200000, "--max-evaluations", help="Optimization budget (evaluations)."),
-    minutes: float = typer.Option(8.0, "--max-minutes", help="Optimization budget (wall-clock minutes)."),
+    minutes: float = typer.Option(7.0, "--max-minutes", help="Optimization budget (wall-clock minutes)."),
     harden_minutes: float = typer.Option(
         3.0, "--harden-minutes", help="Survival optimization under sampled pushes after it (minutes; 0: none)."
     ),
