@@ -29,6 +29,8 @@ from eigengait.outputs import check_folder, refuse_existing, write_atomically
 console = Console()
 DEMO_KINEMATIC_MIX = "2:1.4,15:0.8@90"  # stride + both knees a quarter period later (Kry et al. 2009 style)
 DEMO_KINEMATIC_BASE_HZ = 0.9  # snap both frequencies to multiples of 0.9 Hz so the clip loops
+RESUME_OPTION = typer.Option(False, "--resume", help="Continue the run in --output.")
+START_OVER_OPTION = typer.Option(False, "--force", help="Start over: delete an earlier run's files in --output.")
 
 
 def sketch_command(
@@ -87,8 +89,8 @@ def optimize_command(
     ),
     evaluator: str = typer.Option("threads", "--evaluator", help="threads | processes | ray"),
     workers: Optional[int] = typer.Option(None, "--workers", help="Threads/processes/actors (default: cores)."),
-    resume: bool = typer.Option(False, "--resume", help="Continue the run in --output."),
-    force: bool = typer.Option(False, "--force", help="Start over: delete an earlier run's files in --output."),
+    resume: bool = RESUME_OPTION,
+    force: bool = START_OVER_OPTION,
 ):
     """Optimize a sketch into a cyclic, physically simulated gait (method of multipliers + CMA-ES)."""
     from eigengait.control.library import resolve
@@ -106,12 +108,7 @@ def optimize_command(
         (workers, "--workers", 1, 1024),
     ):
         check_range(value, option, low, high)
-    if force and resume:
-        raise UserInputError(
-            "--force and --resume do not go together",
-            field="--force",
-            fix="--resume continues the run in --output; --force starts it over",
-        )
+    _refuse_force_with_resume(force, resume)
     path = resolve("sketch", sketch)
     loaded = load_sketch(path)
     tolerance = tolerance if tolerance is not None else loaded.targets.cycle_tolerance
@@ -135,6 +132,15 @@ def optimize_command(
         f"speed {best.mean_velocity[0]:.2f} m/s"
     )
     console.print(f"run folder: {output} (best_controller.json, log.csv, objective.png, violation.png)")
+
+
+def _refuse_force_with_resume(force: bool, resume: bool) -> None:
+    if force and resume:
+        raise UserInputError(
+            "--force and --resume do not go together",
+            field="--force",
+            fix="--resume continues the run in --output; --force starts it over",
+        )
 
 
 def _start_run(folder: Path, force: bool) -> None:
@@ -215,8 +221,8 @@ def harden_command(
     impulse: float = typer.Option(0.6, "--push-impulse", help="Largest sampled push (N·s per kg of body mass)."),
     horizon: int = typer.Option(8, "--horizon", help="Cycles played at the start (grows as candidates survive)."),
     workers: int = typer.Option(1, "--workers", help="Simulation threads."),
-    resume: bool = typer.Option(False, "--resume", help="Continue the run in --output."),
-    force: bool = typer.Option(False, "--force", help="Start over: delete an earlier run's files in --output."),
+    resume: bool = RESUME_OPTION,
+    force: bool = START_OVER_OPTION,
 ):
     """Optimize a gait's survival with no reset under sampled sideways pushes (pulses, timing, hip feedback)."""
     from eigengait.control.controller import load_controller, system_for, to_parameters
@@ -233,8 +239,7 @@ def harden_command(
         (workers, "--workers", 1, 1024),
     ):
         check_range(value, option, low, high)
-    if force and resume:
-        raise UserInputError("--force and --resume do not go together", field="--force")
+    _refuse_force_with_resume(force, resume)
     path = resolve("gait", controller)
     c = load_controller(path)
     system = system_for(c, path)
