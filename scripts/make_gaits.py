@@ -69,7 +69,7 @@ def hardened(controller, folder: Path, minutes: float, seed: int):
     system = system_for(controller)
     start = to_parameters(controller, system)
     before = play(system, start, cycles=20)
-    figures = StartingFigures(speed=before.mean_speed_mps, effort=before.mean_squared_torque)
+    figures = StartingFigures.of(before)
     settings = SurvivalSettings(minutes=minutes, seed=seed)
     harden(system, start, figures, folder, settings, resume=(folder / CHECKPOINT).exists(), name=controller.name)
     out = load_controller(folder / "best_controller.json")

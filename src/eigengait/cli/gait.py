@@ -262,7 +262,7 @@ def harden_command(
         threads=workers,
     )
     before = play(system, start, cycles=20, source=path)
-    figures = StartingFigures(speed=before.mean_speed_mps, effort=before.mean_squared_torque)
+    figures = StartingFigures.of(before)
     result = harden(system, start, figures, output, settings, resume, c.name, console.print)
     after = play(system, result, cycles=20)
     console.print(
@@ -371,15 +371,16 @@ def demo_command(
     params = to_parameters(c, system)
     if harden_minutes > 0:
         before = play(system, params, cycles=20)
-        figures = StartingFigures(speed=before.mean_speed_mps, effort=before.mean_squared_torque)
+        figures = StartingFigures.of(before)
         settings = SurvivalSettings(minutes=harden_minutes, seed=seed, threads=os.cpu_count() or 1)
         params = harden(system, params, figures, folder / "hardening", settings, progress=lambda _: None)
+    result = play(system, params, cycles=20)
+    if harden_minutes > 0:
         console.print(
             f"[3/5] hardening under sampled pushes ({harden_minutes:g} min): survives "
-            f"{before.cycles_completed} -> {play(system, params, cycles=20).cycles_completed} of 20 cycles "
+            f"{before.cycles_completed} -> {result.cycles_completed} of 20 cycles "
             f"({folder}/hardening/best_controller.json)"
         )
-    result = play(system, params, cycles=20)
     write_atomically(folder / "playback.json", json_text.dumps(result.summary(), indent=2))
     console.print(f"[4/5] playback: {json_text.dumps(result.summary())}")
     write_media(system.world, result.qpos, result.fps, MediaOptions(folder / "gait.mp4", folder / "gait.bvh"), console)

@@ -164,13 +164,7 @@ class ClosedLoopRunner:
         self.standing_com = world.standing_com_height
         self.chunk = max(1, int(round(FEEDBACK_DT / self.model.opt.timestep)))
         self.motor_dofs = np.asarray(world.internal_qvel)
-        self.feet = {
-            f: (
-                [world.foot_sensor[s] for s in (pt.toe, pt.heel) if s],
-                float(self.model.geom_size[world.foot_spheres[f][0], 0]),
-            )
-            for f, pt in world.character.feet.items()
-        }
+        self.feet = {f: (world.foot_point_sensors(f), world.foot_radius(f)) for f in world.character.feet}
         self.steps_simulated = 0
 
     def close(self) -> None:
@@ -225,7 +219,7 @@ class ClosedLoopRunner:
                     tau_fb = self._feedback(plans[i], int(t // period), t % period, state[i], sensors_now[i])
                     u = ff[i][a:upto].copy()
                 else:
-                    tau_fb = self._feedback(plans[i], clock.cycle, clock.phase_time(dt), state[i], sensors_now[i])
+                    tau_fb = self._feedback(plans[i], clock.cycle, clock.phase_time, state[i], sensors_now[i])
                     u = clock.controls(upto - a)
                 u[:, :n_motor] = np.clip(u[:, :n_motor] + tau_fb, -limit, limit)
                 control[k, : upto - a, :nu] = u

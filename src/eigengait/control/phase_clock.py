@@ -25,7 +25,7 @@ class PhaseClock:
     """The phase of one candidate's pulse state machine, in physics steps; `table` holds one cycle of controls."""
 
     def __init__(self, states: list[State], table: np.ndarray, timestep: float):
-        self.states, self.table = states, table
+        self.states, self.table, self.timestep = states, table, timestep
         self.cycle_steps = len(table)
         starts = np.array([int(round(s.start / timestep)) for s in states] + [self.cycle_steps])
         self.start_step = starts[:-1]
@@ -43,9 +43,10 @@ class PhaseClock:
     def state(self) -> int:
         return int(self.state_of[self.step])
 
-    def phase_time(self, timestep: float) -> float:
+    @property
+    def phase_time(self) -> float:
         """Time (s) into the cycle as the state machine sees it."""
-        return self.step * timestep
+        return self.step * self.timestep
 
     def controls(self, n: int) -> np.ndarray:
         """The next `n` steps of controls, advancing the clock (held at a late air state's end)."""

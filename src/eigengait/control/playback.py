@@ -157,16 +157,10 @@ def _result(
         qpos=states[frames, 1 : 1 + nq],
         com=sensors[frames, 0:3],
         foot_points={
-            f: np.stack(
-                [
-                    sensors[frames, world.foot_sensor[s] : world.foot_sensor[s] + 3]
-                    for s in filter(None, (pt.toe, pt.heel))
-                ],
-                axis=1,
-            )
-            for f, pt in world.character.feet.items()
+            f: np.stack([sensors[frames, a : a + 3] for a in world.foot_point_sensors(f)], axis=1)
+            for f in world.character.feet
         },
-        foot_radius={f: float(model.geom_size[world.foot_spheres[f][0], 0]) for f in world.character.feet},
+        foot_radius={f: world.foot_radius(f) for f in world.character.feet},
     )
     quality = gait_metrics(model, recording) if len(frames) > 1 else {}
     violation = _violation(system, p, run, completed) if not snap else _snapped_violation(system, p, run)

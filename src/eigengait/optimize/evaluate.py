@@ -67,7 +67,7 @@ class BatchEvaluator:
         self.sample_every = max(1, int(round(sample_dt / self.dt)))
         self.nq, self.nv = self.model.nq, self.model.nv
         world = system.world
-        self.toe_radius = {f: float(self.model.geom_size[world.foot_spheres[f][0], 0]) for f in system.feet}
+        self.toe_radius = {f: world.foot_radius(f) for f in system.feet}
         feet = world.character.feet
         self.toe_sensor = {f: world.foot_sensor[feet[f].toe] for f in system.feet}
         self.heel_sensor = {f: world.foot_sensor[feet[f].heel] if feet[f].heel else None for f in system.feet}

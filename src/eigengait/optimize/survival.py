@@ -56,6 +56,11 @@ class StartingFigures:
     speed: float  # m/s, mean forward COM speed
     effort: float  # (N·m)², mean over steps of Σ_j τ_j²
 
+    @classmethod
+    def of(cls, played) -> "StartingFigures":
+        """From a `control.playback.PlaybackResult` of the starting gait."""
+        return cls(speed=played.mean_speed_mps, effort=played.mean_squared_torque)
+
 
 @dataclass(frozen=True)
 class SurvivalSettings:

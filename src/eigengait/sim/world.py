@@ -78,6 +78,15 @@ class World:
     def comvel_sensor(self) -> int:
         return 3
 
+    def foot_radius(self, foot: str) -> float:
+        """Radius (m) of the foot's contact spheres."""
+        return float(self.model.geom_size[self.foot_spheres[foot][0], 0])
+
+    def foot_point_sensors(self, foot: str) -> list[int]:
+        """sensordata addresses of the world positions of the foot's contact-sphere centres (toe, then heel)."""
+        points = self.character.feet[foot]
+        return [self.foot_sensor[site] for site in (points.toe, points.heel) if site]
+
     def new_data(self) -> mujoco.MjData:
         data = mujoco.MjData(self.model)
         mujoco.mj_forward(self.model, data)

@@ -100,7 +100,7 @@ def kinematic_replay(world: World, qpos: np.ndarray, frame_time: float) -> Refer
         mujoco.mj_subtreeVel(model, data)
         com[i], com_vel[i], ang[i] = data.subtree_com[root], data.subtree_linvel[root], data.subtree_angmom[root]
         points = foot_points(world, data)
-        low = [points[f][:, 2].min() - model.geom_size[world.foot_spheres[f][0], 0] for f in feet]
+        low = [points[f][:, 2].min() - world.foot_radius(f) for f in feet]
         contact[i] = np.array(low) < CONTACT_HEIGHT
         if contact[i].any():
             support[i] = np.mean([points[f][:, :2].mean(axis=0) for f, c in zip(feet, contact[i]) if c], axis=0)
