@@ -1,13 +1,19 @@
 """Play every shipped gait 20 cycles with physics only and print its quality against the locomotion targets.
 
-Usage: python scripts/gait_table.py   (prints a Markdown table and, below it, each failed target; the swing
-clearance column is the lowest of the feet's mean swing clearances, "none" when a foot never lifts)
+Usage: python scripts/gait_table.py [--recorded DIR]   (prints a Markdown table and, below it, each failed target;
+the swing clearance column is the lowest of the feet's mean swing clearances, "none" when a foot never lifts).
+Each gait is played with its lookahead and pushed, or, with --recorded, read from what `scripts/make_gaits.py
+--measure-only` recorded in DIR (out/gait-measures).
 Targets (docs/locomotion.md): every gait 20 cycles without falling, no joint jump over 15° and no root jump over
 6 cm between 60 Hz frames, stance slip ≤ 3 cm, root pitch and roll within ±30°; per gait a speed, flight and
 cadence or footfall pattern; the run and the trot survive 4 of 5 sideways pushes of 0.5 N·s/kg in cycle 3.
 """
 
 from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
 
 from eigengait.control.controller import load_controller, system_for, to_parameters
 from eigengait.control.library import gait_names, resolve
@@ -59,6 +65,9 @@ def targets(name: str, m: dict, pushes: list[bool]) -> dict[str, bool]:
 
 
 def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__)
+    parser.add_argument("--recorded", type=Path, default=None)
+    args = parser.parse_args()
     print(
         "| gait | cycles | speed (m/s) | cadence (steps/min) | flight | swing clearance (m) | stance slip (m) | "
         "pitch (°) | roll (°) | max jump (°) | mean τ² ((N·m)²) | pushes (of 5) | targets met |"
@@ -66,11 +75,16 @@ def main() -> None:
     print("|---|---:|---:|---:|---:|---:|---:|---|---|---:|---:|---:|---|")
     failures = []
     for name in gait_names():
-        controller = load_controller(resolve("gait", name))
-        system = system_for(controller)
-        params = to_parameters(controller, system)
-        m = play(system, params, cycles=20).summary()
-        pushes = push_robustness(system, params)
+        if args.recorded is not None:
+            record = json.loads((args.recorded / f"{name}.json").read_text(encoding="utf-8"))
+            m, pushes = record["lookahead"], record["pushes"]
+        else:
+            controller = load_controller(resolve("gait", name))
+            system = system_for(controller)
+            params = to_parameters(controller, system)
+            planner = controller.lookahead.settings() if controller.lookahead is not None else None
+            m = play(system, params, cycles=20, lookahead=planner).summary()
+            pushes = push_robustness(system, params, lookahead=planner)
         met = targets(name, m, pushes)
         failures += [f"{name}: {k}" for k, ok in met.items() if not ok]
         pitch = "{:.0f} … {:.0f}".format(*m["torso_pitch_deg"])

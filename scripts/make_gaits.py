@@ -13,7 +13,7 @@ import argparse
 import json
 from pathlib import Path
 
-from eigengait.control.controller import load_controller, save_controller, system_for, to_parameters
+from eigengait.control.controller import LookaheadFile, load_controller, save_controller, system_for, to_parameters
 from eigengait.control.library import resolve
 from eigengait.control.playback import play, push_robustness
 from eigengait.control.sketch import load_sketch
@@ -27,7 +27,9 @@ GAITS = {
     "kangaroo-hop": "kangaroo",
     "dog-trot": "dog-trot",
 }
+WITHOUT = "without_lookahead_"  # prefix of the figures of the same gait played without its lookahead
 PACKAGE = Path(__file__).resolve().parents[1] / "src" / "eigengait" / "data" / "gaits"
+MEASURES = Path("out/gait-measures")  # each gait's full playback summaries, read by scripts/gait_table.py
 
 
 def make(
@@ -71,26 +73,39 @@ def hardened(controller, folder: Path, minutes: float, seed: int):
     before = play(system, start, cycles=20)
     figures = StartingFigures.of(before)
     settings = SurvivalSettings(minutes=minutes, seed=seed)
-    harden(system, start, figures, folder, settings, resume=(folder / CHECKPOINT).exists(), name=controller.name)
+    planner = controller.lookahead.settings() if controller.lookahead is not None else None
+    resume = (folder / CHECKPOINT).exists()
+    harden(system, start, figures, folder, settings, resume=resume, name=controller.name, lookahead=planner)
     out = load_controller(folder / "best_controller.json")
     out.name, out.metrics = controller.name, {**controller.metrics, "hardening_minutes": minutes}
     return out
 
 
 def measure(controller) -> None:
-    """Play the controller 20 cycles with physics only and push it; record the figures and ship it."""
+    """Play the controller 20 cycles with physics only, with its lookahead (given the sketch's mean speed as its
+    target if it has none) and without, and push it; record the figures and ship it."""
     system = system_for(controller)
     params = to_parameters(controller, system)
-    free = play(system, params, cycles=20).summary()
-    pushes = push_robustness(system, params)
+    if controller.lookahead is None:
+        speed = load_sketch(resolve("sketch", GAITS[controller.name])).targets.mean_speed
+        controller.lookahead = LookaheadFile(speed=speed)
+    planner = controller.lookahead.settings()
+    alone = play(system, params, cycles=20).summary()
+    free = play(system, params, cycles=20, lookahead=planner).summary()
+    pushes = push_robustness(system, params, lookahead=planner)
     kept = {
         k: controller.metrics[k]
         for k in ("cycle_tolerance", "evaluations", "optimizer_seconds", "horizon_cycles", "hardening_minutes")
         if k in controller.metrics
     }
-    controller.metrics = {k: v for k, v in free.items() if isinstance(v, (int, float, bool)) and v is not None}
+    numbers = lambda summary: {k: v for k, v in summary.items() if isinstance(v, (int, float, bool)) and v is not None}  # noqa: E731
+    controller.metrics = numbers(free)
+    controller.metrics.update({f"{WITHOUT}{k}": v for k, v in numbers(alone).items() if k != "lookahead"})
     controller.metrics.update({**kept, "pushes_survived_of_5": sum(pushes)})
     save_controller(controller, PACKAGE / f"{controller.name}.json")
+    MEASURES.mkdir(parents=True, exist_ok=True)
+    record = {"lookahead": free, "without_lookahead": alone, "pushes": pushes}
+    (MEASURES / f"{controller.name}.json").write_text(json.dumps(record, indent=1), encoding="utf-8")
     print(json.dumps({"gait": controller.name, **controller.metrics}))
 
 

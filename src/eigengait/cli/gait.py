@@ -169,6 +169,11 @@ def play_command(
         "--push",
         help="Sideways pushes on the root body: FORCE@TIME[,...] (N along +y for 0.1 s, at s), e.g. 350@1.3",
     ),
+    lookahead: bool = typer.Option(
+        True,
+        "--lookahead/--no-lookahead",
+        help="Use the controller's lookahead (sampled pulse corrections at each state start), if it has one.",
+    ),
     as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
     video: Optional[Path] = typer.Option(None, "--video", help="Write a video (.mp4/.gif)."),
     bvh: Optional[Path] = typer.Option(None, "--bvh", help="Write the motion as BVH."),
@@ -197,7 +202,11 @@ def play_command(
     path = resolve("gait", controller)
     c = load_controller(path)
     system = system_for(c, path)
-    result = play(system, to_parameters(c, system, path), cycles, snap=snap, pushes=pushes, source=path)
+    planner = c.lookahead.settings() if lookahead and c.lookahead is not None and not snap else None
+    status = status_console(as_json)
+    progress = (lambda k, n: status.print(f"lookahead: cycle {k}/{n}")) if planner is not None else None
+    params = to_parameters(c, system, path)
+    result = play(system, params, cycles, snap=snap, pushes=pushes, source=path, lookahead=planner, progress=progress)
     summary = {"controller": str(path), "character": c.character, **result.summary()}
     if as_json:
         print(json_text.dumps(summary))
@@ -208,7 +217,7 @@ def play_command(
         for k, v in summary.items():
             table.add_row(k, str(v))
         console.print(table)
-    write_media(system.world, result.qpos, result.fps, media, status_console(as_json))
+    write_media(system.world, result.qpos, result.fps, media, status)
 
 
 def harden_command(
@@ -263,7 +272,8 @@ def harden_command(
     )
     before = play(system, start, cycles=20, source=path)
     figures = StartingFigures.of(before)
-    result = harden(system, start, figures, output, settings, resume, c.name, console.print)
+    planner = c.lookahead.settings() if c.lookahead is not None else None
+    result = harden(system, start, figures, output, settings, resume, c.name, console.print, lookahead=planner)
     after = play(system, result, cycles=20)
     console.print(
         f"survival with no reset (20 cycles): {before.cycles_completed} -> {after.cycles_completed} cycles; "
@@ -310,9 +320,9 @@ def gaits_command(as_json: bool = typer.Option(False, "--json", help="Print JSON
 def demo_command(
     output: Path = typer.Option(Path("out/demo"), "--output", help="Parent folder; each demo gets a new subfolder."),
     evaluations: int = typer.Option(200000, "--max-evaluations", help="Optimization budget (evaluations)."),
-    minutes: float = typer.Option(7.0, "--max-minutes", help="Optimization budget (wall-clock minutes)."),
+    minutes: float = typer.Option(6.0, "--max-minutes", help="Optimization budget (wall-clock minutes)."),
     harden_minutes: float = typer.Option(
-        3.0, "--harden-minutes", help="Survival optimization under sampled pushes after it (minutes; 0: none)."
+        2.0, "--harden-minutes", help="Survival optimization under sampled pushes after it (minutes; 0: none)."
     ),
     seed: int = typer.Option(1, "--seed"),
 ):
@@ -374,7 +384,8 @@ def demo_command(
         figures = StartingFigures.of(before)
         settings = SurvivalSettings(minutes=harden_minutes, seed=seed, threads=os.cpu_count() or 1)
         params = harden(system, params, figures, folder / "hardening", settings, progress=lambda _: None)
-    result = play(system, params, cycles=20)
+    planner = c.lookahead.settings() if c.lookahead is not None else None
+    result = play(system, params, cycles=20, lookahead=planner)
     if harden_minutes > 0:
         console.print(
             f"[3/5] hardening under sampled pushes ({harden_minutes:g} min): survives "

@@ -57,6 +57,16 @@ class BatchRun:
     cycle_ends: list = None  # per candidate: index of the last step of each completed cycle
 
 
+def add_pushes(control: np.ndarray, pushes: tuple[Push, ...], first_step: int, dt: float, nu: int) -> None:
+    """Write the pushes active during a chunk into its applied generalized forces, in place: `control` is
+    candidates × steps × (nu + nv), its first row the physics step `first_step`; a push is a force (N) on qvel 1,
+    the root's sideways translation."""
+    times = (first_step + np.arange(control.shape[1])) * dt
+    for push in pushes:
+        on = (times >= push.time) & (times < push.time + PUSH_SECONDS)
+        control[:, on, nu + 1] = push.force
+
+
 def fallen(states: np.ndarray, sensors: np.ndarray, root: RootLayout, nq: int, standing_com: float) -> np.ndarray:
     """Per row: fallen by `sim/falls.py`'s rule (against the standing COM height), or a non-finite state."""
     finite = np.isfinite(states[..., 1:]).all(axis=-1) & (np.abs(states[..., 1:]) < 1e6).all(axis=-1)
@@ -231,9 +241,7 @@ class ClosedLoopRunner:
             idx, control = idx[keep], control[keep]
             if idx.size == 0:
                 break
-            for push in pushes:
-                on = (np.arange(a, b) * dt >= push.time) & (np.arange(a, b) * dt < push.time + PUSH_SECONDS)
-                control[:, on, nu + 1] = push.force
+            add_pushes(control, pushes, a, dt, nu)
             time_before = state[idx, :1]
             s, d = self.pool.rollout(model, self.datas, state[idx], control, control_spec=spec)
             self.steps_simulated += idx.size * (b - a)

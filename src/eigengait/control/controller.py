@@ -11,9 +11,10 @@ from pathlib import Path
 from typing import Annotated, Literal
 
 import numpy as np
-from pydantic import BaseModel, ConfigDict, Field, field_validator
+from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 
 from eigengait.control.feedback import FEATURES, HIP_GAINS, FeedbackGains
+from eigengait.control.lookahead import LookaheadSettings
 
 from eigengait.files import dump, read_mapping, validate
 from eigengait.control.gait import GaitParameters, GaitSystem
@@ -62,6 +63,27 @@ class FeedbackFile(BaseModel):
         return cls(hip=hip, modal=modal)
 
 
+class LookaheadFile(BaseModel):
+    """How `play` searches each state start's pulses (see control/lookahead.py); absent: the gait plays as is."""
+
+    model_config = ConfigDict(extra="forbid", allow_inf_nan=False)
+    speed: float = Field(ge=-MAX_SPEED, le=MAX_SPEED)  # m/s, target forward COM speed
+    samples: int = Field(32, ge=2, le=4096)
+    horizon_cycles: float = Field(2.0, gt=0, le=50)
+    spread: float = Field(0.5, gt=0, le=10)
+    refinements: int = Field(1, ge=0, le=10)
+    modes: int | None = Field(None, ge=1, le=10_000)
+    plan_substeps: int = Field(2, ge=1, le=16)
+    seed: int = 0
+
+    def settings(self) -> LookaheadSettings:
+        return LookaheadSettings(**self.model_dump())
+
+    @classmethod
+    def of(cls, settings: LookaheadSettings | None) -> "LookaheadFile | None":
+        return None if settings is None else cls(**settings.__dict__)
+
+
 class ControllerFile(BaseModel):
     """Every number finite; torques and initial speeds within what the simulation can take."""
 
@@ -84,10 +106,23 @@ class ControllerFile(BaseModel):
     initial_qvel: list[Annotated[float, Field(ge=-MAX_SPEED, le=MAX_SPEED)]]
     air_frequencies_hz: list[float]  # fingerprint of the character at its relax pose
     feedback: FeedbackFile = Field(default_factory=lambda: FeedbackFile())
+    lookahead: LookaheadFile | None = None
     metrics: dict[str, float | bool | int] = Field(default_factory=dict)
 
+    @model_validator(mode="after")
+    def _lookahead_on_the_clock(self):
+        if self.lookahead is not None and self.trigger != "clock":
+            raise ValueError("lookahead plays the states on the clock: remove 'lookahead' or set trigger: clock")
+        return self
 
-def to_file(system: GaitSystem, p: GaitParameters, name: str = "", metrics: dict | None = None) -> ControllerFile:
+
+def to_file(
+    system: GaitSystem,
+    p: GaitParameters,
+    name: str = "",
+    metrics: dict | None = None,
+    lookahead: LookaheadSettings | None = None,
+) -> ControllerFile:
     acts: dict[str, dict[str, dict[int, float]]] = {}
     for (foot, phase), psi in p.activations.items():
         acts.setdefault(foot, {})[phase] = {int(i + 1): float(v) for i, v in enumerate(psi) if v != 0}
@@ -109,6 +144,7 @@ def to_file(system: GaitSystem, p: GaitParameters, name: str = "", metrics: dict
         initial_qvel=[float(v) for v in p.qvel0],
         air_frequencies_hz=[float(f) for f in system.air_modes.frequencies_hz[:FINGERPRINT_MODES]],
         feedback=FeedbackFile.of(p.feedback),
+        lookahead=LookaheadFile.of(lookahead),
         metrics={k: v for k, v in finite(metrics or {}).items() if v is not None},
     )
 

@@ -15,6 +15,7 @@ import numpy as np
 from eigengait.control.closed_loop import PUSH_SECONDS, BatchRun, ClosedLoopRunner, Push, cycle_errors
 from eigengait.control.gait import GaitParameters, GaitSystem
 from eigengait.control.gait_metrics import GaitRecording, gait_metrics
+from eigengait.control.lookahead import LookaheadRunner, LookaheadSettings
 from eigengait.errors import UserInputError
 from eigengait.sim.stepping import raise_blow_up
 from eigengait.sim.world import GRAVITY
@@ -34,6 +35,7 @@ class PlaybackResult:
     cost_of_transport: float  # active_energy / (m g distance), dimensionless
     cycle_violation: float  # max |φ_i| over the played cycles (each cycle's end against its start)
     snapped: bool = False
+    lookahead: bool = False
     quality: dict = field(default_factory=dict)  # gait_metrics() of the played motion
     pushes: tuple[Push, ...] = ()
     pushes_survived: int | None = None
@@ -48,6 +50,7 @@ class PlaybackResult:
             "cost_of_transport": round(self.cost_of_transport, 4) if np.isfinite(self.cost_of_transport) else None,
             "cycle_violation": round(self.cycle_violation, 5) if np.isfinite(self.cycle_violation) else None,
             "snap": self.snapped,
+            "lookahead": self.lookahead,
             **self.quality,
         }
         if self.pushes:
@@ -85,18 +88,33 @@ def play(
     fps: float = 60.0,
     pushes: tuple[Push, ...] = (),
     source: str | None = None,
+    lookahead: LookaheadSettings | None = None,
+    progress=None,
 ) -> PlaybackResult:
-    """Play `cycles` cycles; a blow-up raises `SimulationBlowUp` naming the time, the body and `source` (the
-    controller file)."""
-    runner = ClosedLoopRunner(system)
+    """Play `cycles` cycles, with `lookahead` decisions at each state start if given (`progress(cycle, cycles)`
+    after each cycle); a blow-up raises `SimulationBlowUp` naming the time, the body and `source` (the controller
+    file)."""
     if snap:
-        run, completed = _play_snapped(runner, p, cycles)
+        run, completed = _play_snapped(ClosedLoopRunner(system), p, cycles)
     else:
-        run = runner.run([p], cycles, pushes)
+        run = _run(system, p, cycles, pushes, lookahead, progress)
         completed = min(len(run.cycle_ends[0]), cycles)
     if run.blow_up[0] is not None:
         raise_blow_up(system.world, *run.blow_up[0], file=source)
-    return _result(system, p, run, completed, snap, fps, pushes)
+    result = _result(system, p, run, completed, snap, fps, pushes)
+    result.lookahead = lookahead is not None and not snap
+    return result
+
+
+def _run(system, p, cycles, pushes, lookahead: LookaheadSettings | None, progress=None) -> BatchRun:
+    """One playback with no reset: with lookahead decisions, or the pulses and their feedback as they are."""
+    if lookahead is None:
+        return ClosedLoopRunner(system).run([p], cycles, pushes)
+    runner = LookaheadRunner(system, lookahead)
+    try:
+        return runner.run(p, cycles, pushes, progress)
+    finally:
+        runner.close()
 
 
 def _play_snapped(runner: ClosedLoopRunner, p: GaitParameters, cycles: int) -> tuple[BatchRun, int]:
@@ -221,16 +239,16 @@ def push_robustness(
     cycle: int = 3,
     phases: int = 5,
     cycles_after: int = 10,
+    lookahead: LookaheadSettings | None = None,
 ) -> list[bool]:
     """Survival of one sideways push of `impulse_per_kg` N·s/kg (over 0.1 s) given at each of `phases` evenly
     spaced phases of cycle `cycle` (1-based), the gait then playing `cycles_after` more cycles."""
     force = impulse_per_kg * system.world.mass() / PUSH_SECONDS
     start = (cycle - 1) * p.period
-    runner = ClosedLoopRunner(system)
     survived = []
     for k in range(phases):
         push = Push(time=start + k * p.period / phases, force=force)
-        run = runner.run([p], cycle + cycles_after, (push,))
+        run = _run(system, p, cycle + cycles_after, (push,), lookahead)
         if run.blow_up[0] is not None:
             raise_blow_up(system.world, *run.blow_up[0])
         survived.append(not bool(run.fell[0]))

@@ -25,6 +25,7 @@ from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
 from eigengait import __version__
 from eigengait.control.controller import save_controller, to_file
+from eigengait.control.lookahead import LookaheadSettings
 from eigengait.control.sketch import Sketch
 from eigengait.errors import UserInputError
 from eigengait.optimize.evaluators import make_evaluator
@@ -226,7 +227,9 @@ def write_best(folder: Path, problem: Problem, state: MomState) -> None:
         "mean_squared_torque": o.energy,
         "evaluations": state.evaluations,
     }
-    controller = to_file(problem.system, problem.space.decode(state.best_x), name=folder.name, metrics=metrics)
+    lookahead = LookaheadSettings(speed=problem.sketch.targets.mean_speed)
+    best = problem.space.decode(state.best_x)
+    controller = to_file(problem.system, best, name=folder.name, metrics=metrics, lookahead=lookahead)
     save_controller(controller, folder / "best_controller.json")
 
 

@@ -38,6 +38,7 @@ from eigengait.control.closed_loop import PUSH_SECONDS, ClosedLoopRunner, Push
 from eigengait.control.controller import save_controller, to_file
 from eigengait.control.feedback import FeedbackGains
 from eigengait.control.gait import GaitParameters, GaitSystem
+from eigengait.control.lookahead import LookaheadSettings
 from eigengait.errors import UserInputError
 from eigengait.outputs import write_atomically
 from eigengait.sim.world import GRAVITY
@@ -158,8 +159,10 @@ def harden(
     resume: bool = False,
     name: str = "",
     progress=print,
+    lookahead: LookaheadSettings | None = None,
 ) -> GaitParameters:
-    """Run (or resume) the survival optimization in `folder`; returns the best controller, also saved there."""
+    """Run (or resume) the survival optimization in `folder`; returns the best controller, also saved there with
+    the starting controller's `lookahead` settings."""
     folder.mkdir(parents=True, exist_ok=True)
     checkpoint = folder / CHECKPOINT
     history = _load_history(checkpoint, settings) if resume else []
@@ -205,7 +208,7 @@ def harden(
         result = _validated(scorer, space, es, best, horizon) if best else start
     finally:
         scorer.close()
-    save_controller(to_file(system, result, name), folder / "best_controller.json")
+    save_controller(to_file(system, result, name, lookahead=lookahead), folder / "best_controller.json")
     return result
 
 

@@ -51,6 +51,13 @@ class RootLayout:
                 out[..., axis] = qpos[..., adr]
         return out
 
+    def heading(self, qpos: np.ndarray) -> np.ndarray:
+        """Yaw (rad, about world z) of the root's x axis for qpos rows (…, nq); a planar root reads 0."""
+        if self.quat_qpos is None:
+            return np.zeros(qpos.shape[:-1])
+        w, x, y, z = np.moveaxis(qpos[..., self.quat_qpos : self.quat_qpos + 4], -1, 0)
+        return np.arctan2(2 * (x * y + w * z), 1 - 2 * (y * y + z * z))
+
     def up_z(self, qpos: np.ndarray) -> np.ndarray:
         """World z of the root's up axis for qpos rows (…, nq): 1 upright, < 0 upside down."""
         if self.quat_qpos is not None:

@@ -1,0 +1,69 @@
+"""Lookahead on the shipped gaits: survival, gait quality, pushes and its cost against playing without it.
+
+Each shipped gait plays `--cycles` cycles with no reset, without its lookahead (the pulses and the reflex feedback
+as optimized) and with it, then with it under the issue's push test (0.5 N·s/kg sideways at five evenly spaced
+phases of cycle 3, ten cycles after). One row per gait and setting: cycles survived, speed, flight fraction,
+cadence, mean stance slip, largest frame jump, torso pitch and roll, pushes survived, and the wall time as a
+multiple of the played (simulated) time, the cost of the decisions. `--seeds N` plays the lookahead with N planner
+seeds to show that survival does not hang on one.
+
+Usage: python benchmarks/bench_lookahead.py [GAIT ...] [--cycles 20] [--seeds 1] [--no-pushes]
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import time
+
+import numpy as np
+
+from eigengait.control.controller import load_controller, system_for, to_parameters
+from eigengait.control.library import gait_names, resolve
+from eigengait.control.playback import play, push_robustness
+
+
+def row(name: str, setting: str, result, wall: float, pushes: list[bool] | None) -> str:
+    q = result.quality
+    slip = np.mean(list(q.get("stance_slip_m", {}).values()) or [np.nan])
+    played = len(result.qpos) / result.fps
+    return (
+        f"| {name} | {setting} | {result.cycles_completed} | {result.mean_speed_mps:.2f} | "
+        f"{q.get('flight_fraction', float('nan')):.2f} | {q.get('cadence_spm', float('nan')):.0f} | {slip:.3f} | "
+        f"{q.get('max_frame_jump_deg', float('nan')):.1f} | {q.get('torso_pitch_deg')} | {q.get('torso_roll_deg')} | "
+        f"{'-' if pushes is None else f'{sum(pushes)}/{len(pushes)}'} | {wall / max(played, 1e-9):.1f}× |"
+    )
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__)
+    parser.add_argument("gaits", nargs="*", default=gait_names())
+    parser.add_argument("--cycles", type=int, default=20)
+    parser.add_argument("--seeds", type=int, default=1)
+    parser.add_argument("--no-pushes", action="store_true")
+    args = parser.parse_args()
+    print(
+        "| gait | setting | cycles | speed m/s | flight | cadence /min | stance slip m | max frame jump ° | "
+        "torso pitch ° | torso roll ° | pushes | wall / played |"
+    )
+    print("|---|---|---:|---:|---:|---:|---:|---:|---|---|---:|---:|")
+    for name in args.gaits:
+        controller = load_controller(resolve("gait", name))
+        system = system_for(controller)
+        params = to_parameters(controller, system)
+        t0 = time.perf_counter()
+        alone = play(system, params, cycles=args.cycles)
+        print(row(name, "without lookahead", alone, time.perf_counter() - t0, None), flush=True)
+        if controller.lookahead is None:
+            continue
+        for seed in range(args.seeds):
+            planner = dataclasses.replace(controller.lookahead.settings(), seed=seed)
+            t0 = time.perf_counter()
+            result = play(system, params, cycles=args.cycles, lookahead=planner)
+            wall = time.perf_counter() - t0
+            pushes = None if args.no_pushes else push_robustness(system, params, lookahead=planner)
+            print(row(name, f"lookahead (seed {seed})", result, wall, pushes), flush=True)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,236 @@
+"""Lookahead: predictive sampling in the mode basis, one decision at each state start.
+
+At the start of every pulse state the controller draws `samples` plans. A plan adds a constant torque Δτ = Φ Δψ
+to each of the states in the next `horizon_cycles` cycles, with Δψ in the mode basis Φ of that state (its phase and
+stance foot, as the pulses themselves): the gait is still a sequence of modal pulses, only their amplitudes move.
+Every plan is simulated from the current state (`mujoco.rollout`, all plans in one call, at `plan_substeps` times
+the physics timestep) and scored by `TaskCost`; the best plan's first state is played with the full physics, and
+the rest of it seeds the next decision (warm start, as in MuJoCo MPC's predictive sampling; Howell et al. 2022).
+Plan 0 is always the warm start and plan 1 the unmodified gait, so a decision is never worse, by the model, than
+playing the pulses as they are. `refinements` more rounds then draw plans around the best one at half the spread
+each; when every plan still falls, the spread is doubled (twice at most) and plans are drawn again.
+
+Pushes act on the played motion only: the planner does not foresee them and answers them at the next state start.
+The state machine runs on the clock (a touchdown-triggered gait is refused by the controller file).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import copy
+
+import mujoco
+import numpy as np
+from mujoco import rollout
+
+from eigengait.control.closed_loop import BatchRun, Push, add_pushes, clock_cycle_ends, fallen
+from eigengait.control.gait import GaitParameters, GaitSystem
+from eigengait.sim.stepping import blown_up_dof, blown_up_steps
+from eigengait.sim.world import GRAVITY
+
+# Cost weights; every term is dimensionless (lengths over the standing COM height h, speeds over √(g h)).
+UPRIGHT_WEIGHT = 4.0  # × (1 − z of the root's up axis)
+HEADING_WEIGHT = 4.0  # × (root yaw − its starting yaw)², rad²
+HEIGHT_WEIGHT = 10.0  # × ((COM z − the first cycle's mean COM z) / h)²
+SPEED_WEIGHT = 3.0  # × ((COM forward speed − target) / √(g h))²
+SIDE_SPEED_WEIGHT = 0.5  # × (COM sideways speed / √(g h))²
+SIDE_WEIGHT = 0.2  # × (COM sideways offset from the start / h)²
+FALL_COST = 1000.0  # a plan that falls costs this × (1 + share of the horizon left when it fell)
+COST_EVERY = 0.01  # s between the samples of a plan's trajectory that the cost averages
+MAX_ESCALATIONS = 2  # times the spread doubles when every plan falls
+
+
+@dataclass(frozen=True)
+class LookaheadSettings:
+    """How each state-start decision is searched. `speed`: target forward COM speed (m/s)."""
+
+    speed: float
+    samples: int = 32  # plans per decision
+    horizon_cycles: float = 2.0  # how far each plan reaches (cycles)
+    spread: float = 0.5  # std of each Δψ, as a share of the gait's mean |ψ| over its non-zero activations
+    refinements: int = 1  # further rounds of plans around the best so far, each at half the previous spread
+    modes: int | None = None  # the lowest modes of each state's basis that the plans move (None: all)
+    plan_substeps: int = 2  # planning timestep = plan_substeps × the physics timestep
+    seed: int = 0
+
+
+class TaskCost:
+    """Scores simulated plans: stay upright, keep the heading, height and speed, do not drift sideways or fall."""
+
+    def __init__(self, system: GaitSystem, speed: float, height: float, start_qpos: np.ndarray, start_com: np.ndarray):
+        world = system.world
+        self.root, self.nq = world.root, world.model.nq
+        self.com, self.comvel = world.com_sensor, world.comvel_sensor
+        self.standing_com = world.standing_com_height
+        self.h = world.standing_com_height
+        self.v_unit = np.sqrt(GRAVITY * self.h)
+        self.speed, self.height = speed, height
+        self.heading = float(self.root.heading(start_qpos))
+        self.side = float(start_com[1])
+
+    def __call__(self, states: np.ndarray, sensors: np.ndarray, every: int) -> np.ndarray:
+        """Cost per plan of rollout states and sensors (plans × steps × …), sampled every `every` steps."""
+        bad = fallen(states, sensors, self.root, self.nq, self.standing_com)
+        s, d = states[:, every - 1 :: every], sensors[:, every - 1 :: every]
+        qpos = s[..., 1 : 1 + self.nq]
+        com, vel = d[..., self.com : self.com + 3], d[..., self.comvel : self.comvel + 3]
+        yaw = np.angle(np.exp(1j * (self.root.heading(qpos) - self.heading)))
+        with np.errstate(invalid="ignore", over="ignore"):
+            terms = (
+                UPRIGHT_WEIGHT * (1 - self.root.up_z(qpos))
+                + HEADING_WEIGHT * yaw**2
+                + HEIGHT_WEIGHT * ((com[..., 2] - self.height) / self.h) ** 2
+                + SPEED_WEIGHT * ((vel[..., 0] - self.speed) / self.v_unit) ** 2
+                + SIDE_SPEED_WEIGHT * (vel[..., 1] / self.v_unit) ** 2
+                + SIDE_WEIGHT * ((com[..., 1] - self.side) / self.h) ** 2
+            )
+            cost = terms.mean(axis=1)
+        fell = bad.any(axis=1)
+        left = 1 - bad.argmax(axis=1) / bad.shape[1]
+        return np.where(fell | ~np.isfinite(cost), FALL_COST * (1 + left), cost)
+
+
+class LookaheadRunner:
+    """Plays one gait with lookahead decisions for a number of cycles, optionally pushed sideways."""
+
+    def __init__(self, system: GaitSystem, settings: LookaheadSettings, threads: int = 2):
+        self.system, self.settings = system, settings
+        self.model = system.world.model
+        self.plan_model = copy.copy(self.model)
+        self.plan_model.opt.timestep = self.model.opt.timestep * settings.plan_substeps
+        self.datas = [mujoco.MjData(self.model) for _ in range(max(1, threads))]
+        self.plan_datas = [mujoco.MjData(self.plan_model) for _ in range(max(1, threads))]
+        self.pool = rollout.Rollout(nthread=threads if threads > 1 else 0)
+        self.rng = np.random.default_rng(settings.seed)
+        self.rollouts = 0  # plans simulated so far
+
+    def close(self) -> None:
+        self.pool.close()
+
+    def run(
+        self,
+        p: GaitParameters,
+        cycles: float,
+        pushes: tuple[Push, ...] = (),
+        progress: Callable[[int, int], None] | None = None,
+    ) -> BatchRun:
+        """Play `cycles` cycles from (q₀, q̇₀); `progress(cycle, cycles)` is called after each completed cycle."""
+        system, model, settings = self.system, self.model, self.settings
+        dt, nq, nv, nu, n_motor = model.opt.timestep, model.nq, model.nv, model.nu, system.world.nmotor
+        states_of_cycle = system.states(p)
+        cycle_controls = system.controls(p, cycles=1)
+        n_cycle = len(cycle_controls)
+        starts = [int(round(s.start / dt)) for s in states_of_cycle] + [n_cycle]
+        total = int(round(cycles * p.period / dt))
+        directions = [system.basis_matrix(s.foot, s.phase)[:, : settings.modes] for s in states_of_cycle]
+        scale = _mean_activation(p)
+        knots = int(np.ceil(settings.horizon_cycles * len(states_of_cycle))) + 1
+        plan = np.zeros((knots, n_motor))
+        x = system.initial_state(p)
+        cost = self._task_cost(p, x, cycle_controls)
+        spec = mujoco.mjtState.mjSTATE_CTRL | (mujoco.mjtState.mjSTATE_QFRC_APPLIED if pushes else 0)
+        width = nu + (nv if pushes else 0)
+        out_states = np.zeros((1, total, x.size))
+        out_sensors = np.zeros((1, total, model.nsensordata))
+        out_torques = np.zeros((1, total, n_motor))
+        n, k, fell, fell_time, blow_up = 0, 0, False, np.nan, None
+        while n < total and not fell:
+            state = k % len(states_of_cycle)
+            lengths = [
+                starts[(state + j) % len(states_of_cycle) + 1] - starts[(state + j) % len(states_of_cycle)]
+                for j in range(knots)
+            ]
+            horizon = min(sum(lengths), int(round(settings.horizon_cycles * n_cycle)))
+            nominal = cycle_controls[(n + np.arange(horizon)) % n_cycle]
+            plan, controls = self._decide(x, plan, nominal, lengths, horizon, state, directions, scale, cost)
+            segment = min(lengths[0], total - n)
+            control = np.zeros((1, segment, width))
+            control[0, :, :nu] = controls[:segment]
+            add_pushes(control, pushes, n, dt, nu)
+            s, d = self.pool.rollout(model, self.datas, x[None], control, control_spec=spec)
+            out_states[0, n : n + segment], out_sensors[0, n : n + segment] = s[0], d[0]
+            out_torques[0, n : n + segment] = control[0, :, :n_motor]
+            qvel = s[0, :, 1 + nq : 1 + nq + nv]
+            times = np.concatenate([[x[0]], s[0, :, 0]])
+            blown = blown_up_steps(qvel, times, dt)
+            bad = fallen(s[0], d[0], system.world.root, nq, system.world.standing_com_height) | blown
+            if bad.any():
+                first = int(np.argmax(bad))
+                fell, fell_time = True, (n + first + 1) * dt
+                if blown[first]:
+                    blow_up = (fell_time, blown_up_dof(qvel, first))
+                n += first + 1
+                break
+            x = s[0, -1].copy()
+            n += segment
+            k += 1
+            if progress is not None and state == len(states_of_cycle) - 1:
+                progress(k // len(states_of_cycle), int(np.ceil(cycles)))
+        return BatchRun(
+            states=out_states,
+            sensors=out_sensors,
+            torques=out_torques,
+            ended=np.array([n]),
+            fell=np.array([fell]),
+            steps=np.array([total]),
+            fell_time=np.array([fell_time]),
+            blow_up=[blow_up],
+            cycle_ends=[[e for e in clock_cycle_ends(p.period, dt, int(np.ceil(cycles))) if e < n]],
+        )
+
+    def _task_cost(self, p: GaitParameters, x: np.ndarray, cycle_controls: np.ndarray) -> TaskCost:
+        """The cost with the first cycle's mean COM height (played as the pulses are) as its height target."""
+        system = self.system
+        _, d = self.pool.rollout(self.model, self.datas, x[None], cycle_controls[None])
+        com = system.world.com_sensor
+        height = float(np.mean(d[0, :, com + 2]))
+        return TaskCost(system, self.settings.speed, height, p.qpos0, system.initial_com(p))
+
+    def _decide(self, x, plan, nominal, lengths, horizon, state, directions, scale, cost):
+        """Best plan (knots × motors) and its controls (horizon × nu) from state `x`; the plan comes back shifted
+        by one state, ready to warm-start the next decision."""
+        settings, n_motor = self.settings, self.system.world.nmotor
+        K, knots, sub = settings.samples, len(lengths), settings.plan_substeps
+        bounds = np.concatenate([[0], np.cumsum(lengths)])
+        limit, sigma = self.system.torque_limit, settings.spread * scale
+        best, best_cost, center = None, np.inf, plan
+        rounds = [0.5**r for r in range(settings.refinements + 1)]
+        rounds += [2.0**e for e in range(1, MAX_ESCALATIONS + 1)]
+        for r, factor in enumerate(rounds):
+            noise = np.zeros((K, knots, n_motor))
+            for j in range(knots):
+                basis = directions[(state + j) % len(directions)]
+                noise[:, j] = self.rng.normal(0.0, sigma * factor, (K, basis.shape[1])) @ basis.T
+            candidates = center[None] + noise
+            candidates[0], candidates[1] = center, 0.0
+            controls = np.repeat(nominal[None], K, axis=0)
+            for j in range(knots):
+                lo, hi = bounds[j], min(bounds[j + 1], horizon)
+                if lo < hi:
+                    controls[:, lo:hi, :n_motor] += candidates[:, j, None]
+            controls[..., :n_motor] = np.clip(controls[..., :n_motor], -limit, limit)
+            s, d = self.pool.rollout(
+                self.plan_model,
+                self.plan_datas,
+                np.repeat(x[None], K, axis=0),
+                np.ascontiguousarray(controls[:, sub - 1 :: sub]),
+            )
+            self.rollouts += K
+            scores = cost(s, d, max(1, int(round(COST_EVERY / self.plan_model.opt.timestep))))
+            i = int(np.argmin(scores))
+            if scores[i] < best_cost:
+                best, best_cost, best_controls = candidates[i], scores[i], controls[i]
+            center = best
+            if r >= settings.refinements and best_cost < FALL_COST:
+                break
+        shifted = np.vstack([best[1:], np.zeros((1, n_motor))])
+        return shifted, best_controls
+
+
+def _mean_activation(p: GaitParameters) -> float:
+    """Mean |ψ| (N·m) over the gait's non-zero activations (1 N·m if it has none)."""
+    values = np.concatenate([np.abs(v) for v in p.activations.values()])
+    values = values[values > 1e-9]
+    return float(values.mean()) if values.size else 1.0

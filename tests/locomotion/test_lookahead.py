@@ -1,0 +1,123 @@
+"""Lookahead (predictive sampling of the modal pulses at each state start): its cost, its effect, its files."""
+
+import json
+from pathlib import Path
+
+import mujoco
+import numpy as np
+import pytest
+
+from eigengait.control.closed_loop import ClosedLoopRunner, Push
+from eigengait.control.controller import ControllerFile, load_controller, system_for, to_file, to_parameters
+from eigengait.control.lookahead import (
+    FALL_COST,
+    SPEED_WEIGHT,
+    LookaheadRunner,
+    LookaheadSettings,
+    TaskCost,
+)
+from eigengait.errors import UserInputError
+from eigengait.files import validate
+
+QUICK = dict(samples=12, horizon_cycles=1.5, refinements=0)
+
+
+@pytest.fixture(scope="module")
+def hopper():
+    """An open-loop hop (no feedback gains) that drifts from cycle to cycle and falls in its fifth."""
+    path = Path(__file__).parent / "data" / "kangaroo_open_loop.json"
+    controller = load_controller(path)
+    system = system_for(controller)
+    return system, to_parameters(controller, system), path
+
+
+def test_root_heading_is_the_yaw_of_the_root_x_axis(hopper):
+    system, p, _ = hopper
+    root = system.world.root
+    qpos = np.tile(p.qpos0, (3, 1))
+    for row, yaw in zip(qpos, (0.0, 0.7, -2.5)):
+        mujoco.mju_axisAngle2Quat(row[root.quat_qpos : root.quat_qpos + 4], np.array([0.0, 0.0, 1.0]), yaw)
+    np.testing.assert_allclose(root.heading(qpos), [0.0, 0.7, -2.5], atol=1e-12)
+
+
+def test_task_cost_is_zero_on_target_and_a_fall_costs_most(hopper):
+    system, p, _ = hopper
+    world = system.world
+    height, speed = 0.9, 1.2
+    cost = TaskCost(system, speed, height, p.qpos0, system.initial_com(p))
+    state = system.initial_state(p)
+    sensors = system.initial_sensors(p)
+    a = 1 + world.root.quat_qpos
+    mujoco.mju_axisAngle2Quat(state[a : a + 4], np.array([0.0, 0.0, 1.0]), cost.heading)  # upright, heading kept
+    sensors[world.com_sensor : world.com_sensor + 3] = [0.3, cost.side, height]
+    sensors[world.comvel_sensor : world.comvel_sensor + 3] = [speed, 0.0, 0.0]
+    on_target = cost(np.tile(state, (1, 4, 1)), np.tile(sensors, (1, 4, 1)), 1)
+    assert on_target[0] == pytest.approx(0.0, abs=1e-12)
+    slow = sensors.copy()
+    slow[world.comvel_sensor] = 0.0
+    expected = SPEED_WEIGHT * (speed / np.sqrt(9.81 * world.standing_com_height)) ** 2  # SPEED_WEIGHT × (Δv / √(g h))²
+    assert cost(np.tile(state, (1, 4, 1)), np.tile(slow, (1, 4, 1)), 1)[0] == pytest.approx(expected)
+    down = sensors.copy()
+    down[world.com_sensor + 2] = 0.1 * world.standing_com_height
+    assert cost(np.tile(state, (1, 4, 1)), np.tile(down, (1, 4, 1)), 1)[0] >= FALL_COST
+
+
+def test_lookahead_keeps_a_falling_hop_going(hopper):
+    """The open-loop hop falls in its fifth cycle; with lookahead (default settings) it plays six, and the played
+    (not planned) motion scores better by the planner's own cost up to the unaided fall."""
+    system, p, _ = hopper
+    alone = ClosedLoopRunner(system).run([p], 6)
+    assert alone.fell[0] and alone.fell_time[0] < 5 * p.period
+    runner = LookaheadRunner(system, LookaheadSettings(speed=1.0))
+    seen = []
+    run = runner.run(p, 6, progress=lambda k, n: seen.append((k, n)))
+    runner.close()
+    assert not run.fell[0] and len(run.cycle_ends[0]) == 6
+    assert seen == [(k, 6) for k in range(1, 7)]
+    com_z = system.world.com_sensor + 2
+    cost = TaskCost(system, 1.0, float(np.mean(run.sensors[0, :, com_z])), p.qpos0, system.initial_com(p))
+    n = int(alone.ended[0])
+    played = cost(run.states[:, :n], run.sensors[:, :n], 20)[0]
+    unaided = cost(alone.states[:, :n], alone.sensors[:, :n], 20)[0]
+    assert played < unaided
+
+
+def test_lookahead_is_deterministic_and_pushes_act_on_the_played_motion(hopper):
+    system, p, _ = hopper
+    settings = LookaheadSettings(speed=1.0, **QUICK)
+    runs = []
+    for pushes in ((), (), (Push(time=0.3, force=200.0 * system.world.mass()),)):
+        runner = LookaheadRunner(system, settings)
+        runs.append(runner.run(p, 2, pushes))
+        runner.close()
+    np.testing.assert_array_equal(runs[0].states, runs[1].states)
+    vy = system.world.comvel_sensor + 1
+    after = int(round(0.4 / system.world.model.opt.timestep))
+    assert runs[2].sensors[0, after, vy] - runs[0].sensors[0, after, vy] > 5.0  # 20 N·s/kg sideways
+
+
+def test_controller_file_keeps_lookahead_and_refuses_it_with_touchdown_timing(hopper, tmp_path):
+    system, p, path = hopper
+    settings = LookaheadSettings(speed=0.9, samples=16)
+    written = to_file(system, p, "hop", lookahead=settings)
+    assert written.lookahead.settings() == settings
+    data = json.loads(written.model_dump_json())
+    data["trigger"] = "touchdown"
+    with pytest.raises(UserInputError) as err:
+        validate(ControllerFile, data, path, "fix it")
+    assert "lookahead" in str(err.value) and str(path) in str(err.value)
+    data["trigger"], data["lookahead"]["samples"] = "clock", 1
+    with pytest.raises(UserInputError) as err:
+        validate(ControllerFile, data, path, "fix it")
+    assert "samples" in str(err.value)
+
+
+def test_play_uses_the_controllers_lookahead_unless_told_not_to(hopper, tmp_path, eigengait_cli):
+    system, p, _ = hopper
+    controller = tmp_path / "hop.json"
+    controller.write_text(to_file(system, p, "hop", lookahead=LookaheadSettings(speed=1.0, **QUICK)).model_dump_json())
+    on = eigengait_cli("play", str(controller), "--cycles", "2", "--json")
+    assert on.returncode == 0, on.stderr
+    assert json.loads(on.stdout)["lookahead"] is True and "lookahead: cycle 2/2" in on.stderr
+    off = json.loads(eigengait_cli("play", str(controller), "--cycles", "2", "--json", "--no-lookahead").stdout)
+    assert off["lookahead"] is False
