@@ -60,7 +60,7 @@ def targets(name: str, m: dict, pushes: list[bool]) -> dict[str, bool]:
             }
         )
     if name in ("humanoid-basic-run", "dog-trot"):
-        out["pushes ≥ 4/5"] = sum(pushes) >= 4
+        out["pushes ≥ 4/5"] = pushes is not None and sum(pushes) >= 4
     return out
 
 
@@ -87,6 +87,7 @@ def main() -> None:
             pushes = push_robustness(system, params, lookahead=planner)
         met = targets(name, m, pushes)
         failures += [f"{name}: {k}" for k, ok in met.items() if not ok]
+        pushed = "—" if pushes is None else sum(pushes)
         pitch = "{:.0f} … {:.0f}".format(*m["torso_pitch_deg"])
         roll = "{:.0f} … {:.0f}".format(*m["torso_roll_deg"])
         lifts = list(m["swing_clearance_m"].values())
@@ -94,7 +95,7 @@ def main() -> None:
         print(
             f"| `{name}` | {m['cycles_completed']}{' (fell)' if m['fell'] else ''} | {m['mean_speed_mps']:.2f} | "
             f"{m['cadence_spm']:.0f} | {m['flight_fraction']:.2f} | {clearance} | {m['stance_slip_max_m']} | "
-            f"{pitch} | {roll} | {m['max_frame_jump_deg']:.1f} | {m['mean_squared_torque']:.0f} | {sum(pushes)} | "
+            f"{pitch} | {roll} | {m['max_frame_jump_deg']:.1f} | {m['mean_squared_torque']:.0f} | {pushed} | "
             f"{sum(met.values())} of {len(met)} |"
         )
     print()

@@ -27,6 +27,7 @@ GAITS = {
     "kangaroo-hop": "kangaroo",
     "dog-trot": "dog-trot",
 }
+PUSHED = ("humanoid-basic-run", "dog-trot")  # the gaits with a push target (docs/locomotion.md)
 WITHOUT = "without_lookahead_"  # prefix of the figures of the same gait played without its lookahead
 PACKAGE = Path(__file__).resolve().parents[1] / "src" / "eigengait" / "data" / "gaits"
 MEASURES = Path("out/gait-measures")  # each gait's full playback summaries, read by scripts/gait_table.py
@@ -92,7 +93,7 @@ def measure(controller) -> None:
     planner = controller.lookahead.settings()
     alone = play(system, params, cycles=20).summary()
     free = play(system, params, cycles=20, lookahead=planner).summary()
-    pushes = push_robustness(system, params, lookahead=planner)
+    pushes = push_robustness(system, params, lookahead=planner) if controller.name in PUSHED else None
     kept = {
         k: controller.metrics[k]
         for k in ("cycle_tolerance", "evaluations", "optimizer_seconds", "horizon_cycles", "hardening_minutes")
@@ -101,7 +102,9 @@ def measure(controller) -> None:
     numbers = lambda summary: {k: v for k, v in summary.items() if isinstance(v, (int, float, bool)) and v is not None}  # noqa: E731
     controller.metrics = numbers(free)
     controller.metrics.update({f"{WITHOUT}{k}": v for k, v in numbers(alone).items() if k != "lookahead"})
-    controller.metrics.update({**kept, "pushes_survived_of_5": sum(pushes)})
+    controller.metrics.update(kept)
+    if pushes is not None:
+        controller.metrics["pushes_survived_of_5"] = sum(pushes)
     save_controller(controller, PACKAGE / f"{controller.name}.json")
     MEASURES.mkdir(parents=True, exist_ok=True)
     record = {"lookahead": free, "without_lookahead": alone, "pushes": pushes}

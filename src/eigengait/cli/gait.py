@@ -384,14 +384,14 @@ def demo_command(
         figures = StartingFigures.of(before)
         settings = SurvivalSettings(minutes=harden_minutes, seed=seed, threads=os.cpu_count() or 1)
         params = harden(system, params, figures, folder / "hardening", settings, progress=lambda _: None)
-    planner = c.lookahead.settings() if c.lookahead is not None else None
-    result = play(system, params, cycles=20, lookahead=planner)
-    if harden_minutes > 0:
+        after = play(system, params, cycles=20)
         console.print(
-            f"[3/5] hardening under sampled pushes ({harden_minutes:g} min): survives "
-            f"{before.cycles_completed} -> {result.cycles_completed} of 20 cycles "
+            f"[3/5] hardening under sampled pushes ({harden_minutes:g} min): without lookahead it survives "
+            f"{before.cycles_completed} -> {after.cycles_completed} of 20 cycles "
             f"({folder}/hardening/best_controller.json)"
         )
+    planner = c.lookahead.settings() if c.lookahead is not None else None
+    result = play(system, params, cycles=20, lookahead=planner)
     write_atomically(folder / "playback.json", json_text.dumps(result.summary(), indent=2))
     console.print(f"[4/5] playback: {json_text.dumps(result.summary())}")
     write_media(system.world, result.qpos, result.fps, MediaOptions(folder / "gait.mp4", folder / "gait.bvh"), console)
