@@ -77,7 +77,7 @@ def main() -> None:
     for name in gait_names():
         if args.recorded is not None:
             record = json.loads((args.recorded / f"{name}.json").read_text(encoding="utf-8"))
-            m, pushes = record["lookahead"], record["pushes"]
+            m, pushes = record["played"], record["pushes"]
         else:
             controller = load_controller(resolve("gait", name))
             system = system_for(controller)

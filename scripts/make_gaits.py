@@ -84,7 +84,8 @@ def hardened(controller, folder: Path, minutes: float, seed: int):
 
 def measure(controller) -> None:
     """Play the controller 20 cycles with physics only, with its lookahead (given the sketch's mean speed as its
-    target if it has none) and without, and push it; record the figures and ship it."""
+    target if it has none) and without, keep the lookahead only if it survives at least as long, push the gaits
+    that have a push target; record the figures and ship it."""
     system = system_for(controller)
     params = to_parameters(controller, system)
     if controller.lookahead is None:
@@ -93,6 +94,11 @@ def measure(controller) -> None:
     planner = controller.lookahead.settings()
     alone = play(system, params, cycles=20).summary()
     free = play(system, params, cycles=20, lookahead=planner).summary()
+    if free["cycles_completed"] < alone["cycles_completed"]:  # shipped as it plays best
+        print(
+            f"{controller.name}: {free['cycles_completed']} cycles with lookahead, {alone['cycles_completed']} without"
+        )
+        controller.lookahead, planner, free = None, None, alone
     pushes = push_robustness(system, params, lookahead=planner) if controller.name in PUSHED else None
     kept = {
         k: controller.metrics[k]
@@ -107,7 +113,7 @@ def measure(controller) -> None:
         controller.metrics["pushes_survived_of_5"] = sum(pushes)
     save_controller(controller, PACKAGE / f"{controller.name}.json")
     MEASURES.mkdir(parents=True, exist_ok=True)
-    record = {"lookahead": free, "without_lookahead": alone, "pushes": pushes}
+    record = {"played": free, "without_lookahead": alone, "pushes": pushes}
     (MEASURES / f"{controller.name}.json").write_text(json.dumps(record, indent=1), encoding="utf-8")
     print(json.dumps({"gait": controller.name, **controller.metrics}))
 

@@ -34,7 +34,6 @@ def test_shipped_gait_replays_its_recorded_metrics_without_reset(name):
     """20 cycles of physics only, feedback included and lookahead off, as scripts/make_gaits.py measured them (the
     same with lookahead is `benchmarks/bench_lookahead.py`: ~1 min per gait)."""
     controller = load_controller(resolve("gait", name))
-    assert controller.lookahead is not None
     system = system_for(controller)
     result = play(system, to_parameters(controller, system), cycles=20)
     summary = result.summary()
