@@ -120,3 +120,11 @@ def test_optimized_hip_feedback_reduces_cycle_to_cycle_drift(hopper):
     best = es.result.fbest
     p.feedback = FeedbackGains()
     assert best < 0.8 * baseline, (best, baseline)
+
+
+def test_every_cycle_played_in_full_is_counted(gait):
+    """4 cycles of 0.3396 s are 2717.05 steps of 0.5 ms: the last cycle ends on the last step and still counts."""
+    system, p = gait
+    run = ClosedLoopRunner(system).run([p], 4)
+    assert not run.fell[0]
+    assert len(run.cycle_ends[0]) == 4 and run.cycle_ends[0][-1] == run.ended[0] - 1

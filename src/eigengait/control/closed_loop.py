@@ -275,7 +275,9 @@ class ClosedLoopRunner:
             fell_time=fell_time,
             blow_up=blow_up,
             cycle_ends=[
-                clock_cycle_ends(p.period, dt, int(ended[i] * dt / p.period + 1e-9)) if c is None else c.cycle_ends
+                [e for e in clock_cycle_ends(p.period, dt, int(np.ceil(cycles))) if e < ended[i]]
+                if c is None
+                else c.cycle_ends
                 for i, (p, c) in enumerate(zip(params, clocks))
             ],
         )
