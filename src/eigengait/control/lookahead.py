@@ -11,15 +11,15 @@ playing the pulses as they are. `refinements` more rounds then draw plans around
 each; when every plan still falls, the spread is doubled (twice at most) and plans are drawn again.
 
 Pushes act on the played motion only: the planner does not foresee them and answers them at the next state start.
-The state machine runs on the clock (a touchdown-triggered gait is refused by the controller file).
+The state machine runs on the clock (a touchdown-triggered gait is refused by the controller file), and the
+controller's hip-feedback gains are not applied: plans are whole rollouts, not 10 ms chunks.
 """
 
 from __future__ import annotations
 
+import copy
 from collections.abc import Callable
 from dataclasses import dataclass
-
-import copy
 
 import mujoco
 import numpy as np
@@ -63,8 +63,7 @@ class TaskCost:
         world = system.world
         self.root, self.nq = world.root, world.model.nq
         self.com, self.comvel = world.com_sensor, world.comvel_sensor
-        self.standing_com = world.standing_com_height
-        self.h = world.standing_com_height
+        self.h = world.standing_com_height  # m, the standing COM height
         self.v_unit = np.sqrt(GRAVITY * self.h)
         self.speed, self.height = speed, height
         self.heading = float(self.root.heading(start_qpos))
@@ -72,7 +71,7 @@ class TaskCost:
 
     def __call__(self, states: np.ndarray, sensors: np.ndarray, every: int) -> np.ndarray:
         """Cost per plan of rollout states and sensors (plans × steps × …), sampled every `every` steps."""
-        bad = fallen(states, sensors, self.root, self.nq, self.standing_com)
+        bad = fallen(states, sensors, self.root, self.nq, self.h)
         s, d = states[:, every - 1 :: every], sensors[:, every - 1 :: every]
         qpos = s[..., 1 : 1 + self.nq]
         com, vel = d[..., self.com : self.com + 3], d[..., self.comvel : self.comvel + 3]
