@@ -101,9 +101,7 @@ def play(
         completed = min(len(run.cycle_ends[0]), cycles)
     if run.blow_up[0] is not None:
         raise_blow_up(system.world, *run.blow_up[0], file=source)
-    result = _result(system, p, run, completed, snap, fps, pushes)
-    result.lookahead = lookahead is not None and not snap
-    return result
+    return _result(system, p, run, completed, snap, fps, pushes, planned=lookahead is not None and not snap)
 
 
 def _run(system, p, cycles, pushes, lookahead: LookaheadSettings | None, progress=None) -> BatchRun:
@@ -155,6 +153,7 @@ def _result(
     snap: bool,
     fps: float,
     pushes: tuple[Push, ...],
+    planned: bool = False,
 ) -> PlaybackResult:
     world, model = system.world, system.world.model
     dt, nq, nv = model.opt.timestep, model.nq, model.nv
@@ -194,6 +193,7 @@ def _result(
         cost_of_transport=work / (mass * GRAVITY * distance) if distance > 1e-6 else float("inf"),
         cycle_violation=violation,
         snapped=snap,
+        lookahead=planned,
         quality=quality,
         pushes=tuple(pushes),
         pushes_survived=_pushes_survived(pushes, run) if pushes else None,
