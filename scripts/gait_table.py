@@ -82,7 +82,7 @@ def main() -> None:
             controller = load_controller(resolve("gait", name))
             system = system_for(controller)
             params = to_parameters(controller, system)
-            planner = controller.lookahead.settings() if controller.lookahead is not None else None
+            planner = controller.planner()
             m = play(system, params, cycles=20, lookahead=planner).summary()
             pushes = push_robustness(system, params, lookahead=planner)
         met = targets(name, m, pushes)

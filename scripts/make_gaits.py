@@ -74,7 +74,7 @@ def hardened(controller, folder: Path, minutes: float, seed: int):
     before = play(system, start, cycles=20)
     figures = StartingFigures.of(before)
     settings = SurvivalSettings(minutes=minutes, seed=seed)
-    planner = controller.lookahead.settings() if controller.lookahead is not None else None
+    planner = controller.planner()
     resume = (folder / CHECKPOINT).exists()
     harden(system, start, figures, folder, settings, resume=resume, name=controller.name, lookahead=planner)
     out = load_controller(folder / "best_controller.json")

@@ -202,7 +202,7 @@ def play_command(
     path = resolve("gait", controller)
     c = load_controller(path)
     system = system_for(c, path)
-    planner = c.lookahead.settings() if lookahead and c.lookahead is not None and not snap else None
+    planner = c.planner() if lookahead and not snap else None
     status = status_console(as_json)
     progress = (lambda k, n: status.print(f"lookahead: cycle {k}/{n}")) if planner is not None else None
     params = to_parameters(c, system, path)
@@ -272,7 +272,7 @@ def harden_command(
     )
     before = play(system, start, cycles=20, source=path)
     figures = StartingFigures.of(before)
-    planner = c.lookahead.settings() if c.lookahead is not None else None
+    planner = c.planner()
     result = harden(system, start, figures, output, settings, resume, c.name, console.print, lookahead=planner)
     after = play(system, result, cycles=20)
     console.print(
@@ -390,7 +390,7 @@ def demo_command(
             f"{before.cycles_completed} -> {after.cycles_completed} of 20 cycles "
             f"({folder}/hardening/best_controller.json)"
         )
-    planner = c.lookahead.settings() if c.lookahead is not None else None
+    planner = c.planner()
     result = play(system, params, cycles=20, lookahead=planner)
     write_atomically(folder / "playback.json", json_text.dumps(result.summary(), indent=2))
     console.print(f"[4/5] playback: {json_text.dumps(result.summary())}")

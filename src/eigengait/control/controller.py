@@ -109,6 +109,10 @@ class ControllerFile(BaseModel):
     lookahead: LookaheadFile | None = None
     metrics: dict[str, float | bool | int] = Field(default_factory=dict)
 
+    def planner(self) -> LookaheadSettings | None:
+        """The lookahead settings `play` uses, or None when the controller plays its pulses as they are."""
+        return None if self.lookahead is None else self.lookahead.settings()
+
     @model_validator(mode="after")
     def _lookahead_on_the_clock(self):
         if self.lookahead is not None and self.trigger != "clock":
