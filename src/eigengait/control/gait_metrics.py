@@ -119,26 +119,12 @@ def _footfall(touchdowns: np.ndarray, fps: float, period: float) -> float | None
     return round(float(np.angle(np.mean(np.exp(2j * np.pi * phases)))) / (2 * np.pi), 4) % 1.0
 
 
-def _root_tilt_deg(quat: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Pitch and roll (degrees) from root quaternions (F × 4, wxyz): the intrinsic z-y-x (yaw, pitch, roll) Euler
-    angles of the body-to-world rotation R, pitch = asin(−R[2,0]) (about y, positive nose down: the body x axis
-    tilts toward −z), roll = atan2(R[2,1], R[2,2]) (about x, positive right side down: the body y axis tilts
-    toward +z). Both use only R's third row, so neither depends on the heading (yaw)."""
-    w, x, y, z = (quat / np.linalg.norm(quat, axis=1, keepdims=True)).T
-    pitch = np.arcsin(np.clip(2 * (w * y - x * z), -1.0, 1.0))
-    roll = np.arctan2(2 * (y * z + w * x), 1 - 2 * (x * x + y * y))
-    return np.degrees(pitch), np.degrees(roll)
-
-
 def _root_tilt_series(model: mujoco.MjModel, qpos: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Pitch and roll (degrees) per frame: `_root_tilt_deg` of a free root; a planar root's hinge about y as pitch
-    (same sign convention) and no roll; NaN without either."""
-    root = root_layout(model, int(model.jnt_bodyid[0])) if model.njnt else None
-    if root is not None and root.quat_qpos is not None:
-        return _root_tilt_deg(qpos[:, root.quat_qpos : root.quat_qpos + 4])
-    if root is not None and root.pitch_qpos is not None:
-        return np.degrees(root.pitch_sign * qpos[:, root.pitch_qpos]), np.zeros(len(qpos))
-    return (np.full(len(qpos), np.nan),) * 2
+    """Pitch and roll (degrees) per frame: the root's `RootLayout.tilt_deg` (a free root through its quaternion, a
+    planar root's hinge about y as pitch and no roll); NaN for a model without joints."""
+    if not model.njnt:
+        return (np.full(len(qpos), np.nan),) * 2
+    return root_layout(model, int(model.jnt_bodyid[0])).tilt_deg(qpos)
 
 
 def _max_root_jump_m(model: mujoco.MjModel, qpos: np.ndarray) -> float:

@@ -67,6 +67,25 @@ class RootLayout:
             return np.cos(qpos[..., self.pitch_qpos])
         return np.ones(qpos.shape[:-1])
 
+    def tilt_deg(self, qpos: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Pitch and roll (degrees) of the root for qpos rows (…, nq), independent of the heading.
+
+        A free root: the intrinsic z-y-x (yaw, pitch, roll) Euler angles of its body-to-world rotation R (quaternion
+        normalised first), pitch = asin(−R[2,0]) (about y, positive nose down: the body x axis tilts toward −z),
+        roll = atan2(R[2,1], R[2,2]) (about x, positive right side down: the body y axis tilts toward +z); both use
+        only R's third row, so neither depends on the yaw. A planar root: its hinge about ±y as pitch (same sign
+        convention) and roll 0. NaN for a planar root without that hinge.
+        """
+        if self.quat_qpos is not None:
+            quat = qpos[..., self.quat_qpos : self.quat_qpos + 4]
+            w, x, y, z = np.moveaxis(quat / np.linalg.norm(quat, axis=-1, keepdims=True), -1, 0)
+            pitch = np.arcsin(np.clip(2 * (w * y - x * z), -1.0, 1.0))
+            roll = np.arctan2(2 * (y * z + w * x), 1 - 2 * (x * x + y * y))
+            return np.degrees(pitch), np.degrees(roll)
+        if self.pitch_qpos is not None:
+            return np.degrees(self.pitch_sign * qpos[..., self.pitch_qpos]), np.zeros(qpos.shape[:-1])
+        return np.full(qpos.shape[:-1], np.nan), np.full(qpos.shape[:-1], np.nan)
+
 
 def root_layout(model: mujoco.MjModel, root_body: int) -> RootLayout:
     """The layout of the root joints of body `root_body`."""
