@@ -4,7 +4,6 @@ import pytest
 @pytest.fixture(scope="session")
 def humanoid():
     """The humanoid's world (default relax pose, no gravity) and its air-phase modes."""
-    import eigengait  # noqa: F401  (sets MUJOCO_GL before mujoco loads)
     from eigengait.character import load_character
     from eigengait.modal import compute_modes
     from eigengait.sim.world import WorldOptions, build_world

@@ -25,6 +25,7 @@ from rich.progress import BarColumn, Progress, TextColumn, TimeRemainingColumn
 
 from eigengait.errors import UserInputError
 from eigengait.outputs import replacing
+from eigengait.render.offscreen import use_offscreen_gl
 from eigengait.sim.world import World
 
 VIDEO_SUFFIXES = (".mp4", ".gif")
@@ -129,6 +130,7 @@ class FrameRenderer:
         self.model = visual_model(world, width, height)
         self.data = mujoco.MjData(self.model)
         self.pose_data = mujoco.MjData(self.model)  # for poses measured but not drawn
+        use_offscreen_gl()
         self.renderer = mujoco.Renderer(self.model, height=height, width=width)
         self.renderer.scene.flags[mujoco.mjtRndFlag.mjRND_SHADOW] = True
         self.geoms = creature_geoms(self.model, world.root_body)

@@ -9,13 +9,13 @@ from __future__ import annotations
 
 import contextlib
 import io
-import os
 import threading
 import time
 from pathlib import Path
 
 import viser
 
+from eigengait.render.offscreen import use_offscreen_gl
 from eigengait.studio.access import AccessGate, guarded_serving
 from eigengait.studio.character_panel import CharacterPanel
 from eigengait.studio.feedback import Feedback
@@ -36,7 +36,7 @@ CAMERA_LOOK_AT = (-2.5, 0.9, 1.3)
 
 class Studio:
     def __init__(self, root: str | Path = ".", target: str | None = None, host: str = "127.0.0.1", port: int = 8080):
-        os.environ.setdefault("MUJOCO_GL", "egl")
+        use_offscreen_gl()  # the videos the studio exports render offscreen, without a display
         self.sandbox = Sandbox(root)
         self.state = StudioState(self.sandbox)
         self.gate = AccessGate(host, port)
