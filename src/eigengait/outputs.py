@@ -54,7 +54,7 @@ def _check_writable(folder: Path) -> None:
 def _check_target(path: Path, force: bool) -> None:
     if path.is_dir():
         raise UserInputError(
-            "the output path is a folder, not a file (--force does not replace folders)",
+            "the output path is a folder, not a file (force=True does not replace folders)",
             file=path,
             fix="name a file inside it",
         )
@@ -62,7 +62,7 @@ def _check_target(path: Path, force: bool) -> None:
         raise UserInputError(
             "the output file exists and was left untouched",
             file=path,
-            fix="add --force to replace it, or choose another name",
+            fix="pass force=True to replace it, or choose another name",
         )
 
 

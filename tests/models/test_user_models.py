@@ -105,7 +105,7 @@ def test_body_choice_errors_name_the_fix():
         load_character(quadruped, body="nose", stiffness="auto")
     with pytest.raises(UserInputError, match="no internal joints"):
         load_character(quadruped, body="ball", stiffness="auto")
-    with pytest.raises(UserInputError, match="--stiffness auto"):
+    with pytest.raises(UserInputError, match="stiffness='auto'"):
         load_character(quadruped)
 
 

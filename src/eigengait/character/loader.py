@@ -115,7 +115,7 @@ def load_character(name_or_path: str | Path, body: str | None = None, stiffness:
     sidecar).
     """
     if stiffness is not None and stiffness not in STIFFNESS_CHOICES:
-        raise UserInputError(f"unknown stiffness rule '{stiffness}'", field="--stiffness", fix="use --stiffness auto")
+        raise UserInputError(f"unknown stiffness rule '{stiffness}'", field="stiffness", fix="pass stiffness='auto'")
     path, side, meta = _locate(name_or_path)
     spec = _parse(path)
     scene = prepare(spec, path, body or meta.body)
@@ -164,13 +164,13 @@ def load_character(name_or_path: str | Path, body: str | None = None, stiffness:
                 "joint has no stiffness",
                 file=path,
                 field=f"joint '{name}' stiffness",
-                fix='give it stiffness="..." (N·m/rad) in the MJCF or in the sidecar, or use --stiffness auto',
+                fix='give it stiffness="..." (N·m/rad) in the MJCF or in the sidecar, or pass stiffness=\'auto\'',
             )
         dofs[name], k_of[name] = n, k[:n]
     if "auto" in source.values():
         ks = [k_of[j][0] for j in joints if source[j] == "auto"]
         scene.notes.append(
-            f"--stiffness auto: {len(ks)} joint(s) given k = m·g·r/θ_sag (θ_sag = {SAG_DEG:g}°), "
+            f"stiffness auto (the sag rule): {len(ks)} joint(s) given k = m·g·r/θ_sag (θ_sag = {SAG_DEG:g}°), "
             f"{min(ks):.3g} to {max(ks):.3g} N·m/rad"
         )
 

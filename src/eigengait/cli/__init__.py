@@ -1,6 +1,7 @@
 """The `eigengait` command: one sub-command per job.
 
-Bad input raises `UserInputError`; `main()` prints it as one message on stderr and exits with status 2.
+Bad input raises `UserInputError`; `main()` prints it as one message on stderr, in the command line's words
+(`flags.for_command_line`: the library's parameter names become flags), and exits with status 2.
 Command groups living beside their package register themselves through a `register(app)` function.
 """
 
@@ -14,6 +15,7 @@ import typer
 from rich.console import Console
 from rich.table import Table
 
+from eigengait.cli.flags import for_command_line
 from eigengait.cli.character import BODY_HELP, STIFFNESS_HELP, print_notes
 from eigengait import json_text
 from eigengait.errors import UserInputError
@@ -162,7 +164,7 @@ def main() -> None:
     try:
         code = app(standalone_mode=False)  # a typer.Exit inside a command comes back as the return value
     except UserInputError as err:
-        Console(stderr=True).print(f"[bold red]error:[/] {err}", highlight=False, soft_wrap=True)
+        Console(stderr=True).print(f"[bold red]error:[/] {for_command_line(err)}", highlight=False, soft_wrap=True)
         sys.exit(2)
     except (typer.Exit, SystemExit) as exc:
         code = getattr(exc, "exit_code", getattr(exc, "code", 0))

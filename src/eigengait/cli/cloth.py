@@ -21,6 +21,7 @@ from eigengait.cloth.obt import read_obt
 from eigengait.cloth.output import staged_file, staged_output, write_frame, write_manifest
 from eigengait.cloth.par import read_par
 from eigengait.cloth.strain import DEFAULT_BOUND
+from eigengait.cli.flags import for_command_line
 from eigengait.errors import UserInputError
 from eigengait.inputs import check_range
 from eigengait.outputs import check_output
@@ -35,7 +36,7 @@ errors = Console(stderr=True)
 
 
 def _fail(error: UserInputError) -> typer.Exit:
-    errors.print(f"[bold red]error:[/] {error}", highlight=False, soft_wrap=True)
+    errors.print(f"[bold red]error:[/] {for_command_line(error)}", highlight=False, soft_wrap=True)
     return typer.Exit(2)
 
 

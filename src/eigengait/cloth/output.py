@@ -69,7 +69,7 @@ def check_replaceable(directory: Path, force: bool) -> None:
         raise UserInputError(
             "the output folder holds an earlier run's frames; it was left untouched.",
             file=directory,
-            fix="pass --force to replace that run, or name another folder.",
+            fix="pass force=True to replace that run, or name another folder.",
         )
 
 

@@ -56,7 +56,7 @@ class Simulation:
         if integrator not in INTEGRATORS:
             raise UserInputError(
                 f"unknown integrator '{integrator}'.",
-                field="--integrator",
+                field="integrator",
                 fix=f"use one of: {', '.join(INTEGRATORS)}.",
             )
         if len(model.targets):
@@ -334,7 +334,7 @@ def run_samples(
                 f"'{integrator}' integrator at DELTA_t = {time_step:g} s.",
                 file=source,
                 field=step_field,
-                fix="use a smaller DELTA_t, more ATRITO, or --integrator implicit.",
+                fix="use a smaller DELTA_t, more ATRITO, or integrator='implicit'.",
             )
         yield Frame(index, sim.t, sim.x.copy(), sim.v.copy())
 

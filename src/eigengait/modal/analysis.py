@@ -21,7 +21,7 @@ def stance_foot(character: Character, foot: str | None) -> str:
             "the character has no feet, so it has no ground phase",
             file=character.path,
             field="feet",
-            fix="add <foot>_toe sites or a feet: entry in the sidecar, or use --phase air",
+            fix="add <foot>_toe sites or a feet: entry in the sidecar, or use phase='air'",
         )
     foot = foot or character.meta.gait_order[0]
     if foot not in character.feet:
@@ -44,7 +44,7 @@ def compute_modes(
 ) -> ModeSet:
     """Modes of a character (or an already built world) in the air (free) or ground (toe pinned) phase."""
     if phase not in PHASES:
-        raise UserInputError(f"unknown phase '{phase}'", field="--phase", fix="use air or ground")
+        raise UserInputError(f"unknown phase '{phase}'", field="phase", fix="use air or ground")
     world = source if isinstance(source, World) else build_world(source, pose, WorldOptions(gravity=False))
     character = world.character
     G = None

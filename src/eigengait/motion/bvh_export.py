@@ -115,7 +115,7 @@ def _angle_deg(a: np.ndarray, b: np.ndarray) -> float:
 
 def _unit_scale(units: str) -> float:
     if units not in UNIT_SCALE:
-        raise UserInputError(f"unknown BVH length unit '{units}'", field="--bvh-units", fix="use m or cm")
+        raise UserInputError(f"unknown BVH length unit '{units}'", field="bvh_units", fix="use m or cm")
     return UNIT_SCALE[units]
 
 

@@ -73,7 +73,7 @@ def common_period(frequencies_hz: np.ndarray, max_denominator: int = 10_000) -> 
 def harmonic_frequencies(frequencies_hz: np.ndarray, base_hz: float) -> np.ndarray:
     """Each frequency moved to the nearest positive multiple of `base_hz`, so the mix loops every 1/base_hz s."""
     if not base_hz > 0:
-        raise UserInputError(f"base frequency {base_hz} Hz must be positive", field="--base-hz")
+        raise UserInputError(f"base frequency {base_hz} Hz must be positive", field="base_hz")
     return np.maximum(1, np.round(np.asarray(frequencies_hz) / base_hz)) * base_hz
 
 
@@ -115,11 +115,11 @@ def parse_mix(text: str) -> list[ModeTerm]:
         try:
             terms.append(ModeTerm(int(mode), float(amplitude), float(phase) if phase.strip() else 0.0))
         except ValueError:
-            raise UserInputError(f"cannot read mix term '{item}'", field="--mix", fix=f"write {MIX_SYNTAX}") from None
+            raise UserInputError(f"cannot read mix term '{item}'", field="mix", fix=f"write {MIX_SYNTAX}") from None
         if not sep:
-            raise UserInputError(f"mix term '{item}' has no amplitude", field="--mix", fix=f"write {MIX_SYNTAX}")
+            raise UserInputError(f"mix term '{item}' has no amplitude", field="mix", fix=f"write {MIX_SYNTAX}")
     if not terms:
-        raise UserInputError("the mix names no mode", field="--mix", fix=f"write {MIX_SYNTAX}")
+        raise UserInputError("the mix names no mode", field="mix", fix=f"write {MIX_SYNTAX}")
     return terms
 
 
@@ -135,7 +135,7 @@ def build_mix(
         if not 1 <= term.mode <= modes.count:
             raise UserInputError(
                 f"mode {term.mode} does not exist",
-                field="--mix",
+                field="mix",
                 fix=f"{modes.character} has modes 1..{modes.count} in the {modes.phase} phase",
             )
     index = np.array([t.mode - 1 for t in terms])
@@ -164,7 +164,7 @@ def mix_trajectory(world: World, mix: ModalMix, seconds: float, fps: float) -> t
     """Times (s) and qpos (T × nq) of the mix sampled at `fps` frames per second for `seconds` (t = 0 included)."""
     if not (seconds > 0 and fps > 0):
         raise UserInputError(
-            f"need positive duration and frame rate, got {seconds} s at {fps} fps", field="--seconds/--fps"
+            f"need positive duration and frame rate, got {seconds} s at {fps} fps", field="seconds/fps"
         )
     times = np.arange(int(round(seconds * fps)) + 1) / fps
     return times, displaced_qpos(world, mix.displacement(times))

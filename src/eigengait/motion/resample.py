@@ -36,11 +36,11 @@ def frame_times(duration_s: float, fps: float, speed: float = 1.0) -> np.ndarray
     """
     if not 0 < fps <= MAX_FPS:
         raise UserInputError(
-            f"frame rate {fps} is out of range", field="--fps", fix=f"use e.g. --fps 30 (at most {MAX_FPS})"
+            f"frame rate {fps} is out of range", field="fps", fix=f"use e.g. fps=30 (at most {MAX_FPS})"
         )
     if not 0.01 <= speed <= 100:
         raise UserInputError(
-            f"playback speed {speed} is out of range", field="--speed", fix="use 1 for real time, 0.5 for slow motion"
+            f"playback speed {speed} is out of range", field="speed", fix="use 1 for real time, 0.5 for slow motion"
         )
     count = int(np.floor(duration_s * fps / speed + 1e-9)) + 1
     return np.arange(count) * (speed / fps)

@@ -134,7 +134,7 @@ def builtin_mapping(character_name: str, clip: BvhClip) -> Mapping:
             f"character '{character_name}' (built-in mappings: {known}; missing "
             f"{', '.join(missing) or 'all'}).",
             field="BVH joints",
-            fix="pass a mapping file (--mapping map.yaml) naming, for each MJCF joint, the BVH joint that drives it.",
+            fix="pass a mapping file (mapping='map.yaml') naming, for each MJCF joint, the BVH joint that drives it.",
         )
     return Mapping(joints={roles[r]: joint for r, joint in wanted.items() if r in roles})
 
@@ -267,7 +267,7 @@ def retarget(clip: BvhClip, world: World, mapping: Mapping, start_frame: int = 1
     if not 0 <= start_frame < clip.n_frames - 1:
         raise UserInputError(
             f"start frame {start_frame} is outside the clip's frames 0..{clip.n_frames - 2} (two frames at least).",
-            field="--start-frame",
+            field="start_frame",
             fix=f"use a start frame from 0 to {clip.n_frames - 2}.",
         )
     model = world.model

@@ -79,8 +79,9 @@ def run_track(
     """Load, retarget, clean the feet (unless `clean` is False), replay and track; returns (world, reference,
     result); result.foot_skate_m is the simulated motion's skate (m, mean per stance, `foot_metrics`).
 
-    `push`: `play --push` text, FORCE@TIME[,FORCE@TIME…], sideways (+y) on the torso; `foot`: the foot model as
-    `TrackerSettings` keyword arguments (foot_radius_m, foot_com_height_m, foot_friction), default the settings'."""
+    `push`: pushes as text, FORCE@TIME[,FORCE@TIME…] in N and s (`control.playback.parse_pushes`), sideways (+y)
+    on the torso; `foot`: the foot model as `TrackerSettings` keyword arguments (foot_radius_m, foot_com_height_m,
+    foot_friction), default the settings'."""
     from eigengait.control.balance.pushes import sideways_pushes
     from eigengait.control.balance.reference import kinematic_replay
     from eigengait.control.balance.tracker import TrackerSettings, track
@@ -88,9 +89,9 @@ def run_track(
     from eigengait.motion.soles import sole_points
 
     check_range(
-        robustness, "--robustness", 0, 1, fix="use a value between 0 (physically correct) and 1 (fully compensated)."
+        robustness, "robustness", 0, 1, fix="use a value between 0 (physically correct) and 1 (fully compensated)."
     )
-    check_range(tolerance, "--tolerance", 0, 1, fix="use a value between 0 (never switch balance off) and 1.")
+    check_range(tolerance, "tolerance", 0, 1, fix="use a value between 0 (never switch balance off) and 1.")
     pushes = sideways_pushes([push], "torso") if push else ()
     ref = reference_poses(clip_path, character, mapping, start_frame, clean)
     world = ref["world"]

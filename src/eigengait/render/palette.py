@@ -216,7 +216,7 @@ def palette_image(
     if not 1 <= count <= modes.count:
         raise UserInputError(
             f"cannot show {count} modes",
-            field="--modes",
+            field="count",
             fix=f"{modes.character} has {modes.count} modes in the {modes.phase} phase",
         )
     layout = palette_layout(count, columns, tile_px)

@@ -61,7 +61,7 @@ def visual_model(world: World, width: int, height: int) -> mujoco.MjModel:
     if not (16 <= width <= MAX_SIZE and 16 <= height <= MAX_SIZE) or width % 2 or height % 2:
         raise UserInputError(
             f"image size {width}×{height} is not usable",
-            field="--width/--height",
+            field="width/height",
             fix=f"use even sizes from 16 to {MAX_SIZE} pixels (H.264 needs even sizes)",
         )
     model = copy.deepcopy(world.model)

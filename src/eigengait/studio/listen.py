@@ -9,14 +9,14 @@ import sys
 
 from eigengait.errors import UserInputError
 
-PORT_FIX = "choose a free port between 1 and 65535 with --port, e.g. --port 8090"
+PORT_FIX = "choose a free port between 1 and 65535, e.g. port=8090"
 
 
 def check_listen_address(host: str, port: int) -> None:
     """Refuse a port out of range or taken, or an address that cannot be bound; warn when the studio would be
     reachable from other machines."""
     if not 1 <= port <= 65535:
-        raise UserInputError(f"port {port} is out of range", field="--port", fix=PORT_FIX)
+        raise UserInputError(f"port {port} is out of range", field="port", fix=PORT_FIX)
     family, address = _resolve(host, port)
     try:
         with socket.socket(family, socket.SOCK_STREAM) as probe:
@@ -34,7 +34,7 @@ def check_listen_address(host: str, port: int) -> None:
 
 
 def port_taken(host: str, port: int) -> UserInputError:
-    return UserInputError(f"port {port} on {host} is already in use", field="--port", fix=PORT_FIX)
+    return UserInputError(f"port {port} on {host} is already in use", field="port", fix=PORT_FIX)
 
 
 def _resolve(host: str, port: int) -> tuple[int, tuple]:
@@ -43,7 +43,7 @@ def _resolve(host: str, port: int) -> tuple[int, tuple]:
     except (OSError, UnicodeError) as exc:
         raise UserInputError(
             f"cannot listen on '{host}' ({getattr(exc, 'strerror', None) or exc})",
-            field="--host",
+            field="host",
             fix="use a local address such as 127.0.0.1 or 0.0.0.0",
         ) from None
     return family, address
@@ -55,11 +55,11 @@ def _bind_error(host: str, port: int, exc: OSError) -> UserInputError:
     if exc.errno == errno.EACCES:
         return UserInputError(
             f"port {port} needs special rights",
-            field="--port",
-            fix="choose a port above 1023 with --port, e.g. --port 8090",
+            field="port",
+            fix="choose a port above 1023, e.g. port=8090",
         )
     return UserInputError(
         f"cannot listen on {host}:{port} ({exc.strerror or exc})",
-        field="--host",
+        field="host",
         fix="use a local address such as 127.0.0.1 or 0.0.0.0",
     )

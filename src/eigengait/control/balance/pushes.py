@@ -1,4 +1,4 @@
-"""Sideways pushes for the balance controller, written as for `eigengait play --push`.
+"""Sideways pushes for the balance controller, written as the pushes of a played gait.
 
 The text is `FORCE@TIME[,FORCE@TIME…]` (N, s), read by `control.playback.parse_pushes`, the one parser of the
 push syntax. Each push is a force of FORCE newtons along world +y on one body, held for 0.1 s from TIME.

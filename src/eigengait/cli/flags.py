@@ -1,0 +1,78 @@
+"""The command line's words for library errors: a parameter named in a `UserInputError` becomes its flag.
+
+Library functions name their own Python parameters: `field="robustness"`, `fix="pass stiffness='auto'"`. A user of
+the command line typed flags, so before printing an error the CLI rewrites, through `FLAGS`:
+
+- the field, when the error concerns no file (a field of a file is that file's key, not a parameter), including
+  fields naming several parameters at once (`"width/height"` → `"--width/--height"`);
+- keyword arguments written in the message or the fix: `name='text'` → `--flag text`, `name=3` → `--flag 3`,
+  `name=True` → `--flag`.
+"""
+
+from __future__ import annotations
+
+import copy
+import re
+
+from eigengait.errors import UserInputError
+
+#: library parameter → the flag that sets it, for every parameter a library error may name
+FLAGS = {
+    "base_hz": "--base-hz",
+    "bvh_units": "--bvh-units",
+    "count": "--modes",  # render.palette's number of modes
+    "force": "--force",
+    "fps": "--fps",
+    "height": "--height",
+    "host": "--host",
+    "integrator": "--integrator",
+    "mapping": "--mapping",
+    "mix": "--mix",
+    "phase": "--phase",
+    "port": "--port",
+    "push": "--push",
+    "robustness": "--robustness",
+    "seconds": "--seconds",
+    "speed": "--speed",
+    "start_frame": "--start-frame",
+    "stiffness": "--stiffness",
+    "time_step": "--time-step",
+    "tolerance": "--tolerance",
+    "width": "--width",
+}
+
+_KEYWORD = re.compile(r"(?<![\w.-])(" + "|".join(FLAGS) + r")=(?:'([^']*)'|(True)\b|([-+]?\d[\w.]*))")
+
+
+def _keywords(text: str | None) -> str | None:
+    """`name='v'`, `name=3` and `name=True` of known parameters written as flags."""
+    if not text:
+        return text
+
+    def flag(match: re.Match) -> str:
+        name, quoted, true, number = match.groups()
+        return FLAGS[name] if true else f"{FLAGS[name]} {quoted if quoted is not None else number}"
+
+    return _KEYWORD.sub(flag, text)
+
+
+def _field(field: str | None) -> str | None:
+    """The flag(s) of a field naming parameters ("a" or "a/b"), else the field unchanged."""
+    if not field:
+        return field
+    names = field.split("/")
+    return "/".join(FLAGS[n] for n in names) if all(n in FLAGS for n in names) else field
+
+
+def for_command_line(error: UserInputError) -> UserInputError:
+    """The same error (same type) in the command line's words; the original is left unchanged."""
+    shown = copy.copy(error)
+    if error.file is None:
+        shown.field = _field(error.field)
+    shown.message = _keywords(error.message)
+    shown.fix = _keywords(error.fix)
+    shown.args = (str(shown),)
+    return shown
+
+
+__all__ = ["FLAGS", "for_command_line"]
