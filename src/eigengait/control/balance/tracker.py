@@ -1,16 +1,11 @@
-"""Track a reference motion in physics: joint PD (E1–E2) plus balance through the momentum Jacobian (E3–E29),
-with the tunable stance-foot compensation (E30–E32).
+"""Track a reference motion in physics with the balance controller (`controller.py`: joint PD, balance through the
+momentum Jacobian, the tunable stance-foot compensation).
 
-Per control step (every ``control_every`` physics steps, torques held in between):
-1. reference pose, velocities, COM, momenta and support point interpolated at the current time;
-2. joint PD: τ_pd = k_s e + k_d ω_d through the motors, while −k_d ω_a is the joint damping, which MuJoCo
-   integrates implicitly (the character's passive springs are switched off for tracking);
-3. stance feet = feet touching the floor; their normal forces weight the balance torques of each foot-rooted
-   Jacobian (double support blends the two roots; flight has no balance torque);
-4. virtual force/torque at the COM → τ_eq = Jᵀ w;
-5. the balance torque that reaches each stance foot is partly cancelled by an external torque on that foot
-   (``xfrc_applied``), the artificial torque; if the cancelled fraction is below ``tolerance`` the balance
-   torques are switched off for that step.
+`Tracker` is the simulation loop around the stateless control law. On a private copy of the world's model (the
+passive springs switched off; the PD's −k_d ω_a term as implicit joint damping), every ``control_every`` physics
+steps it samples the reference at the current time, asks `controller.balance_torque` for the motor torques and the
+stance feet's artificial torques, applies them and the active pushes (torques held in between), steps the physics
+and checks for a fall.
 """
 
 from __future__ import annotations
@@ -22,20 +17,21 @@ from dataclasses import dataclass, field
 import mujoco
 import numpy as np
 
-from eigengait.control.balance.foot import FootModel, compensation, foot_model_for_robustness
-from eigengait.control.balance.momentum import (
-    centroidal_inertia,
-    centroidal_momentum_matrix,
-    foot_rooted_momentum_matrix,
+from eigengait.control.balance.controller import (
+    apply_foot_torques,
+    balance_rig,
+    balance_torque,
+    joint_gains,
+    joint_layout,
 )
-from eigengait.control.balance.pd import joint_error
+from eigengait.control.balance.foot import FootModel, foot_model_for_robustness
 from eigengait.control.balance.reference import Reference
-from eigengait.geometry import quat_angle, quat_to_mat
-from eigengait.control.balance.virtual import VirtualGains, virtual_force, virtual_torque
+from eigengait.control.balance.virtual import VirtualGains
 from eigengait.errors import UserInputError
+from eigengait.geometry import quat_angle
 from eigengait.sim.falls import has_fallen
 from eigengait.sim.stepping import step
-from eigengait.sim.world import FLOOR, GRAVITY, World
+from eigengait.sim.world import GRAVITY, World
 
 PUSH_DURATION = 0.1  # s
 
@@ -113,19 +109,6 @@ class TrackingResult:
         }
 
 
-def _subtree_mass_and_arm(model: mujoco.MjModel, data: mujoco.MjData, body: int) -> tuple[float, float]:
-    ids = [b for b in range(body, model.nbody) if _is_descendant(model, b, body)]
-    mass = model.body_mass[ids]
-    com = (mass[:, None] * data.xipos[ids]).sum(0) / mass.sum()
-    return float(mass.sum()), max(float(np.linalg.norm(com - data.xanchor[model.body_jntadr[body]])), 0.05)
-
-
-def _is_descendant(model: mujoco.MjModel, body: int, ancestor: int) -> bool:
-    while body > ancestor:
-        body = int(model.body_parentid[body])
-    return body == ancestor
-
-
 class Tracker:
     """Closed-loop tracking of a Reference on a private copy of the world's model."""
 
@@ -140,61 +123,37 @@ class Tracker:
         self.foot = foot_model_for_robustness(
             robustness, self.mass * GRAVITY, settings.foot_radius_m, settings.foot_com_height_m, settings.foot_friction
         )
-        joints = world.internal_qpos_joints
-        self.ball = [j for j in joints if int(model.jnt_type[j]) == int(mujoco.mjtJoint.mjJNT_BALL)]
-        self.hinge = [j for j in joints if int(model.jnt_type[j]) == int(mujoco.mjtJoint.mjJNT_HINGE)]
-        self.ball_qpos = np.array([model.jnt_qposadr[j] + np.arange(4) for j in self.ball], int).reshape(-1, 4)
-        self.ball_dof = np.array([model.jnt_dofadr[j] + np.arange(3) for j in self.ball], int).reshape(-1, 3)
-        self.hinge_qpos = np.array([model.jnt_qposadr[j] for j in self.hinge], int)
-        self.hinge_dof = np.array([model.jnt_dofadr[j] for j in self.hinge], int)
-        self.motor_of_dof = np.full(model.nv, -1)
-        self.motor_of_dof[world.internal_qvel] = np.arange(world.nmotor)
-        root_joint = int(model.body_jntadr[world.root_body])
-        self.root_qpos = int(model.jnt_qposadr[root_joint])
-        self.root_dofs = int(model.jnt_dofadr[root_joint]) + np.arange(6)
-        self.joint_dofs = np.asarray(world.internal_qvel)
-        self._set_gains()
-        self.foot_bodies = {f: int(model.geom_bodyid[g[0]]) for f, g in world.foot_spheres.items()}
-        self.foot_dofs = {
-            f: [d for d in range(model.nv) if model.dof_bodyid[d] == b and d in set(self.joint_dofs)]
-            for f, b in self.foot_bodies.items()
-        }
-        floor = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_GEOM, FLOOR)
-        self.floor = floor
-        self.foot_body_set = set(self.foot_bodies.values())
+        joints = joint_layout(model, world.internal_qpos_joints)
+        self._switch_springs_off()
+        k_s, k_d = joint_gains(
+            model,
+            self.data,
+            joints["ball"],
+            joints["hinge"],
+            settings.joint_gains,
+            settings.damping_time,
+            settings.stiffness_scale,
+            settings.damping_ratio,
+        )
+        self.rig = balance_rig(world, model, k_s, k_d, self.foot, settings.virtual, settings.tolerance)
+        model.dof_damping[self.rig.joint_dofs] = k_d[self.rig.joint_dofs]  # the PD's −k_d ω_a, integrated implicitly
+        self.foot_body_set = set(self.rig.foot_bodies.values())
 
-    def _set_gains(self) -> None:
-        """Switch off the passive springs; PD stiffness per joint, damping as implicit joint damping."""
-        model, data, s = self.model, self.data, self.settings
+    def _switch_springs_off(self) -> None:
+        """The character's passive springs (joint stiffness and spring actuators) off: the PD holds the pose."""
+        model = self.model
         model.jnt_stiffness[:] = 0.0
         for a in range(model.nu):
             if model.actuator(a).name.startswith("spring:"):
                 model.actuator_biasprm[a, :3] = 0.0
-        self.k_s = np.zeros(model.nv)
-        k_d = np.zeros(model.nv)
-        for j in self.ball + self.hinge:
-            n = 3 if j in self.ball else 1
-            dofs = model.jnt_dofadr[j] + np.arange(n)
-            name = model.joint(j).name
-            named = [v for k, v in s.joint_gains.items() if name.endswith(k)]
-            if named:
-                self.k_s[dofs] = named[0]
-                k_d[dofs] = s.damping_time * named[0]
-                continue
-            mass, arm = _subtree_mass_and_arm(model, data, int(model.jnt_bodyid[j]))
-            kp = s.stiffness_scale * mass * GRAVITY * arm
-            self.k_s[dofs] = kp
-            k_d[dofs] = 2.0 * s.damping_ratio * np.sqrt(kp * mass * arm * arm)
-        model.dof_damping[self.joint_dofs] = k_d[self.joint_dofs]
-        self.k_d = k_d
 
     # ------------------------------------------------------------------------------------------ reference
 
     def _reference_at(self, t: float) -> dict[str, np.ndarray]:
-        ref = self.reference
+        ref, rig = self.reference, self.rig
         i, j, a = ref.frame_at(t)
         qpos = (1 - a) * ref.qpos[i] + a * ref.qpos[j]
-        for adr in list(self.ball_qpos[:, 0]) + [self.root_qpos + 3]:
+        for adr in list(rig.ball_qpos[:, 0]) + [rig.root_qpos + 3]:
             qpos[adr : adr + 4] /= np.linalg.norm(qpos[adr : adr + 4])
         blend = {
             name: (1 - a) * getattr(ref, name)[i] + a * getattr(ref, name)[j]
@@ -204,90 +163,15 @@ class Tracker:
 
     # ------------------------------------------------------------------------------------------- stepping
 
-    def _stance_forces(self) -> dict[str, float]:
-        """Normal contact force (N) between the floor and each foot body."""
-        model, data = self.model, self.data
-        forces = {f: 0.0 for f in self.foot_bodies}
-        wrench = np.zeros(6)
-        body_to_foot = {b: f for f, b in self.foot_bodies.items()}
-        for i in range(data.ncon):
-            c = data.contact[i]
-            if self.floor not in (c.geom1, c.geom2):
-                continue
-            other = int(model.geom_bodyid[c.geom2 if c.geom1 == self.floor else c.geom1])
-            if other in body_to_foot:
-                mujoco.mj_contactForce(model, data, i, wrench)
-                forces[body_to_foot[other]] += wrench[0]
-        return forces
-
     def _touches_floor_off_feet(self) -> bool:
-        model, data = self.model, self.data
+        model, data, floor = self.model, self.data, self.rig.floor
         for i in range(data.ncon):
             c = data.contact[i]
-            if self.floor in (c.geom1, c.geom2):
-                other = int(model.geom_bodyid[c.geom2 if c.geom1 == self.floor else c.geom1])
+            if floor in (c.geom1, c.geom2):
+                other = int(model.geom_bodyid[c.geom2 if c.geom1 == floor else c.geom1])
                 if other not in self.foot_body_set and self.model.body_parentid[other] not in self.foot_body_set:
                     return True
         return False
-
-    def _pd(self, ref: dict[str, np.ndarray]) -> np.ndarray:
-        """Motor torques of the PD part (the −k_d ω_a term is the implicit joint damping)."""
-        data, tau = self.data, np.zeros(self.model.nv)
-        if len(self.ball):
-            err = joint_error(data.qpos[self.ball_qpos], ref["qpos"][self.ball_qpos])
-            tau[self.ball_dof] = err * self.k_s[self.ball_dof]
-        if len(self.hinge):
-            tau[self.hinge_dof] = (ref["qpos"][self.hinge_qpos] - data.qpos[self.hinge_qpos]) * self.k_s[self.hinge_dof]
-        return tau + self.k_d * ref["qvel"]
-
-    def _balance(self, ref: dict[str, np.ndarray], forces: dict[str, float]) -> tuple[np.ndarray, float]:
-        """τ_eq (nv,) and the artificial torque magnitude (N·m) applied to the stance feet this step."""
-        model, data, root = self.model, self.data, self.world.root_body
-        tau = np.zeros(model.nv)
-        self.data.xfrc_applied[list(self.foot_body_set), 3:] = 0.0
-        stance = {f: n for f, n in forces.items() if n > 1e-6}
-        if not stance:
-            return tau, 0.0
-        total = sum(stance.values())
-        points = {f: data.geom_xpos[self.world.foot_spheres[f]][:, :2].mean(axis=0) for f in stance}
-        support = np.mean(list(points.values()), axis=0)
-        mujoco.mj_subtreeVel(model, data)
-        com, com_vel, angmom = data.subtree_com[root], data.subtree_linvel[root], data.subtree_angmom[root]
-        gains = self.settings.virtual
-        force = virtual_force(
-            com, com_vel, support, ref["com"], ref["com_vel"], ref["support"], self.mass, GRAVITY, gains, ref["com_acc"]
-        )
-        quat = data.qpos[self.root_qpos + 3 : self.root_qpos + 7]
-        quat_ref = ref["qpos"][self.root_qpos + 3 : self.root_qpos + 7]
-        omega = quat_to_mat(quat) @ data.qvel[self.root_dofs[3:]]
-        omega_ref = quat_to_mat(quat_ref) @ ref["qvel"][self.root_dofs[3:]]
-        torque = virtual_torque(
-            quat, quat_ref, omega, omega_ref, angmom, ref["angular_momentum"], gains, ref["angular_momentum_rate"]
-        )
-        wrench = np.concatenate([torque, force])
-        momentum = centroidal_momentum_matrix(model, data, root)
-        inertia = centroidal_inertia(model, data, root)
-        for f, normal in stance.items():
-            rooted = foot_rooted_momentum_matrix(
-                model, data, momentum, self.foot_bodies[f], self.root_dofs, self.joint_dofs
-            )
-            jac = np.linalg.solve(inertia, rooted)
-            tau[self.joint_dofs] += normal / total * (jac.T @ wrench)
-        artificial, ratios = {}, []
-        jacr = np.zeros((3, model.nv))
-        for f in stance:
-            mujoco.mj_jacBody(model, data, None, jacr, self.foot_bodies[f])
-            dofs = self.foot_dofs[f]
-            foot_torque = jacr[:, dofs] @ tau[dofs]
-            artificial[f], ratio = compensation(foot_torque, self.foot)
-            ratios.append(ratio)
-        if min(ratios) < self.settings.tolerance:
-            return np.zeros(model.nv), 0.0
-        magnitude = 0.0
-        for f, torque_f in artificial.items():
-            data.xfrc_applied[self.foot_bodies[f], 3:] = torque_f
-            magnitude += float(np.linalg.norm(torque_f))
-        return tau, magnitude
 
     def _push_bodies(self, pushes: Sequence[Push]) -> list[int]:
         """Body id of each push; a body the character does not have is a UserInputError."""
@@ -324,14 +208,14 @@ class Tracker:
             t = data.time
             target = self._reference_at(t)
             mujoco.mj_forward(model, data)
-            forces = self._stance_forces()
-            tau_pd = self._pd(target)
-            tau_eq, artificial = self._balance(target, forces)
-            data.ctrl[: self.world.nmotor] = (tau_pd + tau_eq)[self.joint_dofs]
+            command = balance_torque(model, data, self.rig, target)
+            apply_foot_torques(data, self.rig, command)
+            data.ctrl[: self.world.nmotor] = command.torque[self.rig.joint_dofs]
             self._apply_pushes(pushes, push_bodies, t)
-            joint_err.append(quat_angle(data.qpos[self.ball_qpos], target["qpos"][self.ball_qpos]))
+            ball = self.rig.ball_qpos
+            joint_err.append(quat_angle(data.qpos[ball], target["qpos"][ball]))
             com_err.append(np.linalg.norm(data.subtree_com[self.world.root_body] - target["com"]))
-            torques.append(artificial)
+            torques.append(command.artificial)
             step(self.world, data, self.settings.control_every, model)  # a blow-up raises, naming time and body
             com_z = data.subtree_com[self.world.root_body][2]
             up_z = self.world.root.up_z(data.qpos)

@@ -1,0 +1,295 @@
+"""The balance controller's law, stateless: joint PD (E1–E2) plus balance through the momentum Jacobian (E3–E29),
+with the tunable stance-foot compensation (E30–E32).
+
+`balance_torque(model, data, rig, target)` reads the simulation's current state (`data` after `mj_forward`) and
+one reference frame, and returns what to apply: joint torques for the motors and, per stance foot, the artificial
+torque (world axes, N·m) that cancels part of the balance torque reaching that foot. It keeps nothing between
+calls; the `BalanceRig` holds only the model's addresses, the gains and the foot model, fixed for a run. The
+simulation loop (`tracker.Tracker`) samples the reference, applies the result and steps the physics.
+
+1. joint PD: τ_pd = k_s e + k_d ω_d (`pd.pd_torques` with ω_a = 0): the −k_d ω_a term is the joint damping, which
+   MuJoCo integrates implicitly (the caller sets `dof_damping` = k_d and switches the passive springs off);
+2. stance feet = feet touching the floor; their normal forces weight the balance torques of each foot-rooted
+   Jacobian (`momentum.py`; double support blends the two roots; flight has no balance torque);
+3. virtual force/torque at the COM (`virtual.py`) → τ_eq = Jᵀ w;
+4. the balance torque that reaches each stance foot is partly cancelled by an external torque on that foot, the
+   artificial torque; if the cancelled fraction is below `tolerance` the balance torques are switched off.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import mujoco
+import numpy as np
+
+from eigengait.control.balance.foot import FootModel, compensation
+from eigengait.control.balance.momentum import (
+    centroidal_inertia,
+    centroidal_momentum_matrix,
+    foot_rooted_momentum_matrix,
+)
+from eigengait.control.balance.pd import pd_torques
+from eigengait.control.balance.virtual import VirtualGains, virtual_force, virtual_torque
+from eigengait.geometry import quat_to_mat
+from eigengait.sim.world import FLOOR, GRAVITY, World
+
+
+@dataclass(frozen=True)
+class BalanceRig:
+    """What the law needs to know about one world, fixed for a run: addresses in MuJoCo's arrays, the PD gains
+    k_s (N·m/rad) and k_d (N·m·s/rad) per dof (nv), the virtual-wrench gains, the foot model and the tolerance."""
+
+    root_body: int
+    root_qpos: int  # first qpos entry of the free root (position, then quaternion)
+    root_dofs: np.ndarray  # the free root's 6 dofs
+    joint_dofs: np.ndarray  # the internal (motor) dofs, in motor order
+    ball_qpos: np.ndarray  # (n_ball, 4)
+    ball_dof: np.ndarray  # (n_ball, 3)
+    hinge_qpos: np.ndarray
+    hinge_dof: np.ndarray
+    foot_bodies: dict[str, int]
+    foot_spheres: dict[str, list[int]]
+    foot_dofs: dict[str, list[int]]  # internal dofs of each foot's body
+    floor: int  # floor geom id
+    mass: float  # kg
+    k_s: np.ndarray
+    k_d: np.ndarray
+    foot: FootModel
+    virtual: VirtualGains
+    tolerance: float = 0.0
+
+
+@dataclass(frozen=True)
+class BalanceCommand:
+    """One control step's output: torques (nv, N·m; the motors take `torque[rig.joint_dofs]`), the artificial
+    torque (world, N·m) to put on each stance foot's body (foot name → (3,)) and their total magnitude (N·m)."""
+
+    torque: np.ndarray
+    foot_torques: dict[str, np.ndarray]
+    artificial: float
+
+
+def joint_layout(model: mujoco.MjModel, joints: list[int]) -> dict[str, np.ndarray]:
+    """Ball and hinge joints among `joints`, with their qpos and dof addresses (the rig's ball_/hinge_ fields)."""
+    ball = [j for j in joints if int(model.jnt_type[j]) == int(mujoco.mjtJoint.mjJNT_BALL)]
+    hinge = [j for j in joints if int(model.jnt_type[j]) == int(mujoco.mjtJoint.mjJNT_HINGE)]
+    return {
+        "ball": ball,
+        "hinge": hinge,
+        "ball_qpos": np.array([model.jnt_qposadr[j] + np.arange(4) for j in ball], int).reshape(-1, 4),
+        "ball_dof": np.array([model.jnt_dofadr[j] + np.arange(3) for j in ball], int).reshape(-1, 3),
+        "hinge_qpos": np.array([model.jnt_qposadr[j] for j in hinge], int),
+        "hinge_dof": np.array([model.jnt_dofadr[j] for j in hinge], int),
+    }
+
+
+def joint_gains(
+    model: mujoco.MjModel,
+    data: mujoco.MjData,
+    ball: list[int],
+    hinge: list[int],
+    named_gains: dict,
+    damping_time: float,
+    stiffness_scale: float,
+    damping_ratio: float,
+) -> tuple[np.ndarray, np.ndarray]:
+    """PD gains per dof (nv): a joint whose name ends with a key of `named_gains` gets that k_s and
+    k_d = damping_time × k_s; any other joint k_s = stiffness_scale × m g l and k_d = 2 ζ √(k_s m l²), with m the
+    mass and l the COM distance of the joint's subtree (positions from `data`)."""
+    k_s, k_d = np.zeros(model.nv), np.zeros(model.nv)
+    for j in ball + hinge:
+        n = 3 if j in ball else 1
+        dofs = model.jnt_dofadr[j] + np.arange(n)
+        name = model.joint(j).name
+        named = [v for k, v in named_gains.items() if name.endswith(k)]
+        if named:
+            k_s[dofs] = named[0]
+            k_d[dofs] = damping_time * named[0]
+            continue
+        mass, arm = _subtree_mass_and_arm(model, data, int(model.jnt_bodyid[j]))
+        kp = stiffness_scale * mass * GRAVITY * arm
+        k_s[dofs] = kp
+        k_d[dofs] = 2.0 * damping_ratio * np.sqrt(kp * mass * arm * arm)
+    return k_s, k_d
+
+
+def _subtree_mass_and_arm(model: mujoco.MjModel, data: mujoco.MjData, body: int) -> tuple[float, float]:
+    ids = [b for b in range(body, model.nbody) if _is_descendant(model, b, body)]
+    mass = model.body_mass[ids]
+    com = (mass[:, None] * data.xipos[ids]).sum(0) / mass.sum()
+    return float(mass.sum()), max(float(np.linalg.norm(com - data.xanchor[model.body_jntadr[body]])), 0.05)
+
+
+def _is_descendant(model: mujoco.MjModel, body: int, ancestor: int) -> bool:
+    while body > ancestor:
+        body = int(model.body_parentid[body])
+    return body == ancestor
+
+
+def balance_rig(
+    world: World,
+    model: mujoco.MjModel,
+    k_s: np.ndarray,
+    k_d: np.ndarray,
+    foot: FootModel,
+    virtual: VirtualGains,
+    tolerance: float = 0.0,
+) -> BalanceRig:
+    """The rig of `world`'s character on `model` (the world's model or a copy of it) with the given gains."""
+    joints = joint_layout(model, world.internal_qpos_joints)
+    root_joint = int(model.body_jntadr[world.root_body])
+    joint_dofs = np.asarray(world.internal_qvel)
+    foot_bodies = {f: int(model.geom_bodyid[g[0]]) for f, g in world.foot_spheres.items()}
+    internal = set(joint_dofs)
+    return BalanceRig(
+        root_body=world.root_body,
+        root_qpos=int(model.jnt_qposadr[root_joint]),
+        root_dofs=int(model.jnt_dofadr[root_joint]) + np.arange(6),
+        joint_dofs=joint_dofs,
+        ball_qpos=joints["ball_qpos"],
+        ball_dof=joints["ball_dof"],
+        hinge_qpos=joints["hinge_qpos"],
+        hinge_dof=joints["hinge_dof"],
+        foot_bodies=foot_bodies,
+        foot_spheres=dict(world.foot_spheres),
+        foot_dofs={
+            f: [d for d in range(model.nv) if model.dof_bodyid[d] == b and d in internal]
+            for f, b in foot_bodies.items()
+        },
+        floor=mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_GEOM, FLOOR),
+        mass=float(model.body_subtreemass[world.root_body]),
+        k_s=k_s,
+        k_d=k_d,
+        foot=foot,
+        virtual=virtual,
+        tolerance=tolerance,
+    )
+
+
+def stance_forces(model: mujoco.MjModel, data: mujoco.MjData, rig: BalanceRig) -> dict[str, float]:
+    """Normal contact force (N) between the floor and each foot body."""
+    forces = {f: 0.0 for f in rig.foot_bodies}
+    wrench = np.zeros(6)
+    body_to_foot = {b: f for f, b in rig.foot_bodies.items()}
+    for i in range(data.ncon):
+        c = data.contact[i]
+        if rig.floor not in (c.geom1, c.geom2):
+            continue
+        other = int(model.geom_bodyid[c.geom2 if c.geom1 == rig.floor else c.geom1])
+        if other in body_to_foot:
+            mujoco.mj_contactForce(model, data, i, wrench)
+            forces[body_to_foot[other]] += wrench[0]
+    return forces
+
+
+def pd_torque(data: mujoco.MjData, rig: BalanceRig, target: dict[str, np.ndarray]) -> np.ndarray:
+    """Joint PD torques (nv, N·m) toward the target's qpos and qvel; the −k_d ω_a term is left to the implicit
+    joint damping, so the actual velocity enters as zero."""
+    tau = np.zeros(len(rig.k_s))
+    if len(rig.ball_qpos):
+        dof = rig.ball_dof
+        tau[dof] = pd_torques(
+            data.qpos[rig.ball_qpos],
+            target["qpos"][rig.ball_qpos],
+            0.0,
+            target["qvel"][dof],
+            rig.k_s[dof],
+            rig.k_d[dof],
+        )
+    if len(rig.hinge_qpos):
+        dof, adr = rig.hinge_dof, rig.hinge_qpos
+        tau[dof] = rig.k_s[dof] * (target["qpos"][adr] - data.qpos[adr]) + rig.k_d[dof] * target["qvel"][dof]
+    return tau
+
+
+def equilibrium_torque(
+    model: mujoco.MjModel, data: mujoco.MjData, rig: BalanceRig, target: dict[str, np.ndarray], forces: dict[str, float]
+) -> tuple[np.ndarray, dict[str, np.ndarray], float]:
+    """τ_eq (nv), the artificial torque (world, N·m) per stance foot and their total magnitude; all zero in
+    flight or when the cancelled fraction is below the tolerance."""
+    root = rig.root_body
+    tau = np.zeros(model.nv)
+    stance = {f: n for f, n in forces.items() if n > 1e-6}
+    if not stance:
+        return tau, {}, 0.0
+    total = sum(stance.values())
+    points = {f: data.geom_xpos[rig.foot_spheres[f]][:, :2].mean(axis=0) for f in stance}
+    support = np.mean(list(points.values()), axis=0)
+    mujoco.mj_subtreeVel(model, data)
+    com, com_vel, angmom = data.subtree_com[root], data.subtree_linvel[root], data.subtree_angmom[root]
+    gains = rig.virtual
+    force = virtual_force(
+        com,
+        com_vel,
+        support,
+        target["com"],
+        target["com_vel"],
+        target["support"],
+        rig.mass,
+        GRAVITY,
+        gains,
+        target["com_acc"],
+    )
+    quat = data.qpos[rig.root_qpos + 3 : rig.root_qpos + 7]
+    quat_ref = target["qpos"][rig.root_qpos + 3 : rig.root_qpos + 7]
+    omega = quat_to_mat(quat) @ data.qvel[rig.root_dofs[3:]]
+    omega_ref = quat_to_mat(quat_ref) @ target["qvel"][rig.root_dofs[3:]]
+    torque = virtual_torque(
+        quat, quat_ref, omega, omega_ref, angmom, target["angular_momentum"], gains, target["angular_momentum_rate"]
+    )
+    wrench = np.concatenate([torque, force])
+    momentum = centroidal_momentum_matrix(model, data, root)
+    inertia = centroidal_inertia(model, data, root)
+    for f, normal in stance.items():
+        rooted = foot_rooted_momentum_matrix(model, data, momentum, rig.foot_bodies[f], rig.root_dofs, rig.joint_dofs)
+        jac = np.linalg.solve(inertia, rooted)
+        tau[rig.joint_dofs] += normal / total * (jac.T @ wrench)
+    artificial, ratios = {}, []
+    jacr = np.zeros((3, model.nv))
+    for f in stance:
+        mujoco.mj_jacBody(model, data, None, jacr, rig.foot_bodies[f])
+        dofs = rig.foot_dofs[f]
+        foot_torque = jacr[:, dofs] @ tau[dofs]
+        artificial[f], ratio = compensation(foot_torque, rig.foot)
+        ratios.append(ratio)
+    if min(ratios) < rig.tolerance:
+        return np.zeros(model.nv), {}, 0.0
+    magnitude = 0.0
+    for torque_f in artificial.values():
+        magnitude += float(np.linalg.norm(torque_f))
+    return tau, artificial, magnitude
+
+
+def balance_torque(
+    model: mujoco.MjModel, data: mujoco.MjData, rig: BalanceRig, target: dict[str, np.ndarray]
+) -> BalanceCommand:
+    """The controller's output for the state in `data` (positions, velocities and contacts computed, as after
+    `mj_forward`) and one reference frame `target` (qpos, qvel, com, com_vel, com_acc, angular_momentum,
+    angular_momentum_rate, support; `reference.Reference` sampled at the current time). Writes only MuJoCo's
+    derived quantities (subtree velocities) into `data`."""
+    forces = stance_forces(model, data, rig)
+    tau_pd = pd_torque(data, rig, target)
+    tau_eq, foot_torques, artificial = equilibrium_torque(model, data, rig, target, forces)
+    return BalanceCommand(tau_pd + tau_eq, foot_torques, artificial)
+
+
+def apply_foot_torques(data: mujoco.MjData, rig: BalanceRig, command: BalanceCommand) -> None:
+    """Put the command's artificial torques on the feet (`xfrc_applied`, torque part); other feet get none."""
+    data.xfrc_applied[list(set(rig.foot_bodies.values())), 3:] = 0.0
+    for foot, torque in command.foot_torques.items():
+        data.xfrc_applied[rig.foot_bodies[foot], 3:] = torque
+
+
+__all__ = [
+    "BalanceCommand",
+    "BalanceRig",
+    "apply_foot_torques",
+    "balance_rig",
+    "balance_torque",
+    "equilibrium_torque",
+    "joint_gains",
+    "joint_layout",
+    "pd_torque",
+    "stance_forces",
+]
