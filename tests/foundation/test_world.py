@@ -37,3 +37,25 @@ def test_default_damping_is_a_tenth_of_the_stiffness():
     j = world.model.joint("left_thigh").id
     dof = world.model.jnt_dofadr[j]
     assert world.model.dof_damping[dof] == np.float64(0.1 * world.model.jnt_stiffness[j])
+
+
+def test_motor_limits_are_the_joint_stiffness_times_the_strength_angle():
+    world = build_world(load_character("humanoid"))
+    model = world.model
+    joints = model.dof_jntid[world.internal_qvel]
+    springs = model.jnt_stiffness[joints] > 0  # isotropic joints carry MuJoCo's own stiffness
+    assert springs.sum() > 10
+    strength = world.character.meta.strength
+    np.testing.assert_allclose(world.motor_limits[springs], strength * model.jnt_stiffness[joints][springs])
+    forearm, thigh = (world.motor_limits[joints == model.joint(n).id][0] for n in ("left_forearm", "left_thigh"))
+    assert forearm < thigh / 5  # a light forearm cannot be driven like a leg
+
+
+def test_sidecar_strength_scales_each_axis_of_an_anisotropic_joint(tmp_path):
+    xml = """<mujoco><worldbody><body name="a"><freejoint/><geom type="box" size="0.3 0.05 0.1" pos="-0.3 0 0"/>
+      <body name="b"><joint name="j" type="ball"/><geom type="box" size="0.3 0.05 0.1" pos="0.3 0 0"/>
+      </body></body></worldbody></mujoco>"""
+    (tmp_path / "pair.xml").write_text(xml)
+    (tmp_path / "pair.eigengait.yaml").write_text("eigengait: 1\nstiffness: {j: [30, 70, 110]}\nstrength: 0.5\n")
+    world = build_world(load_character(tmp_path / "pair.xml"), options=WorldOptions(gravity=False, floor=False))
+    np.testing.assert_allclose(world.motor_limits, [15.0, 35.0, 55.0])

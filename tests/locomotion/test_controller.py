@@ -51,6 +51,17 @@ def test_second_foot_uses_mirrored_torques():
     assert tau[2][k] == pytest.approx(-tau[0][i])  # roll torque flips
 
 
+def test_each_dof_is_clipped_at_its_own_motor_limit():
+    world = build_world(load_character("humanoid"))
+    states = schedule(["left", "right"], 1.0, 0.5, 0.1, 0.1)
+    bases = {(s.foot, s.phase): np.eye(world.nmotor) for s in states}
+    big = np.full(world.nmotor, 1000.0)
+    limits = np.minimum(400.0, world.motor_limits)
+    acts = {(s.foot, s.phase): (-1) ** i * big for i, s in enumerate(states)}
+    for i, tau in enumerate(state_torques(bases, acts, states, torque_limit=limits)):
+        np.testing.assert_array_equal(tau, (-1) ** i * limits)
+
+
 def test_mirroring_a_state_reflects_every_body_and_is_an_involution():
     world = build_world(load_character("monster"))
     mirror = Mirror(world)

@@ -206,7 +206,7 @@ class ClosedLoopRunner:
         blow_up: list = [None] * P
         spec = mujoco.mjtState.mjSTATE_CTRL | (mujoco.mjtState.mjSTATE_QFRC_APPLIED if pushes else 0)
         width = nu + (nv if pushes else 0)
-        limit = system.torque_limit
+        limit = system.torque_limits
 
         def end(i: int, step: int) -> None:
             """Candidate i stops after `step` steps, fallen."""

@@ -82,6 +82,11 @@ class GaitSystem:
         """Feet whose activations are free parameters (the first only when mirrored)."""
         return self.feet[:1] if self.mirror is not None else list(dict.fromkeys(self.feet))
 
+    @property
+    def torque_limits(self) -> np.ndarray:
+        """Largest torque (N·m) of each motor: the character's motor limits, capped at `torque_limit`."""
+        return np.minimum(self.torque_limit, self.world.motor_limits)
+
     def basis_matrix(self, foot: str, phase: str) -> np.ndarray:
         """Torque basis (n_internal × m) of a state: unit-norm mode columns, or the identity (canonical)."""
         if self.basis == "canonical":
@@ -118,7 +123,7 @@ class GaitSystem:
         """Motor controls (nstep × model.nu) for whole cycles or the first `span` seconds."""
         states = self.states(p)
         bases = {(s.foot, s.phase): self.basis_matrix(s.foot, s.phase) for s in states}
-        torques = state_torques(bases, p.activations, states, self.mirror, self.torque_limit)
+        torques = state_torques(bases, p.activations, states, self.mirror, self.torque_limits)
         u = control_sequence(states, torques, self.world.model.opt.timestep, cycles, span)
         full = np.zeros((len(u), self.world.model.nu))
         full[:, : self.world.nmotor] = u

@@ -193,7 +193,7 @@ class LookaheadRunner:
         settings, n_motor = self.settings, self.system.world.nmotor
         K, knots, sub = settings.samples, len(lengths), settings.plan_substeps
         bounds = np.concatenate([[0], np.cumsum(lengths)])
-        limit, sigma = self.system.torque_limit, settings.spread * scale
+        limit, sigma = self.system.torque_limits, settings.spread * scale
         best, best_cost, center = None, np.inf, plan
         rounds = [0.5**r for r in range(settings.refinements + 1)]
         rounds += [2.0**e for e in range(1, MAX_ESCALATIONS + 1)]

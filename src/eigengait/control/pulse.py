@@ -5,7 +5,7 @@ period T splits evenly among the feet; each foot's share is air for α·T/n_feet
 Each state applies one rectangular pulse: the constant torque τ = Φ ψ for δ seconds from the state's start, then
 zero. Φ is the torque basis of that state's phase (air modes, or the ground modes of that state's stance foot),
 unit-norm columns, so ψ is in N·m. With `symmetric`, the second foot's states use the first foot's torques mirrored.
-Torques are clipped per dof to ±torque_limit.
+Torques are clipped per dof to ±torque_limit (a scalar or one limit per dof).
 """
 
 from __future__ import annotations
@@ -43,7 +43,7 @@ def state_torques(
     activations: dict[tuple[str, str], np.ndarray],
     states: list[State],
     mirror=None,
-    torque_limit: float = np.inf,
+    torque_limit: float | np.ndarray = np.inf,
 ) -> list[np.ndarray]:
     """Pulse torque (n_internal,) of each state. Keys are (foot, phase); missing feet are mirrored."""
     torques = []

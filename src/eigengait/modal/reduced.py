@@ -24,8 +24,7 @@ def mass_matrix(world: World) -> np.ndarray:
 def stiffness_matrix(world: World) -> np.ndarray:
     """Joint stiffness (nv × nv) in N·m/rad, zero on the root dofs."""
     K = np.zeros((world.model.nv, world.model.nv))
-    k = np.concatenate([world.character.stiffness[j] for j in world.character.joints])
-    K[world.internal_qvel, world.internal_qvel] = k
+    K[world.internal_qvel, world.internal_qvel] = world.dof_stiffness
     return K
 
 
