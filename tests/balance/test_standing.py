@@ -59,10 +59,10 @@ def test_pushes_use_the_play_syntax_and_come_out_in_time_order_along_y():
 
 
 @pytest.mark.parametrize("text", ["lots", "100", "100@", "@1", "100@-1", "100@nan", "1e9@1", "100@1,"])
-def test_malformed_pushes_name_the_option_and_the_syntax(text):
+def test_malformed_pushes_name_the_parameter_and_the_syntax(text):
     with pytest.raises(UserInputError) as err:
         sideways_pushes([text], "pelvis")
-    assert err.value.field == "--push"
+    assert err.value.field == "push"  # the command line shows it as --push
     assert "FORCE@TIME" in str(err.value) or "out of range" in str(err.value)
 
 

@@ -35,7 +35,7 @@ def parse_relax_argument(text: str | None) -> str | dict[str, list[float]]:
         except ValueError:
             raise UserInputError(
                 f"cannot read rotation '{item}'",
-                field="--relax",
+                field="relax",
                 fix="write JOINT=rx,ry,rz in degrees (finite, within ±360), items separated by ';'",
             ) from None
     return rotations

@@ -67,13 +67,13 @@ def parse_pushes(text: str) -> tuple[Push, ...]:
         except ValueError:
             raise UserInputError(
                 f"cannot read push '{item.strip()}'",
-                field="--push",
+                field="push",
                 fix="write FORCE@TIME in N and s, e.g. 350@1.3,-350@2.5",
             ) from None
         if not (np.isfinite(force) and np.isfinite(time)) or time < 0 or abs(force) > MAX_PUSH_N:
             raise UserInputError(
                 f"push '{item.strip()}' is out of range",
-                field="--push",
+                field="push",
                 fix=f"use a finite time ≥ 0 s and a force within ±{MAX_PUSH_N:.0f} N",
             )
         pushes.append(Push(time=time, force=force))

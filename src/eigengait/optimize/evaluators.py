@@ -69,8 +69,8 @@ class RayEvaluator:
         except ImportError:
             raise UserInputError(
                 "Ray is not installed",
-                field="--evaluator",
-                fix="pip install 'eigengait[ray]' or use --evaluator threads",
+                field="evaluator",
+                fix="pip install 'eigengait[ray]' or use evaluator='threads'",
             ) from None
         self.ray = ray
         if not ray.is_initialized():
@@ -124,4 +124,4 @@ def make_evaluator(
         return ProcessEvaluator(problem.sketch, workers)
     if kind == "ray":
         return RayEvaluator(problem.sketch, workers, ray_address)
-    raise UserInputError(f"unknown evaluator '{kind}'", field="--evaluator", fix=f"use one of {', '.join(EVALUATORS)}")
+    raise UserInputError(f"unknown evaluator '{kind}'", field="evaluator", fix=f"use one of {', '.join(EVALUATORS)}")

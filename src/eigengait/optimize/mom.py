@@ -38,7 +38,9 @@ class MomSettings:
         if self.method not in ("mom", "al"):
             from eigengait.errors import UserInputError
 
-            raise UserInputError(f"unknown method '{self.method}'", field="--method", fix="use mom or al")
+            raise UserInputError(
+                f"unknown method '{self.method}'", field="method", fix="use method='mom' or method='al'"
+            )
 
 
 @dataclass

@@ -49,7 +49,7 @@ def _saved_settings(folder: Path) -> dict:
         raise UserInputError(
             f"the run folder's settings.json is missing or damaged ({exc.__class__.__name__})",
             file=folder / "settings.json",
-            fix="start a new run in another --output folder",
+            fix="start a new run in another output folder",
         ) from None
     return saved
 
@@ -58,10 +58,10 @@ def _check_same_run(folder: Path, sketch: Sketch, saved: dict, seed: int | None)
     """Refuse to resume with a sketch or seed other than the run's own."""
     if seed is not None and seed != saved["settings"]["seed"]:
         raise UserInputError(
-            f"the run was started with --seed {saved['settings']['seed']}, not {seed}",
+            f"the run was started with seed={saved['settings']['seed']}, not seed={seed}",
             file=folder,
-            field="--seed",
-            fix="resume without --seed, or start a new run",
+            field="seed",
+            fix="resume without a seed, or start a new run",
         )
     try:
         own = yaml.safe_load((folder / "sketch.yaml").read_text(encoding="utf-8"))
@@ -69,7 +69,7 @@ def _check_same_run(folder: Path, sketch: Sketch, saved: dict, seed: int | None)
         raise UserInputError(
             f"the run folder's sketch.yaml is missing or damaged ({exc.__class__.__name__})",
             file=folder / "sketch.yaml",
-            fix="start a new run in another --output folder",
+            fix="start a new run in another output folder",
         ) from None
     if own != sketch.model_dump(mode="json"):
         raise UserInputError(
@@ -92,7 +92,7 @@ def prepare_folder(
                 "the run folder holds a pickled checkpoint from an earlier version, which is not "
                 "read because a pickle can run code",
                 file=folder,
-                fix="start a new run in another --output folder",
+                fix="start a new run in another output folder",
             )
         if not checkpoint.exists():
             raise UserInputError(
@@ -135,13 +135,13 @@ def refuse_earlier_run(folder: Path) -> None:
         raise UserInputError(
             "the run folder holds a finished run and was left untouched",
             file=folder,
-            fix="choose another --output folder, add --force to start over, or pass --resume "
+            fix="choose another output folder, pass force=True to start over, or resume=True "
             "with a larger budget to continue it",
         )
     raise UserInputError(
         "the run folder holds an unfinished run (interrupted or stopped by an error) and was left untouched",
         file=folder,
-        fix="pass --resume to continue it, or add --force to start over",
+        fix="pass resume=True to continue it, or force=True to start over",
     )
 
 
@@ -254,7 +254,7 @@ def optimize(
         raise UserInputError(
             "the checkpoint was made for another parameter space",
             file=folder / "checkpoint.npz",
-            fix="start a new run in another --output folder",
+            fix="start a new run in another output folder",
         )
     state.finished = ""
     write_status(folder, state)
