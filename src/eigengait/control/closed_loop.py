@@ -31,6 +31,7 @@ from eigengait.control.phase_clock import MAX_WAIT, PhaseClock
 from eigengait.sim.contacts import spheres_touching
 from eigengait.sim.falls import has_fallen
 from eigengait.sim.root import RootLayout
+from eigengait.sim.world import World
 from eigengait.sim.stepping import blown_up_dof, blown_up_steps, first_bad_torque
 
 PUSH_SECONDS = 0.1  # s, duration of every push
@@ -71,6 +72,18 @@ def fallen(states: np.ndarray, sensors: np.ndarray, root: RootLayout, nq: int, s
     """Per row: fallen by `sim/falls.py`'s rule (against the standing COM height), or a non-finite state."""
     finite = np.isfinite(states[..., 1:]).all(axis=-1) & (np.abs(states[..., 1:]) < 1e6).all(axis=-1)
     return has_fallen(sensors[..., 2], standing_com, root.up_z(states[..., 1 : 1 + nq])) | ~finite
+
+
+def failed_steps(
+    states: np.ndarray, sensors: np.ndarray, clock_before: np.ndarray, world: World, standing_com: float, dt: float
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A rollout chunk's failures per row and step (rows × steps): fallen or blown up; blown up alone; and the
+    chunk's qvel (rows × steps × nv) that `blown_up_dof` reads. `clock_before` (rows × 1): each row's time (s)
+    before the chunk's first step, so a clock that restarts is caught as a blow-up."""
+    nq, nv = world.model.nq, world.model.nv
+    qvel = states[..., 1 + nq : 1 + nq + nv]
+    blown = blown_up_steps(qvel, np.concatenate([clock_before, states[..., 0]], axis=-1), dt)
+    return fallen(states, sensors, world.root, nq, standing_com) | blown, blown, qvel
 
 
 def clock_cycle_ends(period: float, timestep: float, cycles: int) -> list[int]:
@@ -183,7 +196,7 @@ class ClosedLoopRunner:
 
     def run(self, params: list[GaitParameters], cycles: float, pushes: tuple[Push, ...] = ()) -> BatchRun:
         model, system, dt = self.model, self.system, self.model.opt.timestep
-        nq, nv, nu, n_motor = model.nq, model.nv, model.nu, system.world.nmotor
+        nv, nu, n_motor = model.nv, model.nu, system.world.nmotor
         P = len(params)
         ff = [system.controls(p, span=cycles * p.period) for p in params]
         # a touchdown-timed gait plays until it completes `cycles` cycles, its late touchdowns allowed for
@@ -248,9 +261,7 @@ class ClosedLoopRunner:
             states[idx, a:b], sensors[idx, a:b] = s, d
             torques[idx, a:b] = control[:, :, :n_motor]
             state[idx], sensors_now[idx] = s[:, -1], d[:, -1]
-            qvel = s[..., 1 + nq : 1 + nq + nv]
-            blown = blown_up_steps(qvel, np.concatenate([time_before, s[..., 0]], axis=1), dt)
-            bad = fallen(s, d, system.world.root, nq, self.standing_com) | blown
+            bad, blown, qvel = failed_steps(s, d, time_before, system.world, self.standing_com, dt)
             for k, i in enumerate(idx):
                 upto = min(b, steps[i]) - a
                 hit = np.flatnonzero(bad[k, :upto])

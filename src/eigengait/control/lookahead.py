@@ -25,9 +25,9 @@ import mujoco
 import numpy as np
 from mujoco import rollout
 
-from eigengait.control.closed_loop import BatchRun, Push, add_pushes, clock_cycle_ends, fallen
+from eigengait.control.closed_loop import BatchRun, Push, add_pushes, clock_cycle_ends, failed_steps, fallen
 from eigengait.control.gait import GaitParameters, GaitSystem
-from eigengait.sim.stepping import blown_up_dof, blown_up_steps
+from eigengait.sim.stepping import blown_up_dof
 from eigengait.sim.world import GRAVITY
 
 # Cost weights; every term is dimensionless (lengths over the standing COM height h, speeds over √(g h)).
@@ -117,7 +117,7 @@ class LookaheadRunner:
     ) -> BatchRun:
         """Play `cycles` cycles from (q₀, q̇₀); `progress(cycle, cycles)` is called after each completed cycle."""
         system, model, settings = self.system, self.model, self.settings
-        dt, nq, nv, nu, n_motor = model.opt.timestep, model.nq, model.nv, model.nu, system.world.nmotor
+        dt, nv, nu, n_motor = model.opt.timestep, model.nv, model.nu, system.world.nmotor
         states_of_cycle = system.states(p)
         cycle_controls = system.controls(p, cycles=1)
         n_cycle = len(cycle_controls)
@@ -128,6 +128,7 @@ class LookaheadRunner:
         knots = int(np.ceil(settings.horizon_cycles * len(states_of_cycle))) + 1
         plan = np.zeros((knots, n_motor))
         x = system.initial_state(p)
+        standing_com = system.world.standing_com_height
         cost = self._task_cost(p, x, cycle_controls)
         spec = mujoco.mjtState.mjSTATE_CTRL | (mujoco.mjtState.mjSTATE_QFRC_APPLIED if pushes else 0)
         width = nu + (nv if pushes else 0)
@@ -151,10 +152,8 @@ class LookaheadRunner:
             s, d = self.pool.rollout(model, self.datas, x[None], control, control_spec=spec)
             out_states[0, n : n + segment], out_sensors[0, n : n + segment] = s[0], d[0]
             out_torques[0, n : n + segment] = control[0, :, :n_motor]
-            qvel = s[0, :, 1 + nq : 1 + nq + nv]
-            times = np.concatenate([[x[0]], s[0, :, 0]])
-            blown = blown_up_steps(qvel, times, dt)
-            bad = fallen(s[0], d[0], system.world.root, nq, system.world.standing_com_height) | blown
+            bad, blown, qvel = failed_steps(s, d, x[None, :1], system.world, standing_com, dt)
+            bad, blown, qvel = bad[0], blown[0], qvel[0]
             if bad.any():
                 first = int(np.argmax(bad))
                 fell, fell_time = True, (n + first + 1) * dt
