@@ -7,7 +7,6 @@ import json
 import numpy as np
 import pytest
 
-from eigengait.character.library import resolve_character
 from eigengait.control.library import resolve
 from eigengait.json_text import dumps
 from eigengait.sim.stepping import MAX_CONTROL, MAX_SPEED, blown_up_dof, blown_up_steps, first_bad_torque
@@ -77,17 +76,8 @@ def _controller(tmp_path, scale_activations=1.0, **fields):
     return path
 
 
-def _very_strong_kangaroo(tmp_path) -> str:
-    """The built-in kangaroo with motors 10⁷ times as strong as its springs (`strength` in its sidecar)."""
-    source = resolve_character("kangaroo").parent
-    (tmp_path / "kangaroo.xml").write_text((source / "kangaroo.xml").read_text())
-    sidecar = (source / "kangaroo.eigengait.yaml").read_text()
-    (tmp_path / "kangaroo.eigengait.yaml").write_text(sidecar + "\nstrength: 1.0e7\n")
-    return str(tmp_path / "kangaroo.xml")
-
-
 def test_a_blow_up_during_play_names_time_and_body(tmp_path, capsys, monkeypatch):
-    path = _controller(tmp_path, scale_activations=1e7, torque_limit=1e9, character=_very_strong_kangaroo(tmp_path))
+    path = _controller(tmp_path, scale_activations=1e7, torque_limit=1e9)
     code, err = run_cli(capsys, monkeypatch, ["play", path, "--cycles", "1", "--json"])
     assert_clean_refusal(code, err)
     assert "blew up at t = " in err and "body '" in err and "c.json" in err

@@ -40,13 +40,16 @@ def test_default_damping_is_a_tenth_of_the_stiffness():
 
 
 def test_motor_limits_are_the_joint_stiffness_times_the_strength_angle():
-    world = build_world(load_character("humanoid"))
+    character = load_character("humanoid")
+    assert character.meta.strength is None
+    assert np.isinf(build_world(character).motor_limits).all()  # no strength stated: no per-joint limit
+    character.meta.strength = 1.0
+    world = build_world(character)
     model = world.model
     joints = model.dof_jntid[world.internal_qvel]
     springs = model.jnt_stiffness[joints] > 0  # isotropic joints carry MuJoCo's own stiffness
     assert springs.sum() > 10
-    strength = world.character.meta.strength
-    np.testing.assert_allclose(world.motor_limits[springs], strength * model.jnt_stiffness[joints][springs])
+    np.testing.assert_allclose(world.motor_limits[springs], model.jnt_stiffness[joints][springs])
     forearm, thigh = (world.motor_limits[joints == model.joint(n).id][0] for n in ("left_forearm", "left_thigh"))
     assert forearm < thigh / 5  # a light forearm cannot be driven like a leg
 

@@ -15,7 +15,7 @@ stiffness:                       # joint stiffness in N·m/rad, joint frame: (kx
   torso: [500, 800, 300]         # `auto` instead of a mapping: the sag rule (see `character/stiffness.py`)
   knee: 120
 damping_ratio: 0.1               # damping = damping_ratio × stiffness (s)
-strength: 0.7                    # rad: each motor's torque limit is its dof's stiffness × this angle
+strength: 1.0                    # rad: each motor's torque limit is its dof's stiffness × this angle (default: none)
 relax_poses:                     # named relax poses: joint -> rotation vector in degrees, joint frame
   crouched: {left_thigh: [0, -35, 0]}
 ```
@@ -60,7 +60,7 @@ class CharacterMetadata(BaseModel):
     mirror: MirrorSpec | None = None
     stiffness: dict[str, tuple[float, float, float] | float] | Literal["auto"] = Field(default_factory=dict)
     damping_ratio: float = Field(0.1, ge=0.0)
-    strength: float = Field(0.7, gt=0.0)
+    strength: float | None = Field(None, gt=0.0)
     relax_poses: dict[str, dict[str, tuple[float, float, float] | float]] = Field(default_factory=dict)
 
     @field_validator("eigengait")

@@ -68,7 +68,8 @@ def sidecar_yaml(character: Character, output: Path) -> str:
     if chosen:
         data["stiffness"] = chosen
     data["damping_ratio"] = meta.damping_ratio
-    data["strength"] = meta.strength
+    if meta.strength is not None:
+        data["strength"] = meta.strength
     if meta.relax_poses:
         data["relax_poses"] = {
             p: {j: list(v) if isinstance(v, tuple) else v for j, v in rot.items()}

@@ -4,7 +4,8 @@
   MuJoCo's native `stiffness`/`damping`; anisotropic ball joints (kx, ky, kz in the joint frame) use three passive
   actuators whose bias is −k_i·θ_i − d_i·θ̇_i, θ_i the rotation-vector component about joint axis i.
 * One motor per internal degree of freedom (`ctrl` = torque in N·m about that dof's axis, joint frame), in qvel
-  order: this is where controllers put their torques, within `motor_limits` (stiffness × `strength`).
+  order: this is where controllers put their torques, within `motor_limits` (stiffness × `strength`, if the
+  character states one).
 * Every body collides with the ground (not with itself); feet get toe and heel contact spheres from their sites.
   `contact="feet"` lets only the spheres collide, and `set_stance_foot` restricts that to one foot (the thesis's
   filtering).
@@ -86,8 +87,10 @@ class World:
     @property
     def motor_limits(self) -> np.ndarray:
         """Largest torque (N·m) of each motor: its dof's stiffness × the character's `strength` (rad), so a joint is
-        as strong as its spring at that deflection (light, soft limbs cannot be driven like the legs)."""
-        return self.character.meta.strength * self.dof_stiffness
+        as strong as its spring at that deflection (light, soft limbs cannot be driven like the legs); unlimited
+        (inf) when the character states no strength."""
+        strength = self.character.meta.strength
+        return np.full(self.nmotor, np.inf) if strength is None else strength * self.dof_stiffness
 
     def foot_radius(self, foot: str) -> float:
         """Radius (m) of the foot's contact spheres."""
