@@ -11,7 +11,7 @@ from typer.testing import CliRunner
 from eigengait.cli.track import register
 
 WALK = str(Path(__file__).resolve().parents[3] / "shared" / "data" / "mocap" / "cmu_02_01_walk.bvh")
-RUN = str(Path(__file__).resolve().parents[3] / "shared" / "data" / "mocap" / "cmu_16_36_run_daz.bvh")
+DAZ_WALK = str(Path(__file__).resolve().parents[3] / "shared" / "data" / "mocap" / "cmu_07_06_walk_daz.bvh")
 MAIN = (
     "import sys, typer; from eigengait.cli.track import register; from eigengait.errors import UserInputError\n"
     "app = typer.Typer(); register(app); app.command('noop')(lambda: None)\n"
@@ -46,14 +46,15 @@ def test_json_reports_the_required_fields(tmp_path):
 
 
 def test_kinematic_json_reports_the_reference_feet_and_the_source_conventions():
-    result = CliRunner().invoke(_app(), ["track", RUN, "--kinematic", "--clean-feet", "--json"])
+    result = CliRunner().invoke(_app(), ["track", DAZ_WALK, "--kinematic", "--clean-feet", "--json"])
     assert result.exit_code == 0, result.output
     out = json.loads(result.output)
     assert out["kinematic"] is True and out["feet_cleaned"] is True
+    assert out["first_frame"] == 4  # the T-pose and the blend out of it (frames 0-3) are skipped
     assert out["source"]["unit"] == "cm" and out["source"]["up_axis"] == "+y"
     assert out["raw"]["foot_skate_m"] > 0.05 > out["foot_skate_m"]
     assert out["stances"] >= 1 and out["floor_penetration_m"] < 0.005
-    raw = json.loads(CliRunner().invoke(_app(), ["track", RUN, "--kinematic", "--json"]).output)
+    raw = json.loads(CliRunner().invoke(_app(), ["track", DAZ_WALK, "--kinematic", "--json"]).output)
     assert raw["feet_cleaned"] is False and raw["foot_skate_m"] == out["raw"]["foot_skate_m"]
 
 

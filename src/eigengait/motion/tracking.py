@@ -14,15 +14,18 @@ from eigengait.inputs import check_range
 def reference_poses(
     clip_path: Path, character: str, mapping: Path | None, start_frame: int, clean: bool = False
 ) -> dict:
-    """Load and retarget a clip, then clean its feet (unless `clean` is False).
+    """Load and retarget a clip from `start_frame`, its lead-in skipped (`lead_in.py`), then clean its feet (unless
+    `clean` is False).
 
-    Returns world, poses (F, nq), frame_time (s), scale (m per file unit), conventions (or None when the skeleton's
-    legs are not found by name), raw and final foot reports (`foot_metrics`)."""
+    Returns world, poses (F, nq), first_frame (the clip frame they start at), frame_time (s), scale (m per file
+    unit), conventions (or None when the skeleton's legs are not found by name), raw and final foot reports
+    (`foot_metrics`)."""
     from eigengait.character import load_character
     from eigengait.motion.bvh import read_bvh
     from eigengait.motion.conventions import detect_conventions
     from eigengait.motion.foot_cleanup import clean_feet
     from eigengait.motion.foot_metrics import foot_report
+    from eigengait.motion.lead_in import first_frame_after_lead_in
     from eigengait.motion.retarget import builtin_mapping, load_mapping, retarget
     from eigengait.motion.skeleton_names import LEG_ROLES, find_roles
     from eigengait.motion.soles import sole_points
@@ -32,15 +35,17 @@ def reference_poses(
     char = load_character(character)
     world = build_world(char)
     chosen = load_mapping(mapping) if mapping else builtin_mapping(char.name, clip)
-    retargeted = retarget(clip, world, chosen, start_frame=start_frame)
+    first = first_frame_after_lead_in(clip, start_frame) if 0 <= start_frame < clip.n_frames - 1 else start_frame
+    retargeted = retarget(clip, world, chosen, start_frame=first)
     roles = find_roles(clip)
-    conventions = detect_conventions(clip, roles, start_frame) if set(LEG_ROLES) <= set(roles) else None
+    conventions = detect_conventions(clip, roles, first) if set(LEG_ROLES) <= set(roles) else None
     raw = foot_report(sole_points(world, retargeted.qpos), retargeted.frame_time)
     qpos = clean_feet(world, retargeted.qpos, retargeted.frame_time).qpos if clean else retargeted.qpos
     final = foot_report(sole_points(world, qpos), retargeted.frame_time) if clean else raw
     return {
         "world": world,
         "qpos": qpos,
+        "first_frame": first,
         "frame_time": retargeted.frame_time,
         "scale": retargeted.scale,
         "conventions": conventions,
@@ -54,6 +59,7 @@ def kinematic_summary(ref: dict, clean: bool) -> dict:
     conventions = ref["conventions"]
     return {
         "kinematic": True,
+        "first_frame": ref["first_frame"],
         "frames": len(ref["qpos"]),
         "duration_s": round((len(ref["qpos"]) - 1) * ref["frame_time"], 4),
         "frame_time_s": ref["frame_time"],
