@@ -60,6 +60,7 @@ def test_a_clip_that_starts_in_its_motion_keeps_its_start(tmp_path):
     clip = write_clip(tmp_path, swing(240))
     assert first_frame_after_lead_in(clip, 0) == 0
     assert first_frame_after_lead_in(clip, 7) == 7
+    assert first_frame_after_lead_in(clip, -5) == -5  # outside the clip: left for retarget to refuse
 
 
 def test_fast_motion_longer_than_a_lead_in_is_kept(tmp_path):

@@ -128,7 +128,6 @@ class LookaheadRunner:
         knots = int(np.ceil(settings.horizon_cycles * len(states_of_cycle))) + 1
         plan = np.zeros((knots, n_motor))
         x = system.initial_state(p)
-        standing_com = system.world.standing_com_height
         cost = self._task_cost(p, x, cycle_controls)
         spec = mujoco.mjtState.mjSTATE_CTRL | (mujoco.mjtState.mjSTATE_QFRC_APPLIED if pushes else 0)
         width = nu + (nv if pushes else 0)
@@ -152,7 +151,7 @@ class LookaheadRunner:
             s, d = self.pool.rollout(model, self.datas, x[None], control, control_spec=spec)
             out_states[0, n : n + segment], out_sensors[0, n : n + segment] = s[0], d[0]
             out_torques[0, n : n + segment] = control[0, :, :n_motor]
-            bad, blown, qvel = failed_steps(s, d, x[None, :1], system.world, standing_com, dt)
+            bad, blown, qvel = failed_steps(s, d, x[None, :1], system.world, cost.h, dt)
             bad, blown, qvel = bad[0], blown[0], qvel[0]
             if bad.any():
                 first = int(np.argmax(bad))

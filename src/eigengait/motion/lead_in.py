@@ -27,7 +27,10 @@ def largest_bone_turns_deg(clip: BvhClip, start_frame: int = 0) -> np.ndarray:
 
 
 def first_frame_after_lead_in(clip: BvhClip, start_frame: int) -> int:
-    """The first frame at or after `start_frame` where the clip's own motion has begun."""
+    """The first frame at or after `start_frame` where the clip's own motion has begun; a start frame outside the
+    clip is returned as it is, for `retarget` to refuse with its error."""
+    if not 0 <= start_frame < clip.n_frames - 1:
+        return start_frame
     turns = largest_bone_turns_deg(clip, start_frame)
     if turns.size < 2:
         return start_frame

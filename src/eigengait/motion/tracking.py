@@ -35,7 +35,7 @@ def reference_poses(
     char = load_character(character)
     world = build_world(char)
     chosen = load_mapping(mapping) if mapping else builtin_mapping(char.name, clip)
-    first = first_frame_after_lead_in(clip, start_frame) if 0 <= start_frame < clip.n_frames - 1 else start_frame
+    first = first_frame_after_lead_in(clip, start_frame)
     retargeted = retarget(clip, world, chosen, start_frame=first)
     roles = find_roles(clip)
     conventions = detect_conventions(clip, roles, first) if set(LEG_ROLES) <= set(roles) else None
