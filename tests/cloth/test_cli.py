@@ -102,6 +102,7 @@ def test_blow_up_warns_first_and_leaves_no_frames(tmp_path):
     )
     assert result.exit_code == 2
     assert "warning:" in result.output and "stable step" in result.output
+    assert "--integrator implicit" in result.output and "integrator=" not in result.output
     assert "line 3: DELTA_t" in result.output
     assert not list((tmp_path / "o").rglob("*.OBT"))
 

@@ -21,7 +21,7 @@ from eigengait.cloth.obt import read_obt
 from eigengait.cloth.output import staged_file, staged_output, write_frame, write_manifest
 from eigengait.cloth.par import read_par
 from eigengait.cloth.strain import DEFAULT_BOUND
-from eigengait.cli.flags import for_command_line
+from eigengait.cli.flags import for_command_line, keywords_as_flags
 from eigengait.errors import UserInputError
 from eigengait.inputs import check_range
 from eigengait.outputs import check_output
@@ -41,8 +41,9 @@ def _fail(error: UserInputError) -> typer.Exit:
 
 
 def _warn(caught) -> None:
+    """Print caught library warnings, their parameters written as this command's flags."""
     for w in caught:
-        errors.print(f"[yellow]warning:[/] {w.message}", highlight=False, soft_wrap=True)
+        errors.print(f"[yellow]warning:[/] {keywords_as_flags(str(w.message))}", highlight=False, soft_wrap=True)
 
 
 def _progress() -> Progress:

@@ -49,7 +49,7 @@ FLAGS = {
 _KEYWORD = re.compile(r"(?<![\w.-])(" + "|".join(FLAGS) + r")=(?:'([^']*)'|(True)\b|([-+]?\d[\w.]*))")
 
 
-def _keywords(text: str | None) -> str | None:
+def keywords_as_flags(text: str | None) -> str | None:
     """`name='v'`, `name=3` and `name=True` of known parameters written as flags."""
     if not text:
         return text
@@ -74,10 +74,10 @@ def for_command_line(error: UserInputError) -> UserInputError:
     shown = copy.copy(error)
     if error.file is None:
         shown.field = _field(error.field)
-    shown.message = _keywords(error.message)
-    shown.fix = _keywords(error.fix)
+    shown.message = keywords_as_flags(error.message)
+    shown.fix = keywords_as_flags(error.fix)
     shown.args = (str(shown),)
     return shown
 
 
-__all__ = ["FLAGS", "for_command_line"]
+__all__ = ["FLAGS", "for_command_line", "keywords_as_flags"]

@@ -67,7 +67,7 @@ def check_step(model: ClothModel, integrator: str, h: float, duration: float) ->
         warnings.warn(
             f"DELTA_t = {h:g} s is above the estimated stable step {limit:.3g} s for the '{integrator}' "
             f"integrator (ω_max ≈ {max_frequency(model):.3g} rad/s); the run will likely blow up. Use a "
-            "smaller DELTA_t or --integrator implicit.",
+            "smaller DELTA_t or integrator='implicit'.",
             StepSizeWarning,
             stacklevel=2,
         )

@@ -32,6 +32,7 @@ import mujoco
 import numpy as np
 
 from eigengait.control.pulse import State
+from eigengait.sim.root import quat_pitch_roll
 from eigengait.sim.world import GRAVITY, World
 
 FEEDBACK_DT = 0.01  # s between feature readings (feedback torques are held in between)
@@ -62,11 +63,10 @@ class FeedbackGains:
 
 
 def root_tilt(quat: np.ndarray, angvel_local: np.ndarray) -> np.ndarray:
-    """(pitch, roll, ω_pitch, ω_roll) of root quaternions (…×4, wxyz) and local angular velocities (…×3)."""
+    """(pitch, roll, ω_pitch, ω_roll) of root quaternions (…×4, wxyz) and local angular velocities (…×3); pitch and
+    roll as `sim.root.quat_pitch_roll` reads them (rad), ω about world y and x (rad/s)."""
+    pitch, roll = quat_pitch_roll(quat)
     w, x, y, z = np.moveaxis(quat, -1, 0)
-    r20, r21 = 2 * (x * z - w * y), 2 * (y * z + w * x)
-    pitch = np.arcsin(np.clip(-r20, -1, 1))
-    roll = np.arcsin(np.clip(r21, -1, 1))
     # world angular velocity = R ω_local; rows 0 and 1 of R
     r00, r01, r02 = 1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)
     r10, r11, r12 = 2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)

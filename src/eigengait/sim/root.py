@@ -15,6 +15,19 @@ import numpy as np
 AXIS_TOLERANCE = 0.99  # |cos| between a joint axis and a world axis to count as that axis
 
 
+def quat_pitch_roll(quat: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Pitch and roll (rad) of body-to-world quaternions (…, 4; w, x, y, z; normalised here), independent of yaw.
+
+    The intrinsic z-y-x (yaw, pitch, roll) Euler angles of the rotation R: pitch = asin(−R[2,0]) (about y, positive
+    nose down: the body x axis tilts toward −z), roll = atan2(R[2,1], R[2,2]) (about x, positive right side down:
+    the body y axis tilts toward +z). Both use only R's third row, so neither depends on the yaw.
+    """
+    w, x, y, z = np.moveaxis(quat / np.linalg.norm(quat, axis=-1, keepdims=True), -1, 0)
+    pitch = np.arcsin(np.clip(2 * (w * y - x * z), -1.0, 1.0))
+    roll = np.arctan2(2 * (y * z + w * x), 1 - 2 * (x * x + y * y))
+    return pitch, roll
+
+
 @dataclass(frozen=True)
 class RootLayout:
     """Addresses of the root coordinates. For a planar root, absent coordinates are None."""
@@ -70,17 +83,11 @@ class RootLayout:
     def tilt_deg(self, qpos: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Pitch and roll (degrees) of the root for qpos rows (…, nq), independent of the heading.
 
-        A free root: the intrinsic z-y-x (yaw, pitch, roll) Euler angles of its body-to-world rotation R (quaternion
-        normalised first), pitch = asin(−R[2,0]) (about y, positive nose down: the body x axis tilts toward −z),
-        roll = atan2(R[2,1], R[2,2]) (about x, positive right side down: the body y axis tilts toward +z); both use
-        only R's third row, so neither depends on the yaw. A planar root: its hinge about ±y as pitch (same sign
+        A free root: `quat_pitch_roll` of its quaternion. A planar root: its hinge about ±y as pitch (same sign
         convention) and roll 0. NaN for a planar root without that hinge.
         """
         if self.quat_qpos is not None:
-            quat = qpos[..., self.quat_qpos : self.quat_qpos + 4]
-            w, x, y, z = np.moveaxis(quat / np.linalg.norm(quat, axis=-1, keepdims=True), -1, 0)
-            pitch = np.arcsin(np.clip(2 * (w * y - x * z), -1.0, 1.0))
-            roll = np.arctan2(2 * (y * z + w * x), 1 - 2 * (x * x + y * y))
+            pitch, roll = quat_pitch_roll(qpos[..., self.quat_qpos : self.quat_qpos + 4])
             return np.degrees(pitch), np.degrees(roll)
         if self.pitch_qpos is not None:
             return np.degrees(self.pitch_sign * qpos[..., self.pitch_qpos]), np.zeros(qpos.shape[:-1])
