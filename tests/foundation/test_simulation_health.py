@@ -7,6 +7,7 @@ import json
 import numpy as np
 import pytest
 
+from eigengait.character.library import resolve_character
 from eigengait.control.library import resolve
 from eigengait.json_text import dumps
 from eigengait.sim.stepping import MAX_CONTROL, MAX_SPEED, blown_up_dof, blown_up_steps, first_bad_torque
@@ -76,8 +77,19 @@ def _controller(tmp_path, scale_activations=1.0, **fields):
     return path
 
 
+def _kangaroo_without_strength(tmp_path) -> str:
+    """A sidecar of the built-in kangaroo with no `strength`: its motors are limited by `torque_limit` only."""
+    model = resolve_character("kangaroo")
+    text = model.with_name("kangaroo.eigengait.yaml").read_text().replace("strength: 1.0\n", "")
+    assert "strength" not in text
+    out = tmp_path / "kangaroo.eigengait.yaml"
+    out.write_text(f"model: {model}\n{text}")
+    return str(out)
+
+
 def test_a_blow_up_during_play_names_time_and_body(tmp_path, capsys, monkeypatch):
-    path = _controller(tmp_path, scale_activations=1e7, torque_limit=1e9)
+    character = _kangaroo_without_strength(tmp_path)  # the built-in one's strength would clip the torques
+    path = _controller(tmp_path, scale_activations=1e7, torque_limit=1e9, character=character)
     code, err = run_cli(capsys, monkeypatch, ["play", path, "--cycles", "1", "--json"])
     assert_clean_refusal(code, err)
     assert "blew up at t = " in err and "body '" in err and "c.json" in err

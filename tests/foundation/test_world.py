@@ -41,7 +41,8 @@ def test_default_damping_is_a_tenth_of_the_stiffness():
 
 def test_motor_limits_are_the_joint_stiffness_times_the_strength_angle():
     character = load_character("humanoid")
-    assert character.meta.strength is None
+    assert character.meta.strength == 1.0  # the built-in sidecar states it
+    character.meta.strength = None
     assert np.isinf(build_world(character).motor_limits).all()  # no strength stated: no per-joint limit
     character.meta.strength = 1.0
     world = build_world(character)
