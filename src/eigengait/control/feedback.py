@@ -32,6 +32,7 @@ import mujoco
 import numpy as np
 
 from eigengait.control.pulse import State
+from eigengait.geometry import quat_to_mat
 from eigengait.sim.root import quat_pitch_roll
 from eigengait.sim.world import GRAVITY, World
 
@@ -66,12 +67,8 @@ def root_tilt(quat: np.ndarray, angvel_local: np.ndarray) -> np.ndarray:
     """(pitch, roll, ω_pitch, ω_roll) of root quaternions (…×4, wxyz) and local angular velocities (…×3); pitch and
     roll as `sim.root.quat_pitch_roll` reads them (rad), ω about world y and x (rad/s)."""
     pitch, roll = quat_pitch_roll(quat)
-    w, x, y, z = np.moveaxis(quat, -1, 0)
-    # world angular velocity = R ω_local; rows 0 and 1 of R
-    r00, r01, r02 = 1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)
-    r10, r11, r12 = 2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)
-    wx = r00 * angvel_local[..., 0] + r01 * angvel_local[..., 1] + r02 * angvel_local[..., 2]
-    wy = r10 * angvel_local[..., 0] + r11 * angvel_local[..., 1] + r12 * angvel_local[..., 2]
+    rotation = quat_to_mat(quat)  # world angular velocity = R ω_local; its x and y rows
+    wx, wy = (sum(rotation[..., row, k] * angvel_local[..., k] for k in range(3)) for row in (0, 1))
     return np.stack([pitch, roll, wy, wx], axis=-1)
 
 

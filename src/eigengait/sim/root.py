@@ -12,6 +12,8 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
+from eigengait.geometry import quat_to_mat
+
 AXIS_TOLERANCE = 0.99  # |cos| between a joint axis and a world axis to count as that axis
 
 
@@ -22,10 +24,8 @@ def quat_pitch_roll(quat: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     nose down: the body x axis tilts toward −z), roll = atan2(R[2,1], R[2,2]) (about x, positive right side down:
     the body y axis tilts toward +z). Both use only R's third row, so neither depends on the yaw.
     """
-    w, x, y, z = np.moveaxis(quat / np.linalg.norm(quat, axis=-1, keepdims=True), -1, 0)
-    pitch = np.arcsin(np.clip(2 * (w * y - x * z), -1.0, 1.0))
-    roll = np.arctan2(2 * (y * z + w * x), 1 - 2 * (x * x + y * y))
-    return pitch, roll
+    r20, r21, r22 = np.moveaxis(quat_to_mat(quat / np.linalg.norm(quat, axis=-1, keepdims=True))[..., 2, :], -1, 0)
+    return np.arcsin(np.clip(-r20, -1.0, 1.0)), np.arctan2(r21, r22)
 
 
 @dataclass(frozen=True)
