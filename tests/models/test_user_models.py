@@ -38,6 +38,17 @@ def test_model_loads_with_its_modes_and_feet(model):
     assert np.all(np.diff(air.frequencies_hz) >= 0) and air.frequencies_hz[0] > 0
 
 
+def test_builtin_planar_walker_is_the_users_walker_with_the_auto_stiffness():
+    """The built-in keeps dm_control's file as shipped; its sidecar holds what `--stiffness auto` chooses."""
+    builtin = load_character("planar-walker")
+    assert builtin.path.read_bytes() == WALKER.read_bytes()
+    assert builtin.name == "planar-walker" and builtin.meta.strength == 1.0
+    users = load_character(WALKER, stiffness="auto")
+    assert set(builtin.stiffness) == set(users.stiffness) and builtin.root_joints == users.root_joints
+    for joint, k in users.stiffness.items():
+        np.testing.assert_allclose(builtin.stiffness[joint], k, rtol=1e-6)
+
+
 def test_planar_root_gives_the_free_root_modes_of_a_planar_creature(tmp_path):
     """The walker with both legs moved into the plane y = 0 has all its mass in that plane and all joints about y:
     with a free root instead of slide x/z + hinge y, only rigid out-of-plane motion is added, so the non-rigid

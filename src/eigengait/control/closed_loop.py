@@ -138,6 +138,17 @@ class FeedbackPlan:
         self.ref_phase: list[float] = []  # first-cycle readings: phase (s) and features
         self.ref_value: list[np.ndarray] = []
 
+    def torque(
+        self, reader: FeatureReader, cycle: int, phase: float, state: np.ndarray, sensors: np.ndarray
+    ) -> np.ndarray | float:
+        """Feedback torque (n_motor,) at a cycle's `phase` (s) from the current state and sensors; 0 while the first
+        cycle is recorded as the reference, or with no mechanism enabled."""
+        k = self.state_index(phase)
+        features = reader.read(state, sensors, self.roles[k].support)
+        if self.record(cycle, phase, features) or not self.enabled:
+            return 0.0
+        return self.G[k] @ (features - self.reference(phase))
+
     def record(self, cycle: int, phase: float, features: np.ndarray) -> bool:
         """Store a first-cycle reading (phase in s); True while the reference is still being recorded."""
         if cycle == 0:
@@ -239,10 +250,10 @@ class ClosedLoopRunner:
                     continue
                 clock, period = clocks[i], params[i].period
                 if clock is None:
-                    tau_fb = self._feedback(plans[i], int(t // period), t % period, state[i], sensors_now[i])
+                    tau_fb = plans[i].torque(self.reader, int(t // period), t % period, state[i], sensors_now[i])
                     u = ff[i][a:upto].copy()
                 else:
-                    tau_fb = self._feedback(plans[i], clock.cycle, clock.phase_time, state[i], sensors_now[i])
+                    tau_fb = plans[i].torque(self.reader, clock.cycle, clock.phase_time, state[i], sensors_now[i])
                     u = clock.controls(upto - a)
                 u[:, :n_motor] = np.clip(u[:, :n_motor] + tau_fb, -limit, limit)
                 control[k, : upto - a, :nu] = u
@@ -292,16 +303,6 @@ class ClosedLoopRunner:
                 for i, (p, c) in enumerate(zip(params, clocks))
             ],
         )
-
-    def _feedback(
-        self, plan: FeedbackPlan, cycle: int, phase: float, state: np.ndarray, sensors: np.ndarray
-    ) -> np.ndarray:
-        """Feedback torque at a cycle's `phase` (s) from the current state and sensors."""
-        k = plan.state_index(phase)
-        features = self.reader.read(state, sensors, plan.roles[k].support)
-        if plan.record(cycle, phase, features) or not plan.enabled:
-            return 0.0
-        return plan.G[k] @ (features - plan.reference(phase))
 
     def _touching(self, sensors: np.ndarray) -> dict[str, bool]:
         """Whether each foot touches the ground (`sim/contacts.py`), from its contact spheres' centre sensors."""
