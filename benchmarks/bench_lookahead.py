@@ -5,9 +5,10 @@ as optimized) and with it, then with it under the issue's push test (0.5 N·s/kg
 phases of cycle 3, ten cycles after). One row per gait and setting: cycles survived, speed, flight fraction,
 cadence, mean stance slip, largest frame jump, torso pitch and roll, pushes survived, and the wall time as a
 multiple of the played (simulated) time, the cost of the decisions. `--seeds N` plays the lookahead with N planner
-seeds to show that survival does not hang on one.
+seeds to show how much survival hangs on one; `--feedback` plays each seed once more with the controller's balance
+feedback inside the plans and the played motion (`LookaheadSettings.feedback`), the ablation of docs/locomotion.md.
 
-Usage: python benchmarks/bench_lookahead.py [GAIT ...] [--cycles 20] [--seeds 1] [--no-pushes]
+Usage: python benchmarks/bench_lookahead.py [GAIT ...] [--cycles 20] [--seeds 1] [--feedback] [--no-pushes]
 """
 
 from __future__ import annotations
@@ -40,6 +41,7 @@ def main() -> None:
     parser.add_argument("gaits", nargs="*", default=gait_names())
     parser.add_argument("--cycles", type=int, default=20)
     parser.add_argument("--seeds", type=int, default=1)
+    parser.add_argument("--feedback", action="store_true", help="also play with feedback inside the lookahead")
     parser.add_argument("--no-pushes", action="store_true")
     args = parser.parse_args()
     print(
@@ -57,12 +59,14 @@ def main() -> None:
         if controller.lookahead is None:
             continue
         for seed in range(args.seeds):
-            planner = dataclasses.replace(controller.lookahead.settings(), seed=seed)
-            t0 = time.perf_counter()
-            result = play(system, params, cycles=args.cycles, lookahead=planner)
-            wall = time.perf_counter() - t0
-            pushes = None if args.no_pushes else push_robustness(system, params, lookahead=planner)
-            print(row(name, f"lookahead (seed {seed})", result, wall, pushes), flush=True)
+            for feedback in (False, True) if args.feedback else (controller.lookahead.feedback,):
+                planner = dataclasses.replace(controller.lookahead.settings(), seed=seed, feedback=feedback)
+                t0 = time.perf_counter()
+                result = play(system, params, cycles=args.cycles, lookahead=planner)
+                wall = time.perf_counter() - t0
+                pushes = None if args.no_pushes else push_robustness(system, params, lookahead=planner)
+                label = f"lookahead{' + feedback' if feedback else ''} (seed {seed})"
+                print(row(name, label, result, wall, pushes), flush=True)
 
 
 if __name__ == "__main__":

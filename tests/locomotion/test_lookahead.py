@@ -1,5 +1,6 @@
 """Lookahead (predictive sampling of the modal pulses at each state start): its cost, its effect, its files."""
 
+import dataclasses
 import json
 from pathlib import Path
 
@@ -8,6 +9,7 @@ import numpy as np
 import pytest
 
 from eigengait.control.closed_loop import ClosedLoopRunner, Push
+from eigengait.control.feedback import FeedbackGains
 from eigengait.control.controller import ControllerFile, load_controller, system_for, to_file, to_parameters
 from eigengait.control.lookahead import (
     FALL_COST,
@@ -94,6 +96,40 @@ def test_lookahead_is_deterministic_and_pushes_act_on_the_played_motion(hopper):
     vy = system.world.comvel_sensor + 1
     after = int(round(0.4 / system.world.model.opt.timestep))
     assert runs[2].sensors[0, after, vy] - runs[0].sensors[0, after, vy] > 5.0  # 20 N·s/kg sideways
+
+
+class RecordingRunner(LookaheadRunner):
+    """Keeps every batch of simulated plans: (start time s, states, sensors)."""
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        self.predicted = []
+
+    def _simulate_plans(self, x, controls, time, sensors, feedback):
+        states, out = super()._simulate_plans(x, controls, time, sensors, feedback)
+        self.predicted.append((time, states, out))
+        return states, out
+
+
+def test_with_feedback_the_plans_predict_the_played_motion_feedback_included(hopper):
+    """Hip feedback on, plans at the physics timestep: the first cycle (the feedback's reference) plays as without
+    feedback; after it, the plan that was chosen simulated exactly the motion then played, the feedback's torques
+    included (so the feedback acts in the plans as in the played motion), and those torques differ from the pulses'."""
+    system, p, _ = hopper
+    gains = dataclasses.replace(p, feedback=FeedbackGains(hip=np.full(8, 50.0)))
+    runs, runners = {}, {}
+    for on in (True, False):
+        runners[on] = RecordingRunner(system, LookaheadSettings(speed=1.0, feedback=on, plan_substeps=1, **QUICK))
+        runs[on] = runners[on].run(gains, 2)
+        runners[on].close()
+    dt = system.world.model.opt.timestep
+    n0 = int(round(p.period / dt))
+    np.testing.assert_array_equal(runs[True].torques[0, :n0], runs[False].torques[0, :n0])
+    time, predicted, _ = next(batch for batch in runners[True].predicted if batch[0] >= p.period)
+    start = int(round(time / dt))
+    played = runs[True].states[0, start : start + 50]
+    assert np.abs(predicted[:, :50] - played[None]).max(axis=(1, 2)).min() < 1e-6
+    assert np.abs(runs[True].torques[0, start:] - runs[False].torques[0, start:]).max() > 1.0
 
 
 def test_controller_file_keeps_lookahead_and_refuses_it_with_touchdown_timing(hopper, tmp_path):

@@ -147,7 +147,12 @@ class FeedbackPlan:
         features = reader.read(state, sensors, self.roles[k].support)
         if self.record(cycle, phase, features) or not self.enabled:
             return 0.0
-        return self.G[k] @ (features - self.reference(phase))
+        return self.response(k, features, phase)
+
+    def response(self, k: int, features: np.ndarray, phase: float) -> np.ndarray:
+        """Torque (…×n_motor) of state k's gains for features (…×8) read at a cycle's `phase` (s), once the
+        reference cycle is recorded."""
+        return (features - self.reference(phase)) @ self.G[k].T
 
     def record(self, cycle: int, phase: float, features: np.ndarray) -> bool:
         """Store a first-cycle reading (phase in s); True while the reference is still being recorded."""

@@ -75,6 +75,7 @@ class LookaheadFile(BaseModel):
     modes: int | None = Field(None, ge=1, le=10_000)
     plan_substeps: int = Field(2, ge=1, le=16)
     seed: int = 0
+    feedback: bool = False  # plans and played motion add the controller's balance feedback
 
     def settings(self) -> LookaheadSettings:
         return LookaheadSettings(**self.model_dump())

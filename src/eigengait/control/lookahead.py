@@ -11,8 +11,10 @@ playing the pulses as they are. `refinements` more rounds then draw plans around
 each; when every plan still falls, the spread is doubled (twice at most) and plans are drawn again.
 
 Pushes act on the played motion only: the planner does not foresee them and answers them at the next state start.
-The state machine runs on the clock (a touchdown-triggered gait is refused by the controller file), and the
-controller's hip-feedback gains are not applied: plans are whole rollouts, not 10 ms chunks.
+The state machine runs on the clock (a touchdown-triggered gait is refused by the controller file). With `feedback`
+on, the controller's own balance feedback (`feedback.py`: read every 10 ms against the first played cycle) is added
+to the played motion and, once that reference cycle is recorded, to every plan, simulated in 10 ms chunks as the
+optimizer does; off (the default: measured in docs/locomotion.md), plans and played motion are the pulses alone.
 """
 
 from __future__ import annotations
@@ -25,7 +27,16 @@ import mujoco
 import numpy as np
 from mujoco import rollout
 
-from eigengait.control.closed_loop import BatchRun, Push, add_pushes, clock_cycle_ends, failed_steps, fallen
+from eigengait.control.closed_loop import (
+    BatchRun,
+    FeedbackPlan,
+    Push,
+    add_pushes,
+    clock_cycle_ends,
+    failed_steps,
+    fallen,
+)
+from eigengait.control.feedback import FEEDBACK_DT, FeatureReader, hip_motors
 from eigengait.control.gait import GaitParameters, GaitSystem
 from eigengait.sim.stepping import blown_up_dof
 from eigengait.sim.world import GRAVITY
@@ -54,6 +65,7 @@ class LookaheadSettings:
     modes: int | None = None  # the lowest modes of each state's basis that the plans move (None: all)
     plan_substeps: int = 2  # planning timestep = plan_substeps × the physics timestep
     seed: int = 0
+    feedback: bool = False  # plans and played motion add the controller's balance feedback
 
 
 class TaskCost:
@@ -103,6 +115,9 @@ class LookaheadRunner:
         self.plan_datas = [mujoco.MjData(self.plan_model) for _ in range(max(1, threads))]
         self.pool = rollout.Rollout(nthread=threads if threads > 1 else 0)
         self.rng = np.random.default_rng(settings.seed)
+        self.reader = FeatureReader(system.world)
+        self.motors = {f: hip_motors(system.world, f) for f in dict.fromkeys(system.feet)}
+        self.chunk = max(1, int(round(FEEDBACK_DT / self.model.opt.timestep)))
         self.rollouts = 0  # plans simulated so far
 
     def close(self) -> None:
@@ -127,8 +142,11 @@ class LookaheadRunner:
         scale = _mean_activation(p)
         knots = int(np.ceil(settings.horizon_cycles * len(states_of_cycle))) + 1
         plan = np.zeros((knots, n_motor))
-        x = system.initial_state(p)
+        x, x_sensors = system.initial_state(p), system.initial_sensors(p)
         cost = self._task_cost(p, x, cycle_controls)
+        feedback = FeedbackPlan(system, p, self.motors) if p.feedback.enabled and settings.feedback else None
+        chunk = self.chunk if feedback is not None else n_cycle
+        limit = system.torque_limits
         spec = mujoco.mjtState.mjSTATE_CTRL | (mujoco.mjtState.mjSTATE_QFRC_APPLIED if pushes else 0)
         width = nu + (nv if pushes else 0)
         out_states = np.zeros((1, total, x.size))
@@ -143,24 +161,34 @@ class LookaheadRunner:
             ]
             horizon = min(sum(lengths), int(round(settings.horizon_cycles * n_cycle)))
             nominal = cycle_controls[(n + np.arange(horizon)) % n_cycle]
-            plan, controls = self._decide(x, plan, nominal, lengths, horizon, state, directions, scale, cost)
+            start = (n * dt, x_sensors, feedback)
+            plan, controls = self._decide(x, plan, nominal, lengths, horizon, state, directions, scale, cost, start)
             segment = min(lengths[0], total - n)
-            control = np.zeros((1, segment, width))
-            control[0, :, :nu] = controls[:segment]
-            add_pushes(control, pushes, n, dt, nu)
-            s, d = self.pool.rollout(model, self.datas, x[None], control, control_spec=spec)
-            out_states[0, n : n + segment], out_sensors[0, n : n + segment] = s[0], d[0]
-            out_torques[0, n : n + segment] = control[0, :, :n_motor]
-            bad, blown, qvel = failed_steps(s, d, x[None, :1], system.world, cost.h, dt)
-            bad, blown, qvel = bad[0], blown[0], qvel[0]
-            if bad.any():
-                first = int(np.argmax(bad))
-                fell, fell_time = True, (n + first + 1) * dt
-                if blown[first]:
-                    blow_up = (fell_time, blown_up_dof(qvel, first))
-                n += first + 1
+            for a in range(0, segment, chunk):
+                b = min(segment, a + chunk)
+                u = controls[a:b].copy()
+                if feedback is not None:
+                    t = (n + a) * dt
+                    tau = feedback.torque(self.reader, int(t // p.period), t % p.period, x, x_sensors)
+                    u[:, :n_motor] = np.clip(u[:, :n_motor] + tau, -limit, limit)
+                control = np.zeros((1, b - a, width))
+                control[0, :, :nu] = u
+                add_pushes(control, pushes, n + a, dt, nu)
+                s, d = self.pool.rollout(model, self.datas, x[None], control, control_spec=spec)
+                out_states[0, n + a : n + b], out_sensors[0, n + a : n + b] = s[0], d[0]
+                out_torques[0, n + a : n + b] = control[0, :, :n_motor]
+                bad, blown, qvel = failed_steps(s, d, x[None, :1], system.world, cost.h, dt)
+                bad, blown, qvel = bad[0], blown[0], qvel[0]
+                if bad.any():
+                    first = int(np.argmax(bad))
+                    fell, fell_time = True, (n + a + first + 1) * dt
+                    if blown[first]:
+                        blow_up = (fell_time, blown_up_dof(qvel, first))
+                    n += a + first + 1
+                    break
+                x, x_sensors = s[0, -1].copy(), d[0, -1].copy()
+            if fell:
                 break
-            x = s[0, -1].copy()
             n += segment
             k += 1
             if progress is not None and state == len(states_of_cycle) - 1:
@@ -185,9 +213,9 @@ class LookaheadRunner:
         height = float(np.mean(d[0, :, com + 2]))
         return TaskCost(system, self.settings.speed, height, p.qpos0, system.initial_com(p))
 
-    def _decide(self, x, plan, nominal, lengths, horizon, state, directions, scale, cost):
+    def _decide(self, x, plan, nominal, lengths, horizon, state, directions, scale, cost, start):
         """Best plan (knots × motors) and its controls (horizon × nu) from state `x`; the plan comes back shifted
-        by one state, ready to warm-start the next decision."""
+        by one state, ready to warm-start the next decision. `start`: (time s, sensors, feedback plan or None)."""
         settings, n_motor = self.settings, self.system.world.nmotor
         K, knots, sub = settings.samples, len(lengths), settings.plan_substeps
         bounds = np.concatenate([[0], np.cumsum(lengths)])
@@ -208,12 +236,7 @@ class LookaheadRunner:
                 if lo < hi:
                     controls[:, lo:hi, :n_motor] += candidates[:, j, None]
             controls[..., :n_motor] = np.clip(controls[..., :n_motor], -limit, limit)
-            s, d = self.pool.rollout(
-                self.plan_model,
-                self.plan_datas,
-                np.repeat(x[None], K, axis=0),
-                np.ascontiguousarray(controls[:, sub - 1 :: sub]),
-            )
+            s, d = self._simulate_plans(x, np.ascontiguousarray(controls[:, sub - 1 :: sub]), *start)
             self.rollouts += K
             scores = cost(s, d, max(1, int(round(COST_EVERY / self.plan_model.opt.timestep))))
             i = int(np.argmin(scores))
@@ -224,6 +247,33 @@ class LookaheadRunner:
                 break
         shifted = np.vstack([best[1:], np.zeros((1, n_motor))])
         return shifted, best_controls
+
+    def _simulate_plans(self, x, controls, time, sensors, feedback):
+        """Rollout states and sensors of plans (controls: plans × plan steps × nu) from state `x` at `time` (s).
+        Once the feedback's reference cycle is recorded, the plans add the controller's feedback as the played
+        motion will, read every `FEEDBACK_DT` of plan time; before that, or with none, one rollout call."""
+        K, steps = controls.shape[:2]
+        now = np.repeat(x[None], K, axis=0)
+        if feedback is None or time < feedback.period:
+            return self.pool.rollout(self.plan_model, self.plan_datas, now, controls)
+        n_motor, limit = self.system.world.nmotor, self.system.torque_limits
+        dt = self.plan_model.opt.timestep
+        chunk = max(1, int(round(FEEDBACK_DT / dt)))
+        states, out = np.empty((K, steps, x.size)), np.empty((K, steps, sensors.size))
+        now_sensors = np.repeat(sensors[None], K, axis=0)
+        for a in range(0, steps, chunk):
+            b = min(steps, a + chunk)
+            phase = (time + a * dt) % feedback.period
+            k = feedback.state_index(phase)
+            with np.errstate(invalid="ignore", over="ignore"):
+                features = self.reader.read(now, now_sensors, feedback.roles[k].support)
+                tau = np.nan_to_num(feedback.response(k, features, phase), nan=0.0, posinf=0.0, neginf=0.0)
+            u = controls[:, a:b].copy()
+            u[..., :n_motor] = np.clip(u[..., :n_motor] + tau[:, None], -limit, limit)
+            s, d = self.pool.rollout(self.plan_model, self.plan_datas, now, u)
+            states[:, a:b], out[:, a:b] = s, d
+            now, now_sensors = np.ascontiguousarray(s[:, -1]), d[:, -1]
+        return states, out
 
 
 def _mean_activation(p: GaitParameters) -> float:
