@@ -27,6 +27,7 @@ GAITS = {
     "kangaroo-hop": "kangaroo",
     "dog-trot": "dog-trot",
     "planar-walker-walk": "planar-walker",
+    "humanoid-lateral-sway": "lateral-sway",
 }
 PUSHED = ("humanoid-basic-run", "dog-trot")  # the gaits with a push target (docs/locomotion.md)
 WITHOUT = "without_lookahead_"  # prefix of the figures of the same gait played without its lookahead
