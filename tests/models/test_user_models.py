@@ -11,9 +11,12 @@ import pytest
 from eigengait.character import load_character
 from eigengait.character.guess import mirror_pairs
 from eigengait.character.stiffness import GRAVITY, SAG_DEG
+from eigengait.control.sketch import load_sketch
 from eigengait.errors import UserInputError
 from eigengait.modal import compute_modes
+from eigengait.optimize.problem import Problem
 from eigengait.sim import build_world
+from eigengait.sim.stepping import MAX_SPEED
 
 MODELS = Path(__file__).resolve().parents[3] / "shared" / "data" / "models" / "dm_control"  # beside the repo
 WALKER = MODELS / "suite" / "walker.xml"
@@ -47,6 +50,29 @@ def test_builtin_planar_walker_is_the_users_walker_with_the_auto_stiffness():
     assert set(builtin.stiffness) == set(users.stiffness) and builtin.root_joints == users.root_joints
     for joint, k in users.stiffness.items():
         np.testing.assert_allclose(builtin.stiffness[joint], k, rtol=1e-6)
+
+
+def test_initial_poses_stay_inside_joint_ranges(tmp_path, eigengait_cli):
+    """The quadruped's starter sketch: modal initial poses reach beyond its ankles' ranges, and a violated limit
+    launched the body within 3 ms. Decoded poses are clipped into every limited hinge's range and simulate 10 ms
+    with no torque without blowing up."""
+    sketch = tmp_path / "q.yaml"
+    made = eigengait_cli("sketch", "new", MODELS / "suite/quadruped.xml", "--stiffness", "auto", "-o", sketch)
+    assert made.returncode == 0, made.stderr
+    problem = Problem.from_sketch(load_sketch(sketch))
+    model = problem.system.world.model
+    hinges = [
+        j for j in np.flatnonzero(model.jnt_limited) if int(model.jnt_type[j]) == int(mujoco.mjtJoint.mjJNT_HINGE)
+    ]
+    for x in np.random.default_rng(0).uniform(0, 1, (8, problem.space.size)):
+        p = problem.space.decode(x)
+        for j in hinges:
+            low, high = model.jnt_range[j]
+            assert low <= p.qpos0[model.jnt_qposadr[j]] <= high
+        data = mujoco.MjData(model)
+        data.qpos[:], data.qvel[:] = p.qpos0, p.qvel0
+        mujoco.mj_step(model, data, 20)
+        assert np.isfinite(data.qvel).all() and np.abs(data.qvel).max() < MAX_SPEED
 
 
 def test_planar_root_gives_the_free_root_modes_of_a_planar_creature(tmp_path):

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
+from eigengait.sim.limits import clip_to_joint_ranges
 from eigengait.control.feedback import FEATURES, HIP_GAINS, FeedbackGains
 from eigengait.control.gait import GaitParameters, GaitSystem
 from eigengait.control.sketch import Sketch
@@ -152,6 +153,7 @@ class ParameterSpace:
         disp[list(root.translation_qvel)] = 0.0  # root translation is set below; modes keep joints and rotation
         mujoco.mj_integratePos(model, qpos, disp, 1.0)
         root.lift_and_pitch(qpos, get("root_height"), get("root_pitch"))
+        clip_to_joint_ranges(model, qpos)
         qvel[:] = vel
         for adr, name in ((root.forward_qvel, "root_speed_x"), (root.vertical_qvel, "root_speed_z")):
             if adr is not None:
