@@ -50,6 +50,10 @@ def test_builtin_planar_walker_is_the_users_walker_with_the_auto_stiffness():
     assert set(builtin.stiffness) == set(users.stiffness) and builtin.root_joints == users.root_joints
     for joint, k in users.stiffness.items():
         np.testing.assert_allclose(builtin.stiffness[joint], k, rtol=1e-6)
+    model = build_world(builtin).model  # the model's own floor strip is kept but not drawn over eigengait's
+    floor = model.geom("floor").id
+    assert model.geom_rgba[floor][3] == 0.0 and model.geom_matid[floor] == -1
+    assert model.geom_rgba[model.geom("eigengait:floor").id][3] > 0.0
 
 
 def test_initial_poses_stay_inside_joint_ranges(tmp_path, eigengait_cli):

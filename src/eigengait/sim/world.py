@@ -184,8 +184,18 @@ def _set_contacts(spec: mujoco.MjSpec, character: Character, contact: str) -> No
             g.rgba = [0.9, 0.3, 0.2, 1]
 
 
+def _hide_model_planes(spec: mujoco.MjSpec) -> None:
+    """A user's model may bring its own ground planes: they make no contacts (`_set_contacts`) but would be drawn in
+    the plane of eigengait's floor and flicker through it, so they are made invisible."""
+    for geom in spec.worldbody.geoms:
+        if geom.type == mujoco.mjtGeom.mjGEOM_PLANE:
+            geom.material = ""
+            geom.rgba = [0.0, 0.0, 0.0, 0.0]
+
+
 def _add_floor_and_sensors(spec: mujoco.MjSpec, character: Character, root_name: str, floor: bool) -> None:
     if floor:
+        _hide_model_planes(spec)
         tex = spec.add_texture(
             name="eigengait:grid",
             type=mujoco.mjtTexture.mjTEXTURE_2D,
