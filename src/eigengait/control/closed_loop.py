@@ -18,11 +18,11 @@ import numpy as np
 from mujoco import rollout
 
 from eigengait.control.feedback import (
-    FEEDBACK_DT,
     MIRROR_SIGNS,
     FeatureReader,
     FeedbackGains,
-    hip_motors,
+    hip_motors_by_foot,
+    steps_per_reading,
     hip_torque,
     state_roles,
 )
@@ -199,9 +199,9 @@ class ClosedLoopRunner:
         self.datas = [mujoco.MjData(self.model) for _ in range(max(1, threads))]
         self.pool = rollout.Rollout(nthread=threads if threads > 1 else 0)  # this runner's own threads
         self.reader = FeatureReader(world)
-        self.motors = {f: hip_motors(world, f) for f in dict.fromkeys(system.feet)}
+        self.motors = hip_motors_by_foot(world, system.feet)
         self.standing_com = world.standing_com_height
-        self.chunk = max(1, int(round(FEEDBACK_DT / self.model.opt.timestep)))
+        self.chunk = steps_per_reading(self.model.opt.timestep)
         self.motor_dofs = np.asarray(world.internal_qvel)
         self.feet = {f: (world.foot_point_sensors(f), world.foot_radius(f)) for f in world.character.feet}
         self.steps_simulated = 0

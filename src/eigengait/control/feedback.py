@@ -147,6 +147,16 @@ def hip_motors(world: World, foot: str) -> tuple[int, int]:
     return motor[int(pitch)], motor[int(roll)]
 
 
+def hip_motors_by_foot(world: World, feet: list[str]) -> dict[str, tuple[int, int]]:
+    """`hip_motors` of each distinct foot of a gait's foot sequence."""
+    return {f: hip_motors(world, f) for f in dict.fromkeys(feet)}
+
+
+def steps_per_reading(timestep: float) -> int:
+    """Physics steps (of `timestep` s) between two feature readings, `FEEDBACK_DT` apart."""
+    return max(1, int(round(FEEDBACK_DT / timestep)))
+
+
 @dataclass
 class StateRole:
     """Which feet a state reads and drives: support toe for features, swing and stance hips for `hip`."""

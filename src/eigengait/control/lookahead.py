@@ -36,7 +36,7 @@ from eigengait.control.closed_loop import (
     failed_steps,
     fallen,
 )
-from eigengait.control.feedback import FEEDBACK_DT, FeatureReader, hip_motors
+from eigengait.control.feedback import FeatureReader, hip_motors_by_foot, steps_per_reading
 from eigengait.control.gait import GaitParameters, GaitSystem
 from eigengait.sim.stepping import blown_up_dof
 from eigengait.sim.world import GRAVITY
@@ -116,8 +116,8 @@ class LookaheadRunner:
         self.pool = rollout.Rollout(nthread=threads if threads > 1 else 0)
         self.rng = np.random.default_rng(settings.seed)
         self.reader = FeatureReader(system.world)
-        self.motors = {f: hip_motors(system.world, f) for f in dict.fromkeys(system.feet)}
-        self.chunk = max(1, int(round(FEEDBACK_DT / self.model.opt.timestep)))
+        self.motors = hip_motors_by_foot(system.world, system.feet)
+        self.chunk = steps_per_reading(self.model.opt.timestep)
         self.rollouts = 0  # plans simulated so far
 
     def close(self) -> None:
@@ -258,7 +258,7 @@ class LookaheadRunner:
             return self.pool.rollout(self.plan_model, self.plan_datas, now, controls)
         n_motor, limit = self.system.world.nmotor, self.system.torque_limits
         dt = self.plan_model.opt.timestep
-        chunk = max(1, int(round(FEEDBACK_DT / dt)))
+        chunk = steps_per_reading(dt)
         states, out = np.empty((K, steps, x.size)), np.empty((K, steps, sensors.size))
         now_sensors = np.repeat(sensors[None], K, axis=0)
         for a in range(0, steps, chunk):
