@@ -13,10 +13,18 @@ import argparse
 import json
 from pathlib import Path
 
-from eigengait.control.controller import LookaheadFile, load_controller, save_controller, system_for, to_parameters
+from eigengait.control.controller import (
+    LookaheadFile,
+    load_controller,
+    save_controller,
+    sketch_modes,
+    system_for,
+    to_parameters,
+)
 from eigengait.control.library import resolve
 from eigengait.control.playback import play, push_robustness
 from eigengait.control.sketch import load_sketch
+from eigengait.control.sketch_character import sketch_character
 from eigengait.optimize.mom import MomSettings
 from eigengait.optimize.staged import optimize_gait
 from eigengait.optimize.survival import CHECKPOINT, StartingFigures, SurvivalSettings, harden
@@ -28,6 +36,16 @@ GAITS = {
     "dog-trot": "dog-trot",
     "planar-walker-walk": "planar-walker",
     "humanoid-lateral-sway": "lateral-sway",
+    "humanoid-vertical-rotation": "vertical-rotation",
+    "humanoid-skipping": "skipping",
+    "humanoid-crouched": "crouched",
+    "humanoid-legs-apart": "legs-apart",
+    "humanoid-one-foot-hop": "one-foot-hop",
+    "humanoid-random-1": "random-1",
+    "humanoid-random-2": "random-2",
+    "monster-crossed-arms": "monster-crossed-arms",
+    "humanoid-canonical-basis": "canonical-basis",
+    "humanoid-trivial-selection": "trivial-selection",
 }
 PUSHED = ("humanoid-basic-run", "dog-trot")  # the gaits with a push target (docs/locomotion.md)
 WITHOUT = "without_lookahead_"  # prefix of the figures of the same gait played without its lookahead
@@ -78,7 +96,9 @@ def hardened(controller, folder: Path, minutes: float, seed: int):
     settings = SurvivalSettings(minutes=minutes, seed=seed)
     planner = controller.planner()
     resume = (folder / CHECKPOINT).exists()
-    harden(system, start, figures, folder, settings, resume=resume, name=controller.name, lookahead=planner)
+    harden(
+        system, start, figures, folder, settings, resume, controller.name, lookahead=planner, sketch=controller.sketch
+    )
     out = load_controller(folder / "best_controller.json")
     out.name, out.metrics = controller.name, {**controller.metrics, "hardening_minutes": minutes}
     return out
@@ -90,12 +110,17 @@ def measure(controller) -> None:
     that have a push target; record the figures and ship it."""
     system = system_for(controller)
     params = to_parameters(controller, system)
+    sketch = load_sketch(resolve("sketch", GAITS[controller.name]))
+    controller.sketch = sketch_modes(sketch)
     if controller.lookahead is None:
-        speed = load_sketch(resolve("sketch", GAITS[controller.name])).targets.mean_speed
-        controller.lookahead = LookaheadFile(speed=speed)
+        controller.lookahead = LookaheadFile(speed=sketch.targets.mean_speed)
     planner = controller.lookahead.settings()
-    alone = play(system, params, cycles=20).summary()
-    free = play(system, params, cycles=20, lookahead=planner).summary()
+    described = lambda result: {  # noqa: E731
+        **result.summary(),
+        **sketch_character(system, params, controller.sketch, result.torques),
+    }
+    alone = described(play(system, params, cycles=20))
+    free = described(play(system, params, cycles=20, lookahead=planner))
     if free["cycles_completed"] < alone["cycles_completed"]:  # shipped as it plays best
         print(
             f"{controller.name}: {free['cycles_completed']} cycles with lookahead, {alone['cycles_completed']} without"

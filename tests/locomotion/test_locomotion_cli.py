@@ -77,6 +77,12 @@ def test_optimize_resume_and_play(tmp_path, eigengait_cli):
     for key in ("cycles_completed", "fell", "mean_speed_mps", "active_energy", "cost_of_transport", "cycle_violation"):
         assert key in out
     assert isinstance(out["fell"], bool) and out["cycles_completed"] <= 2
+    # the controller remembers its sketch's modes, so play shows how much of the gait is still the sketch
+    sketch = yaml.safe_load((run / "sketch.yaml").read_text())
+    kept = json.loads((run / "best_controller.json").read_text())["sketch"]
+    assert {int(m) for m in kept["ground"]["priority"]} == {int(m) for m in sketch["ground"]["priority"]}
+    assert sum(out["energy_split"].values()) == pytest.approx(1.0, abs=1e-3)
+    assert 0 < out["psi_priority_share"] <= 1 and -1 <= out["psi_cosine"] <= 1
 
 
 def test_controller_for_another_relax_pose_is_refused(tmp_path, eigengait_cli):

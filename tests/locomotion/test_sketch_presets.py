@@ -21,6 +21,8 @@ TABLE_5_1 = {
     "monster": ((3, 4), (5, 7)),
     "kangaroo": ((1, 3), (4, 6)),
     "trivial-selection": ((3, 4), (12, 12)),
+    "random-1": ((3, 4), (8, 8)),
+    "random-2": ((2, 3), (6, 7)),
 }
 
 
@@ -49,3 +51,10 @@ def test_random_sketches_follow_the_procedure_and_the_seed(procedure):
         assert len({abs(v) for v in phase.priority.values()}) == 1  # one amplitude, random signs
     assert random_sketch(humanoid, "humanoid", seed=7, procedure=procedure) == drawn
     assert random_sketch(humanoid, "humanoid", seed=8, procedure=procedure) != drawn
+
+
+@pytest.mark.parametrize("name, seed, procedure", [("random-1", 1, 1), ("random-2", 2, 2)])
+def test_the_random_presets_are_the_documented_draws(name, seed, procedure):
+    """`sketch new humanoid --random SEED --procedure P` regenerates the shipped random presets exactly."""
+    drawn = random_sketch(load_character("humanoid"), "humanoid", seed=seed, procedure=procedure)
+    assert yaml.safe_load(resolve("sketch", name).read_text()) == yaml.safe_load(yaml.safe_dump(drawn))

@@ -187,6 +187,7 @@ def play_command(
     from eigengait.control.controller import load_controller, system_for, to_parameters
     from eigengait.control.library import resolve
     from eigengait.control.playback import parse_pushes, play
+    from eigengait.control.sketch_character import sketch_character
 
     if cycles < 1:
         raise UserInputError(f"--cycles must be at least 1, got {cycles}", field="--cycles")
@@ -208,6 +209,8 @@ def play_command(
     params = to_parameters(c, system, path)
     result = play(system, params, cycles, snap=snap, pushes=pushes, source=path, lookahead=planner, progress=progress)
     summary = {"controller": str(path), "character": c.character, **result.summary()}
+    if c.sketch is not None:
+        summary.update(sketch_character(system, params, c.sketch, result.torques))
     if as_json:
         print(json_text.dumps(summary))
     else:
@@ -273,7 +276,9 @@ def harden_command(
     before = play(system, start, cycles=20, source=path)
     figures = StartingFigures.of(before)
     planner = c.planner()
-    result = harden(system, start, figures, output, settings, resume, c.name, console.print, lookahead=planner)
+    result = harden(
+        system, start, figures, output, settings, resume, c.name, console.print, lookahead=planner, sketch=c.sketch
+    )
     after = play(system, result, cycles=20)
     console.print(
         f"survival with no reset (20 cycles): {before.cycles_completed} -> {after.cycles_completed} cycles; "

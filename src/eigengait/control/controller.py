@@ -15,6 +15,7 @@ from pydantic import BaseModel, ConfigDict, Field, field_validator, model_valida
 
 from eigengait.control.feedback import FEATURES, HIP_GAINS, FeedbackGains
 from eigengait.control.lookahead import LookaheadSettings
+from eigengait.control.sketch import PhaseSketch, Sketch
 
 from eigengait.files import dump, read_mapping, validate
 from eigengait.control.gait import GaitParameters, GaitSystem
@@ -108,6 +109,7 @@ class ControllerFile(BaseModel):
     air_frequencies_hz: list[float]  # fingerprint of the character at its relax pose
     feedback: FeedbackFile = Field(default_factory=lambda: FeedbackFile())
     lookahead: LookaheadFile | None = None
+    sketch: dict[Literal["air", "ground"], PhaseSketch] | None = None  # the modes of the sketch it was made from
     metrics: dict[str, float | bool | int] = Field(default_factory=dict)
 
     def planner(self) -> LookaheadSettings | None:
@@ -127,7 +129,9 @@ def to_file(
     name: str = "",
     metrics: dict | None = None,
     lookahead: LookaheadSettings | None = None,
+    sketch: Sketch | dict[str, PhaseSketch] | None = None,
 ) -> ControllerFile:
+    """The file of controller `p`; `sketch` (a sketch, or its phases' modes) is kept for `play`'s sketch figures."""
     acts: dict[str, dict[str, dict[int, float]]] = {}
     for (foot, phase), psi in p.activations.items():
         acts.setdefault(foot, {})[phase] = {int(i + 1): float(v) for i, v in enumerate(psi) if v != 0}
@@ -150,8 +154,16 @@ def to_file(
         air_frequencies_hz=[float(f) for f in system.air_modes.frequencies_hz[:FINGERPRINT_MODES]],
         feedback=FeedbackFile.of(p.feedback),
         lookahead=LookaheadFile.of(lookahead),
+        sketch=sketch_modes(sketch),
         metrics={k: v for k, v in finite(metrics or {}).items() if v is not None},
     )
+
+
+def sketch_modes(sketch: Sketch | dict[str, PhaseSketch] | None) -> dict[str, PhaseSketch] | None:
+    """The priority/allowed/excluded modes of each phase of a sketch (None passes through)."""
+    if isinstance(sketch, Sketch):
+        return {"air": sketch.air, "ground": sketch.ground}
+    return sketch
 
 
 def _is_builtin(system: GaitSystem) -> bool:

@@ -94,7 +94,7 @@ def _swing_clearances(points: np.ndarray, radius: float, contact: np.ndarray) ->
     return np.array([bottom[a:b].max() for a, b in zip(starts[inside], ends[inside])])
 
 
-def _touchdowns(contact: np.ndarray) -> np.ndarray:
+def touchdown_frames(contact: np.ndarray) -> np.ndarray:
     """Frame indices where a contact begins after a frame without it (rising edges)."""
     starts, _ = _runs(contact)
     return starts[starts > 0]
@@ -176,7 +176,7 @@ def gait_metrics(model: mujoco.MjModel, rec: GaitRecording) -> dict:
     """
     frames = len(rec.qpos)
     contacts = foot_contacts(rec)
-    touchdowns = {f: _touchdowns(c) for f, c in contacts.items()}
+    touchdowns = {f: touchdown_frames(c) for f, c in contacts.items()}
     in_contact = np.any(list(contacts.values()), axis=0) if contacts else np.zeros(frames, bool)
     slips = {f: _stance_slips(rec.foot_points[f], _sphere_contacts(rec, f), c) for f, c in contacts.items()}
     slip = {f: _round(s.mean()) if s.size else None for f, s in slips.items()}

@@ -15,6 +15,7 @@ import numpy as np
 from eigengait.control.closed_loop import PUSH_SECONDS, BatchRun, ClosedLoopRunner, Push, cycle_errors
 from eigengait.control.gait import GaitParameters, GaitSystem
 from eigengait.control.gait_metrics import GaitRecording, gait_metrics
+from eigengait.control.gait_signatures import gait_signatures
 from eigengait.control.lookahead import LookaheadRunner, LookaheadSettings
 from eigengait.errors import UserInputError
 from eigengait.sim.stepping import raise_blow_up
@@ -36,7 +37,8 @@ class PlaybackResult:
     cycle_violation: float  # max |φ_i| over the played cycles (each cycle's end against its start)
     snapped: bool = False
     lookahead: bool = False
-    quality: dict = field(default_factory=dict)  # gait_metrics() of the played motion
+    quality: dict = field(default_factory=dict)  # gait_metrics() and gait_signatures() of the played motion
+    torques: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))  # steps × n_internal applied active N·m
     pushes: tuple[Push, ...] = ()
     pushes_survived: int | None = None
 
@@ -179,7 +181,7 @@ def _result(
         },
         foot_radius={f: world.foot_radius(f) for f in world.character.feet},
     )
-    quality = gait_metrics(model, recording) if len(frames) > 1 else {}
+    quality = {**gait_metrics(model, recording), **gait_signatures(model, recording)} if len(frames) > 1 else {}
     violation = _violation(system, p, run, completed) if not snap else _snapped_violation(system, p, run)
     mass = world.mass()
     return PlaybackResult(
@@ -197,6 +199,7 @@ def _result(
         quality=quality,
         pushes=tuple(pushes),
         pushes_survived=_pushes_survived(pushes, run) if pushes else None,
+        torques=torques,
     )
 
 

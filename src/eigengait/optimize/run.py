@@ -229,7 +229,9 @@ def write_best(folder: Path, problem: Problem, state: MomState) -> None:
     }
     lookahead = LookaheadSettings(speed=problem.sketch.targets.mean_speed)
     best = problem.space.decode(state.best_x)
-    controller = to_file(problem.system, best, name=folder.name, metrics=metrics, lookahead=lookahead)
+    controller = to_file(
+        problem.system, best, name=folder.name, metrics=metrics, lookahead=lookahead, sketch=problem.sketch
+    )
     save_controller(controller, folder / "best_controller.json")
 
 

@@ -160,9 +160,10 @@ def harden(
     name: str = "",
     progress=print,
     lookahead: LookaheadSettings | None = None,
+    sketch: dict | None = None,
 ) -> GaitParameters:
     """Run (or resume) the survival optimization in `folder`; returns the best controller, also saved there with
-    the starting controller's `lookahead` settings."""
+    the starting controller's `lookahead` settings and `sketch` modes."""
     folder.mkdir(parents=True, exist_ok=True)
     checkpoint = folder / CHECKPOINT
     history = _load_history(checkpoint, settings) if resume else []
@@ -208,7 +209,7 @@ def harden(
         result = _validated(scorer, space, es, best, horizon) if best else start
     finally:
         scorer.close()
-    save_controller(to_file(system, result, name, lookahead=lookahead), folder / "best_controller.json")
+    save_controller(to_file(system, result, name, lookahead=lookahead, sketch=sketch), folder / "best_controller.json")
     return result
 
 
