@@ -177,3 +177,19 @@ def test_the_gain_count_matches_the_parameter_space(problem, mechanisms):
     )
     space = ParameterSpace(problem.system, sketch)
     assert feedback_gain_count(sketch) == sum(e.name.startswith("fb/") for e in space.entries)
+
+
+@pytest.mark.parametrize("preset", ["canonical-basis", "dog-trot"])
+def test_initial_states_stay_within_the_simulations_speed_limit(preset):
+    """A canonical sketch's initial state spans the lowest modes only (its numbers are joint dofs, not modes), and
+    however many fast modes sit at their bounds, q̇₀ stays within what a controller file accepts."""
+    from eigengait.sim.stepping import MAX_SPEED
+
+    sketch = load_sketch(resolve("sketch", preset))
+    if preset == "dog-trot":  # every air mode in the initial state, as a canonical dog sketch once had
+        sketch = sketch.model_copy(update={"air": sketch.air.model_copy(update={"allowed": None})})
+    space = Problem.from_sketch(sketch).space
+    if sketch.basis == "canonical":
+        assert space.pose_modes == list(range(1, sketch.initial.modes + 1))
+    for corner in (np.zeros(space.size), np.ones(space.size)):
+        assert np.abs(space.decode(corner).qvel0).max() <= MAX_SPEED

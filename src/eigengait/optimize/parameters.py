@@ -3,8 +3,8 @@
 Ω = (T, α, δa, δc, ψ of the optimized modes per free (foot, phase), root height offset, root pitch, root forward
 and vertical speed, and q₀, q̇₀ of the internal joints in the span of the optimized air modes).
 Expressing q₀/q̇₀ in mode coordinates keeps the search small for many-DOF characters (the thesis's own
-suggestion): the sketch's optimized air modes plus the lowest `initial.modes` ones. Priority modes keep their sign
-and at least their sketch magnitude.
+suggestion): the sketch's optimized air modes (none for a canonical sketch) plus the lowest `initial.modes` ones.
+Priority modes keep their sign and at least their sketch magnitude.
 """
 
 from __future__ import annotations
@@ -15,6 +15,7 @@ import mujoco
 import numpy as np
 
 from eigengait.sim.limits import clip_to_joint_ranges
+from eigengait.sim.stepping import MAX_SPEED
 from eigengait.control.feedback import FEATURES, HIP_GAINS, FeedbackGains
 from eigengait.control.gait import GaitParameters, GaitSystem
 from eigengait.control.sketch import Sketch
@@ -85,7 +86,9 @@ class ParameterSpace:
         ]
         air = system.air_modes
         lowest = range(1, min(init.modes, air.count) + 1)
-        self.pose_modes = sorted(set(sketch.air.optimized_modes(air.count)) | set(lowest))
+        # a canonical sketch's numbers are joint dofs, not modes: its initial state spans the lowest modes only
+        sketched = set() if sketch.basis == "canonical" else set(sketch.air.optimized_modes(air.count))
+        self.pose_modes = sorted(sketched | set(lowest))
         for m in self.pose_modes:
             amp = MAX_JOINT_ANGLE / np.abs(air.shapes[system.world.internal_qvel, m - 1]).max()
             omega = 2 * np.pi * air.frequencies_hz[m - 1]
@@ -154,7 +157,7 @@ class ParameterSpace:
         mujoco.mj_integratePos(model, qpos, disp, 1.0)
         root.lift_and_pitch(qpos, get("root_height"), get("root_pitch"))
         clip_to_joint_ranges(model, qpos)
-        qvel[:] = vel
+        qvel[:] = np.clip(vel, -MAX_SPEED, MAX_SPEED)  # many fast modes at their bounds could sum past it
         for adr, name in ((root.forward_qvel, "root_speed_x"), (root.vertical_qvel, "root_speed_z")):
             if adr is not None:
                 qvel[adr] += get(name)
