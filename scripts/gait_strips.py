@@ -1,7 +1,7 @@
-"""Picture strips and footfall diagrams of the shipped gaits for the README: each gait played with gravity for two
-cycles; the strip shows the second cycle from a fixed side camera (so travel shows), each tile stamped with its
-time, its phase in the cycle and the feet on the ground; below it, the contact diagram of both cycles, with the
-strip's frames marked.
+"""Picture strips and footfall diagrams of the shipped gaits for the README and the gallery: each gait played as
+shipped (with its lookahead, if it has one) for two cycles; the strip shows the second cycle from a fixed side
+camera (so travel shows), each tile stamped with its time, its phase in the cycle and the feet on the ground; below
+it, the contact diagram of both cycles, with the strip's frames marked.
 
 Usage: python scripts/gait_strips.py [--output FOLDER] [GAIT ...]  ->  FOLDER/gait_<name>.png (default docs/images)
 """
@@ -33,7 +33,7 @@ OUT = Path(__file__).resolve().parents[1] / "docs" / "images"
 def strip(name: str, folder: Path) -> Path:
     controller = load_controller(resolve("gait", name))
     system = system_for(controller)
-    result = play(system, to_parameters(controller, system), cycles=2)
+    result = play(system, to_parameters(controller, system), cycles=2, lookahead=controller.planner())
     world, period = system.world, controller.period
     times = np.arange(len(result.qpos)) / result.fps
     picks = period + np.arange(FRAMES) * period / FRAMES  # the second cycle

@@ -1,0 +1,101 @@
+"""Write docs/gallery.md: every shipped gait with its sketch, a strip of one cycle, its quality and how much of it is
+still its sketch.
+
+Usage: python scripts/gallery.py [--recorded DIR]
+Reads what `scripts/make_gaits.py --measure-only` recorded in DIR (default out/gait-measures: the 20-cycle plays
+with and without lookahead) and the strips `scripts/gait_strips.py` drew in docs/images; plays nothing itself.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+
+from make_gaits import GAITS, MEASURES
+
+from eigengait.control.controller import load_controller
+from eigengait.control.library import gait_names, resolve
+from eigengait.control.sketch import load_sketch
+
+ROOT = Path(__file__).resolve().parents[1]
+PAGE = ROOT / "docs" / "gallery.md"
+REFERENCE = "humanoid-basic-run"  # the experiments' signatures are read against the basic run
+SIGNATURES = {  # experiment gait -> (figure, how to read it off the played summary, unit)
+    "humanoid-lateral-sway": ("lateral COM amplitude", lambda m: m["lateral_com_amplitude_m"], "m"),
+    "humanoid-vertical-rotation": ("root yaw amplitude", lambda m: m["yaw_amplitude_deg"], "°"),
+    "humanoid-skipping": ("touchdowns per foot per cycle", lambda m: min(m["touchdowns_per_cycle"].values()), ""),
+    "humanoid-crouched": ("mean root height", lambda m: m["mean_root_height_m"], "m"),
+    "humanoid-legs-apart": ("stance width", lambda m: m["stance_width_m"], "m"),
+    "humanoid-one-foot-hop": ("right (raised) foot's lowest height", lambda m: m["min_foot_height_m"]["right"], "m"),
+}
+
+
+def _modes(phase) -> str:
+    priority = ", ".join(f"{m}: {v:+.0f}" for m, v in sorted(phase.priority.items()))
+    allowed = "all not excluded" if phase.allowed is None else ", ".join(map(str, phase.allowed)) or "none"
+    return f"priority {{{priority or 'none'}}} N·m; allowed {allowed}"
+
+
+def _split(split: dict | None) -> str:
+    if not split or split.get("priority") is None:
+        return "—"
+    return " / ".join(f"{100 * split[k]:.0f} %" for k in ("priority", "allowed", "excluded"))
+
+
+def _value(x, unit: str) -> str:
+    return "—" if x is None else f"{x:.3g}{(' ' + unit) if unit else ''}"
+
+
+def section(name: str, record: dict, reference: dict | None) -> str:
+    controller = load_controller(resolve("gait", name))
+    sketch = load_sketch(resolve("sketch", GAITS[name]))
+    m = record["played"]
+    planner = "with its lookahead" if m.get("lookahead") else "without lookahead (it lasts longer so)"
+    survived = f"{m['cycles_completed']} of 20 cycles" + (" (fell)" if m["fell"] else "")
+    lines = [
+        f"## `{name}`",
+        "",
+        f"*Sketch `{GAITS[name]}`* ({sketch.character}, {sketch.basis} basis): {sketch.description}",
+        f"air: {_modes(sketch.air)}; ground: {_modes(sketch.ground)}; sketched period {sketch.timing.period} s,"
+        f" optimized {controller.period:.3f} s.",
+        "",
+        f"![{name}](images/gait_{name}.png)",
+        "",
+        f"Played 20 cycles {planner}, no reset: {survived}, {m['mean_speed_mps']:.2f} m/s, cadence "
+        f"{m['cadence_spm']:.0f} steps/min, flight {m['flight_fraction']:.2f}, stance slip "
+        f"{_value(m['stance_slip_max_m'], 'm')}, pitch {m['torso_pitch_deg'][0]:.0f}…{m['torso_pitch_deg'][1]:.0f}°, "
+        f"roll {m['torso_roll_deg'][0]:.0f}…{m['torso_roll_deg'][1]:.0f}°, largest frame jump "
+        f"{m['max_frame_jump_deg']:.0f}°, cost of transport {_value(m['cost_of_transport'], '')}.",
+        "",
+        f"Torque energy in priority / allowed / excluded modes: played {_split(m.get('energy_split'))}, pulses alone "
+        f"{_split(m.get('pulse_energy_split'))}; ψ against the sketch's: cosine {_value(m.get('psi_cosine'), '')}, "
+        f"priority share of Σ|ψ| {_value(m.get('psi_priority_share'), '')}.",
+    ]
+    if name in SIGNATURES:
+        label, read, unit = SIGNATURES[name]
+        against = f" (the basic run: {_value(read(reference), unit)})" if reference else ""
+        lines += ["", f"Signature: {label} {_value(read(m), unit)}{against}."]
+    return "\n".join(lines)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--recorded", type=Path, default=MEASURES)
+    args = parser.parse_args()
+    records = {n: json.loads((args.recorded / f"{n}.json").read_text()) for n in gait_names()}
+    reference = records.get(REFERENCE, {}).get("played")
+    head = [
+        "# Gallery of the shipped gaits",
+        "",
+        "Written by `python scripts/gallery.py` from the figures `scripts/make_gaits.py --measure-only` recorded; the "
+        "strips are `scripts/gait_strips.py`'s (the second of two cycles played as shipped, from a fixed side camera, "
+        "with the feet on the ground below). The figures are defined in the README (Playback); the energy split "
+        "is `control/sketch_character.py`'s.",
+    ]
+    PAGE.write_text("\n\n".join(["\n".join(head)] + [section(n, r, reference) for n, r in records.items()]) + "\n")
+    print(f"wrote {PAGE}")
+
+
+if __name__ == "__main__":
+    main()
