@@ -193,3 +193,19 @@ def test_initial_states_stay_within_the_simulations_speed_limit(preset):
         assert space.pose_modes == list(range(1, sketch.initial.modes + 1))
     for corner in (np.zeros(space.size), np.ones(space.size)):
         assert np.abs(space.decode(corner).qvel0).max() <= MAX_SPEED
+
+
+def test_no_initial_pose_starts_inside_the_floor():
+    """The lowest root height the space allows would sink the feet 15 cm into the floor (a launch no torque paid
+    for, which the optimizer used to exploit); decoded poses are lifted onto it instead: touching, not inside."""
+    from eigengait.sim.limits import floor_penetration
+
+    space = Problem.from_sketch(load_sketch(resolve("sketch", "vertical-rotation"))).space
+    model = space.system.world.model
+    x = space.initial()
+    x[space.index["root_height"]] = 0.0  # −0.15 m
+    lowered = space.decode(x)
+    assert floor_penetration(model, lowered.qpos0, space.floor_geom) == pytest.approx(0.0, abs=1e-9)
+    assert lowered.qpos0[2] == pytest.approx(space.decode(space.initial()).qpos0[2], abs=2e-3)  # on the floor
+    for x in np.random.default_rng(5).random((20, space.size)):
+        assert floor_penetration(model, space.decode(x).qpos0, space.floor_geom) < 1e-9

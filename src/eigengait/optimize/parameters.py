@@ -14,12 +14,12 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
-from eigengait.sim.limits import clip_to_joint_ranges
+from eigengait.sim.limits import clip_to_joint_ranges, floor_penetration
 from eigengait.sim.stepping import MAX_SPEED
 from eigengait.control.feedback import FEATURES, HIP_GAINS, FeedbackGains
 from eigengait.control.gait import GaitParameters, GaitSystem
 from eigengait.control.sketch import Sketch
-from eigengait.sim.world import GRAVITY
+from eigengait.sim.world import FLOOR, GRAVITY
 
 MAX_JOINT_ANGLE = 0.3  # rad: largest joint rotation of one initial-pose mode coordinate
 PERIOD_RANGE = (0.6, 1.6)  # the period T stays within these multiples of the sketch's guess
@@ -95,6 +95,7 @@ class ParameterSpace:
             self.entries.append(Entry(f"q0/{m}", -amp, amp, 0.0))
             self.entries.append(Entry(f"qd0/{m}", -amp * omega, amp * omega, 0.0))
         self._add_feedback(sketch)
+        self.floor_geom = mujoco.mj_name2id(system.world.model, mujoco.mjtObj.mjOBJ_GEOM, FLOOR)
         self.low = np.array([e.low for e in self.entries])
         self.high = np.array([e.high for e in self.entries])
         self.index = {e.name: i for i, e in enumerate(self.entries)}
@@ -157,6 +158,9 @@ class ParameterSpace:
         mujoco.mj_integratePos(model, qpos, disp, 1.0)
         root.lift_and_pitch(qpos, get("root_height"), get("root_pitch"))
         clip_to_joint_ranges(model, qpos)
+        root.lift_and_pitch(
+            qpos, floor_penetration(model, qpos, self.floor_geom), 0.0
+        )  # start on the floor, not inside it
         qvel[:] = np.clip(vel, -MAX_SPEED, MAX_SPEED)  # many fast modes at their bounds could sum past it
         for adr, name in ((root.forward_qvel, "root_speed_x"), (root.vertical_qvel, "root_speed_z")):
             if adr is not None:

@@ -1,6 +1,6 @@
-"""Joint ranges: a pose outside a limited joint's range starts the simulation inside a violated limit constraint,
-whose restoring force can launch the body in a few steps (a user model's ankle at 64° against a 55° limit spun to
-500 rad/s within 3 ms)."""
+"""Poses the simulation can start from. Joint ranges: a pose outside a limited joint's range starts inside a
+violated limit constraint, whose restoring force can launch the body in a few steps (a user model's ankle at 64°
+against a 55° limit spun to 500 rad/s within 3 ms). The floor: a pose that starts inside it is launched out."""
 
 from __future__ import annotations
 
@@ -17,3 +17,15 @@ def clip_to_joint_ranges(model: mujoco.MjModel, qpos: np.ndarray) -> None:
         if int(model.jnt_type[j]) in ONE_DOF:
             a = model.jnt_qposadr[j]
             qpos[a] = np.clip(qpos[a], *model.jnt_range[j])
+
+
+def floor_penetration(model: mujoco.MjModel, qpos: np.ndarray, floor_geom: int) -> float:
+    """How deep (m, ≥ 0) the pose `qpos` sinks its deepest geom into the floor geom: the most negative distance of
+    the floor's contacts. A pose that starts inside the floor is pushed out by the contact's spring within a few
+    milliseconds, a launch that no torque paid for."""
+    data = mujoco.MjData(model)
+    data.qpos[:] = qpos
+    mujoco.mj_kinematics(model, data)
+    mujoco.mj_collision(model, data)
+    depths = [-float(c.dist) for c in data.contact[: data.ncon] if floor_geom in (c.geom1, c.geom2)]
+    return max([0.0, *depths])
