@@ -65,6 +65,10 @@ def test_play_json_contract_on_a_shipped_gait(eigengait_cli):
     ):
         assert key in out
     assert set(out["duty_factor"]) == {"foot"}
+    # a shipped gait remembers its sketch: how much of the played torque is still the sketch's modes
+    assert set(out["energy_split"]) == {"priority", "allowed", "excluded"}
+    assert sum(out["energy_split"].values()) == pytest.approx(1.0, abs=1e-3)
+    assert set(out["touchdowns_per_cycle"]) == set(out["min_foot_height_m"]) == {"foot"}
 
 
 def test_snap_is_an_explicit_option(eigengait_cli):
