@@ -43,10 +43,10 @@ from eigengait.control.controller import load_controller, system_for, to_paramet
 from eigengait.control.library import resolve  # noqa: E402
 from eigengait.control.playback import play, push_robustness  # noqa: E402
 from eigengait.control.sketch import PhaseSketch, Sketch, load_sketch  # noqa: E402
-from eigengait.optimize.evaluate import FALLEN_CYCLE_ERROR, BatchEvaluator  # noqa: E402
+from eigengait.optimize.evaluate import FALLEN_CYCLE_ERROR  # noqa: E402
 from eigengait.optimize.mom import MomSettings  # noqa: E402
-from eigengait.optimize.problem import Problem  # noqa: E402
 from eigengait.optimize.staged import STAGE_ONE, optimize_gait  # noqa: E402
+from population_unit import population_seconds  # noqa: E402
 
 CHARACTERS = {"humanoid": "basic-run", "monster": "monster", "dog": "dog-trot"}
 VARIANTS = ("modal", "priority-only", "trivial", "canonical")
@@ -227,14 +227,8 @@ def main() -> None:
     parser.add_argument("--out", type=Path, default=ROOT / "out" / "bench_basis")
     args = parser.parse_args()
     wall = time.perf_counter()
-    sketch = load_sketch(resolve("sketch", "basic-run"))
-    problem = Problem.from_sketch(sketch)
-    evaluator = BatchEvaluator(problem.system, problem.space, sketch.targets, cycles=sketch.feedback.horizon_cycles)
-    population = np.tile(problem.space.initial(), (4 + int(3 * np.log(problem.space.size)), 1))
-    start = time.perf_counter()
-    evaluator.evaluate(population)
-    unit = time.perf_counter() - start
-    print(f"baseline: one population of {len(population)} humanoid candidates, 5 cycles: {unit:.2f} s")
+    unit, size = population_seconds(load_sketch(resolve("sketch", "basic-run")))
+    print(f"baseline: one population of {size} humanoid candidates, 5 cycles: {unit:.2f} s")
     results: dict = {}
     for seed in range(1, args.seeds + 1):  # seed-major, so a partial run still compares every variant
         for character in args.characters:

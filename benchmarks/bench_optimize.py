@@ -11,19 +11,16 @@ from __future__ import annotations
 import argparse
 import csv
 import tempfile
-import time
 from pathlib import Path
 
-import numpy as np
 
 from eigengait.control.library import resolve
 from eigengait.control.sketch import load_sketch
-from eigengait.optimize.evaluate import BatchEvaluator
 from eigengait.optimize.mom import MomSettings
-from eigengait.optimize.problem import Problem
 from eigengait.control.controller import load_controller, system_for, to_parameters
 from eigengait.control.playback import play
 from eigengait.optimize.staged import STAGE_ONE, optimize_gait
+from population_unit import population_seconds
 
 TOLERANCES = (1.0, 0.5, 0.3, 0.2, 0.1, 0.05)
 
@@ -35,13 +32,8 @@ def main() -> None:
     parser.add_argument("--tolerance", type=float, default=0.05)
     args = parser.parse_args()
     sketch = load_sketch(resolve("sketch", "basic-run"))
-    problem = Problem.from_sketch(sketch)
-    evaluator = BatchEvaluator(problem.system, problem.space, sketch.targets, cycles=sketch.feedback.horizon_cycles)
-    X = np.tile(problem.space.initial(), (4 + int(3 * np.log(problem.space.size)), 1))
-    start = time.perf_counter()
-    evaluator.evaluate(X)
-    unit = time.perf_counter() - start
-    print(f"one population of {len(X)} candidates: {unit:.3f} s (baseline unit)")
+    unit, size = population_seconds(sketch)
+    print(f"one population of {size} candidates: {unit:.3f} s (baseline unit)")
     with tempfile.TemporaryDirectory() as tmp:
         folder = Path(tmp) / "run"
         state = optimize_gait(
