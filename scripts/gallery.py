@@ -79,6 +79,28 @@ def section(name: str, record: dict, reference: dict | None) -> str:
     return "\n".join(lines)
 
 
+def summary_table(records: dict) -> str:
+    """One row per gait: the energy split, ψ against the sketch, and every signature figure."""
+    rows = [
+        "| gait | played torque: priority / allowed / excluded | pulses alone | ψ cosine | priority share of Σ|ψ| "
+        "| lateral COM amplitude (m) | yaw amplitude (°) | fewest touchdowns per foot per cycle | mean root height (m) "
+        "| stance width (m) | highest foot's lowest height (m) |",
+        "|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|",
+    ]
+    for name, record in records.items():
+        m = record["played"]
+        touchdowns = [v for v in m["touchdowns_per_cycle"].values() if v is not None]
+        lowest = [v for v in m["min_foot_height_m"].values() if v is not None]
+        rows.append(
+            f"| `{name}` | {_split(m.get('energy_split'))} | {_split(m.get('pulse_energy_split'))} "
+            f"| {_value(m.get('psi_cosine'), '')} | {_value(m.get('psi_priority_share'), '')} "
+            f"| {_value(m['lateral_com_amplitude_m'], '')} | {_value(m['yaw_amplitude_deg'], '')} "
+            f"| {_value(min(touchdowns, default=None), '')} | {_value(m['mean_root_height_m'], '')} "
+            f"| {_value(m['stance_width_m'], '')} | {_value(max(lowest, default=None), '')} |"
+        )
+    return "\n".join(rows)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--recorded", type=Path, default=MEASURES)
@@ -92,6 +114,12 @@ def main() -> None:
         "strips are `scripts/gait_strips.py`'s (the second of two cycles played as shipped, from a fixed side camera, "
         "with the feet on the ground below). The figures are defined in the README (Playback); the energy split "
         "is `control/sketch_character.py`'s.",
+        "",
+        "## Does each gait keep its sketch's character?",
+        "",
+        "Each experiment's own figure is in its section below, against the basic run's. All of them, for every gait:",
+        "",
+        summary_table(records),
     ]
     PAGE.write_text("\n\n".join(["\n".join(head)] + [section(n, r, reference) for n, r in records.items()]) + "\n")
     print(f"wrote {PAGE}")
