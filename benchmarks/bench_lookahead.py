@@ -60,7 +60,7 @@ def main() -> None:
             continue
         for seed in range(args.seeds):
             for feedback in (False, True) if args.feedback else (controller.lookahead.feedback,):
-                planner = dataclasses.replace(controller.lookahead.settings(), seed=seed, feedback=feedback)
+                planner = dataclasses.replace(controller.planner(), seed=seed, feedback=feedback)
                 t0 = time.perf_counter()
                 result = play(system, params, cycles=args.cycles, lookahead=planner)
                 wall = time.perf_counter() - t0

@@ -114,7 +114,7 @@ def measure(controller) -> None:
     controller.sketch = sketch_modes(sketch)
     if controller.lookahead is None:
         controller.lookahead = LookaheadFile(speed=sketch.targets.mean_speed)
-    planner = controller.lookahead.settings()
+    planner = controller.planner()
     described = lambda result: {  # noqa: E731
         **result.summary(),
         **sketch_character(system, params, controller.sketch, result.torques),

@@ -157,3 +157,32 @@ def test_play_uses_the_controllers_lookahead_unless_told_not_to(hopper, tmp_path
     assert json.loads(on.stdout)["lookahead"] is True and "lookahead: cycle 2/2" in on.stderr
     off = json.loads(eigengait_cli("play", str(controller), "--cycles", "2", "--json", "--no-lookahead").stdout)
     assert off["lookahead"] is False
+
+
+def test_plans_can_keep_to_the_sketchs_modes():
+    """With `in_sketch` the plans move only the sketch's priority and allowed modes: the played torque stays in the
+    sketch (what leaves it is clipping at the motor limits), where plans in every mode put most of it outside."""
+    from eigengait.control.library import resolve
+    from eigengait.control.playback import play
+    from eigengait.control.sketch_character import energy_split
+
+    controller = load_controller(resolve("gait", "dog-trot"))
+    system = system_for(controller)
+    p = to_parameters(controller, system)
+    shares = {}
+    for in_sketch in (False, True):
+        kept = controller.model_copy(
+            update={"lookahead": controller.lookahead.model_copy(update={"in_sketch": in_sketch})}
+        )
+        result = play(system, p, cycles=3, lookahead=kept.planner())
+        shares[in_sketch] = energy_split(system, p, controller.sketch, result.torques)["excluded"]
+    pulses = energy_split(system, p, controller.sketch, system.controls(p, cycles=1)[:, : system.world.nmotor])
+    assert shares[True] <= pulses["excluded"] + 0.05 < shares[False]
+    # the file keeps the choice, and refuses it without the sketch it needs
+    data = json.loads(kept.model_dump_json())
+    assert ControllerFile.model_validate(data).planner() == kept.planner()
+    assert kept.planner().chosen["air"] == tuple(controller.sketch["air"].optimized_modes(1000))
+    data["sketch"] = None
+    with pytest.raises(UserInputError) as err:
+        validate(ControllerFile, data, Path("dog.json"), "fix it")
+    assert "in_sketch" in str(err.value)

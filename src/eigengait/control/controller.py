@@ -25,6 +25,7 @@ from eigengait.sim.stepping import MAX_CONTROL, MAX_SPEED
 
 FORMAT_VERSION = 1
 FINGERPRINT_MODES = 6
+MODES_AT_MOST = 10_000  # a sketch phase's `allowed: null` means every mode: the plans keep those that exist
 
 
 class FeedbackFile(BaseModel):
@@ -77,13 +78,21 @@ class LookaheadFile(BaseModel):
     plan_substeps: int = Field(2, ge=1, le=16)
     seed: int = 0
     feedback: bool = False  # plans and played motion add the controller's balance feedback
+    in_sketch: bool = False  # plans move only the sketch's priority and allowed modes (the file's `sketch`)
 
-    def settings(self) -> LookaheadSettings:
-        return LookaheadSettings(**self.model_dump())
+    def settings(self, sketch: dict[str, PhaseSketch] | None = None) -> LookaheadSettings:
+        """The runner's settings; with `in_sketch`, the modes of `sketch` (the controller file's) per phase."""
+        values = self.model_dump(exclude={"in_sketch"})
+        if self.in_sketch:
+            values["chosen"] = {ph: tuple(sketch[ph].optimized_modes(MODES_AT_MOST)) for ph in ("air", "ground")}
+        return LookaheadSettings(**values)
 
     @classmethod
     def of(cls, settings: LookaheadSettings | None) -> "LookaheadFile | None":
-        return None if settings is None else cls(**settings.__dict__)
+        if settings is None:
+            return None
+        values = {k: v for k, v in settings.__dict__.items() if k != "chosen"}
+        return cls(**values, in_sketch=settings.chosen is not None)
 
 
 class ControllerFile(BaseModel):
@@ -114,7 +123,13 @@ class ControllerFile(BaseModel):
 
     def planner(self) -> LookaheadSettings | None:
         """The lookahead settings `play` uses, or None when the controller plays its pulses as they are."""
-        return None if self.lookahead is None else self.lookahead.settings()
+        return None if self.lookahead is None else self.lookahead.settings(self.sketch)
+
+    @model_validator(mode="after")
+    def _sketch_for_in_sketch_plans(self):
+        if self.lookahead is not None and self.lookahead.in_sketch and self.sketch is None:
+            raise ValueError("lookahead.in_sketch needs the sketch's modes: add 'sketch' or set in_sketch: false")
+        return self
 
     @model_validator(mode="after")
     def _lookahead_on_the_clock(self):

@@ -38,6 +38,7 @@ from eigengait.control.closed_loop import (
 )
 from eigengait.control.feedback import FeatureReader, hip_motors_by_foot, steps_per_reading
 from eigengait.control.gait import GaitParameters, GaitSystem
+from eigengait.control.pulse import State
 from eigengait.sim.stepping import blown_up_dof
 from eigengait.sim.world import GRAVITY
 
@@ -63,6 +64,7 @@ class LookaheadSettings:
     spread: float = 0.5  # std of each Δψ, as a share of the gait's mean |ψ| over its non-zero activations
     refinements: int = 1  # further rounds of plans around the best so far, each at half the previous spread
     modes: int | None = None  # the lowest modes of each state's basis that the plans move (None: all)
+    chosen: dict[str, tuple[int, ...]] | None = None  # or: per phase, the mode numbers they move (the sketch's)
     plan_substeps: int = 2  # planning timestep = plan_substeps × the physics timestep
     seed: int = 0
     feedback: bool = False  # plans and played motion add the controller's balance feedback
@@ -103,6 +105,17 @@ class TaskCost:
         return np.where(fell | ~np.isfinite(cost), FALL_COST * (1 + left), cost)
 
 
+def plan_directions(system: GaitSystem, state: State, settings: LookaheadSettings) -> np.ndarray:
+    """Torque columns (n_internal × k) a plan's Δψ moves in `state`: the lowest `settings.modes` of its basis, or
+    the `settings.chosen` modes of its phase (a symmetric gait's second foot: the first foot's, mirrored)."""
+    if settings.chosen is None:
+        return system.basis_matrix(state.foot, state.phase)[:, : settings.modes]
+    foot = state.foot if state.foot in system.active_feet else system.active_feet[0]
+    basis = system.basis_matrix(foot, state.phase)
+    columns = basis[:, [m - 1 for m in settings.chosen[state.phase] if m <= basis.shape[1]]]
+    return columns if foot == state.foot else system.mirror.dofs(columns.T).T
+
+
 class LookaheadRunner:
     """Plays one gait with lookahead decisions for a number of cycles, optionally pushed sideways."""
 
@@ -138,7 +151,7 @@ class LookaheadRunner:
         n_cycle = len(cycle_controls)
         starts = [int(round(s.start / dt)) for s in states_of_cycle] + [n_cycle]
         total = int(round(cycles * p.period / dt))
-        directions = [system.basis_matrix(s.foot, s.phase)[:, : settings.modes] for s in states_of_cycle]
+        directions = [plan_directions(system, s, settings) for s in states_of_cycle]
         scale = _mean_activation(p)
         knots = int(np.ceil(settings.horizon_cycles * len(states_of_cycle))) + 1
         plan = np.zeros((knots, n_motor))
