@@ -158,9 +158,8 @@ class ParameterSpace:
         mujoco.mj_integratePos(model, qpos, disp, 1.0)
         root.lift_and_pitch(qpos, get("root_height"), get("root_pitch"))
         clip_to_joint_ranges(model, qpos)
-        root.lift_and_pitch(
-            qpos, floor_penetration(model, qpos, self.floor_geom), 0.0
-        )  # start on the floor, not inside it
+        sunk = floor_penetration(model, qpos, self.floor_geom)  # m: start on the floor, not inside it
+        root.lift_and_pitch(qpos, sunk, 0.0)
         qvel[:] = np.clip(vel, -MAX_SPEED, MAX_SPEED)  # many fast modes at their bounds could sum past it
         for adr, name in ((root.forward_qvel, "root_speed_x"), (root.vertical_qvel, "root_speed_z")):
             if adr is not None:
