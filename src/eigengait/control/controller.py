@@ -144,9 +144,9 @@ def to_file(
     name: str = "",
     metrics: dict | None = None,
     lookahead: LookaheadSettings | None = None,
-    sketch: Sketch | dict[str, PhaseSketch] | None = None,
+    sketch: dict[str, PhaseSketch] | None = None,
 ) -> ControllerFile:
-    """The file of controller `p`; `sketch` (a sketch, or its phases' modes) is kept for `play`'s sketch figures."""
+    """The file of controller `p`; `sketch` (its sketch's modes, `sketch_modes`) is kept for `play`'s figures."""
     acts: dict[str, dict[str, dict[int, float]]] = {}
     for (foot, phase), psi in p.activations.items():
         acts.setdefault(foot, {})[phase] = {int(i + 1): float(v) for i, v in enumerate(psi) if v != 0}
@@ -169,16 +169,14 @@ def to_file(
         air_frequencies_hz=[float(f) for f in system.air_modes.frequencies_hz[:FINGERPRINT_MODES]],
         feedback=FeedbackFile.of(p.feedback),
         lookahead=LookaheadFile.of(lookahead),
-        sketch=sketch_modes(sketch),
+        sketch=sketch,
         metrics={k: v for k, v in finite(metrics or {}).items() if v is not None},
     )
 
 
-def sketch_modes(sketch: Sketch | dict[str, PhaseSketch] | None) -> dict[str, PhaseSketch] | None:
-    """The priority/allowed/excluded modes of each phase of a sketch (None passes through)."""
-    if isinstance(sketch, Sketch):
-        return {"air": sketch.air, "ground": sketch.ground}
-    return sketch
+def sketch_modes(sketch: Sketch) -> dict[str, PhaseSketch]:
+    """The priority/allowed/excluded modes of each phase of a sketch, as a controller file keeps them."""
+    return {"air": sketch.air, "ground": sketch.ground}
 
 
 def _is_builtin(system: GaitSystem) -> bool:

@@ -153,7 +153,7 @@ def _max_frame_jump_deg(model: mujoco.MjModel, qpos: np.ndarray) -> float:
     return float(np.degrees(max((np.linalg.norm(v[:, d], axis=1).max() for d in _rotation_dofs(model)), default=0.0)))
 
 
-def _round(x) -> float | None:
+def rounded(x) -> float | None:
     """A plain float rounded to 4 decimals, None when undefined or not finite."""
     return round(float(x), 4) if x is not None and np.isfinite(x) else None
 
@@ -179,21 +179,21 @@ def gait_metrics(model: mujoco.MjModel, rec: GaitRecording) -> dict:
     touchdowns = {f: touchdown_frames(c) for f, c in contacts.items()}
     in_contact = np.any(list(contacts.values()), axis=0) if contacts else np.zeros(frames, bool)
     slips = {f: _stance_slips(rec.foot_points[f], _sphere_contacts(rec, f), c) for f, c in contacts.items()}
-    slip = {f: _round(s.mean()) if s.size else None for f, s in slips.items()}
+    slip = {f: rounded(s.mean()) if s.size else None for f, s in slips.items()}
     clearances = {f: _swing_clearances(rec.foot_points[f], rec.foot_radius[f], c) for f, c in contacts.items()}
     pitch, roll = _root_tilt_series(model, rec.qpos)
     moved = frames > 1
     return {
-        "cadence_spm": _round(60.0 * _step_count(touchdowns, SAME_STEP_S * rec.fps) * rec.fps / frames),
-        "stride_m": _round((rec.com[-1, 0] - rec.com[0, 0]) * rec.fps / (frames - 1) * rec.period) if moved else None,
-        "flight_fraction": _round(1.0 - in_contact.mean()),
-        "duty_factor": {f: _round(c.mean()) for f, c in contacts.items()},
+        "cadence_spm": rounded(60.0 * _step_count(touchdowns, SAME_STEP_S * rec.fps) * rec.fps / frames),
+        "stride_m": rounded((rec.com[-1, 0] - rec.com[0, 0]) * rec.fps / (frames - 1) * rec.period) if moved else None,
+        "flight_fraction": rounded(1.0 - in_contact.mean()),
+        "duty_factor": {f: rounded(c.mean()) for f, c in contacts.items()},
         "stance_slip_m": slip,
         "stance_slip_max_m": max((s for s in slip.values() if s is not None), default=None),
-        "swing_clearance_m": {f: _round(c.mean()) if c.size else None for f, c in clearances.items()},
-        "torso_pitch_deg": [_round(pitch.min()), _round(pitch.max())],
-        "torso_roll_deg": [_round(roll.min()), _round(roll.max())],
+        "swing_clearance_m": {f: rounded(c.mean()) if c.size else None for f, c in clearances.items()},
+        "torso_pitch_deg": [rounded(pitch.min()), rounded(pitch.max())],
+        "torso_roll_deg": [rounded(roll.min()), rounded(roll.max())],
         "footfall": {f: _footfall(t, rec.fps, rec.period) for f, t in touchdowns.items()},
-        "max_frame_jump_deg": _round(_max_frame_jump_deg(model, rec.qpos)) if moved else None,
-        "max_root_jump_m": _round(_max_root_jump_m(model, rec.qpos)) if moved and model.njnt else None,
+        "max_frame_jump_deg": rounded(_max_frame_jump_deg(model, rec.qpos)) if moved else None,
+        "max_root_jump_m": rounded(_max_root_jump_m(model, rec.qpos)) if moved and model.njnt else None,
     }

@@ -12,7 +12,7 @@ from __future__ import annotations
 import mujoco
 import numpy as np
 
-from eigengait.control.gait_metrics import GaitRecording, foot_contacts, touchdown_frames
+from eigengait.control.gait_metrics import GaitRecording, foot_contacts, rounded, touchdown_frames
 from eigengait.sim.root import root_layout
 
 STILL_M = 0.01  # m: below this overall travel the lateral direction is world y
@@ -54,10 +54,6 @@ def _stance_width(rec: GaitRecording, lateral: np.ndarray, touchdowns: dict[str,
     return float(np.mean(widths)) if widths else None
 
 
-def _round(x) -> float | None:
-    return round(float(x), 4) if x is not None and np.isfinite(x) else None
-
-
 def gait_signatures(model: mujoco.MjModel, rec: GaitRecording) -> dict:
     """JSON-ready signature figures (rounded to 4 decimals, None where undefined):
 
@@ -78,12 +74,12 @@ def gait_signatures(model: mujoco.MjModel, rec: GaitRecording) -> dict:
     yaw_amplitude = cycle_amplitude(yaw, frames_per_cycle)
     steady = slice(int(frames_per_cycle) if len(rec.qpos) > 2 * frames_per_cycle else 0, None)
     return {
-        "lateral_com_amplitude_m": _round(cycle_amplitude(rec.com[:, :2] @ lateral, frames_per_cycle)),
-        "yaw_amplitude_deg": _round(np.degrees(yaw_amplitude) if yaw_amplitude is not None else None),
-        "touchdowns_per_cycle": {f: _round(len(t) / cycles) if cycles else None for f, t in touchdowns.items()},
-        "mean_root_height_m": _round(height.mean()),
-        "stance_width_m": _round(_stance_width(rec, lateral, touchdowns)),
+        "lateral_com_amplitude_m": rounded(cycle_amplitude(rec.com[:, :2] @ lateral, frames_per_cycle)),
+        "yaw_amplitude_deg": rounded(np.degrees(yaw_amplitude) if yaw_amplitude is not None else None),
+        "touchdowns_per_cycle": {f: rounded(len(t) / cycles) if cycles else None for f, t in touchdowns.items()},
+        "mean_root_height_m": rounded(height.mean()),
+        "stance_width_m": rounded(_stance_width(rec, lateral, touchdowns)),
         "min_foot_height_m": {
-            f: _round(points[steady, :, 2].min() - rec.foot_radius[f]) for f, points in rec.foot_points.items()
+            f: rounded(points[steady, :, 2].min() - rec.foot_radius[f]) for f, points in rec.foot_points.items()
         },
     }

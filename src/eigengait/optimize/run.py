@@ -24,7 +24,7 @@ import yaml
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
 from eigengait import __version__
-from eigengait.control.controller import save_controller, to_file
+from eigengait.control.controller import save_controller, sketch_modes, to_file
 from eigengait.control.lookahead import LookaheadSettings
 from eigengait.control.sketch import Sketch
 from eigengait.errors import UserInputError
@@ -230,7 +230,12 @@ def write_best(folder: Path, problem: Problem, state: MomState) -> None:
     lookahead = LookaheadSettings(speed=problem.sketch.targets.mean_speed)
     best = problem.space.decode(state.best_x)
     controller = to_file(
-        problem.system, best, name=folder.name, metrics=metrics, lookahead=lookahead, sketch=problem.sketch
+        problem.system,
+        best,
+        name=folder.name,
+        metrics=metrics,
+        lookahead=lookahead,
+        sketch=sketch_modes(problem.sketch),
     )
     save_controller(controller, folder / "best_controller.json")
 
