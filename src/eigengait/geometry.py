@@ -64,6 +64,17 @@ def quat_to_mat(q: np.ndarray) -> np.ndarray:
     )
 
 
+def quat_pitch_roll(quat: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Pitch and roll (rad) of body-to-world quaternions (…, 4; w, x, y, z; normalised here), independent of yaw.
+
+    The intrinsic z-y-x (yaw, pitch, roll) Euler angles of the rotation R: pitch = asin(−R[2,0]) (about y, positive
+    nose down: the body x axis tilts toward −z), roll = atan2(R[2,1], R[2,2]) (about x, positive right side down:
+    the body y axis tilts toward +z). Both use only R's third row, so neither depends on the yaw.
+    """
+    r20, r21, r22 = np.moveaxis(quat_to_mat(quat / np.linalg.norm(quat, axis=-1, keepdims=True))[..., 2, :], -1, 0)
+    return np.arcsin(np.clip(-r20, -1.0, 1.0)), np.arctan2(r21, r22)
+
+
 def mat_to_quat(m: np.ndarray) -> np.ndarray:
     """Unit quaternions (w ≥ 0) of rotation matrices (..., 3, 3), numerically safe for all angles."""
     m = np.asarray(m, float)

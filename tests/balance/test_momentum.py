@@ -90,3 +90,20 @@ def test_foot_rooted_jacobian_keeps_the_foot_still(world, seed):
     np.testing.assert_allclose(rooted @ theta_dot, expected, rtol=1e-8, atol=1e-8)
     full = momentum_jacobian(model, data, root, foot, root_dofs, joints)
     np.testing.assert_allclose(centroidal_inertia(model, data, root) @ full @ theta_dot, expected, atol=1e-8)
+
+
+def test_shared_momentum_and_inertia_give_the_same_jacobian(world):
+    model, data = _random_state(world, 31)
+    root, foot = world.root_body, model.body("right_shin").id
+    joints = np.asarray(world.internal_qvel)
+    shared = momentum_jacobian(
+        model,
+        data,
+        root,
+        foot,
+        np.arange(6),
+        joints,
+        momentum=centroidal_momentum_matrix(model, data, root),
+        inertia=centroidal_inertia(model, data, root),
+    )
+    np.testing.assert_array_equal(shared, momentum_jacobian(model, data, root, foot, np.arange(6), joints))

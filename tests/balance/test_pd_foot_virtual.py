@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from eigengait.control.balance.foot import compensation, foot_model_for_robustness
-from eigengait.control.balance.pd import joint_error, pd_torques
+from eigengait.control.balance.pd import hinge_pd_torques, joint_error, pd_torques
 from eigengait.geometry import mat_to_quat, quat_exp, quat_mul, quat_to_mat
 from eigengait.control.balance.virtual import VirtualGains, virtual_force, virtual_torque
 from eigengait.errors import UserInputError
@@ -32,6 +32,26 @@ def test_pd_torque_combines_gains_per_axis():
         actual, desired, np.zeros((1, 3)), np.array([[0, 2.0, 0]]), np.array([10.0, 20, 30]), np.array([1.0, 2, 3])
     )
     np.testing.assert_allclose(tau, [[1.0, 4.0, 0.0]], atol=1e-12)
+
+
+def test_hinge_pd_is_the_ball_pd_about_the_hinge_axis():
+    rng = np.random.default_rng(2)
+    axis = np.array([0.0, 1.0, 0.0])
+    actual, desired = rng.uniform(-1.5, 1.5, size=(2, 30))
+    w_actual, w_desired, k_s, k_d = rng.normal(size=(4, 30))
+    tau = hinge_pd_torques(actual, desired, w_actual, w_desired, k_s, k_d)
+    ball = pd_torques(
+        quat_exp(actual[:, None] * axis),
+        quat_exp(desired[:, None] * axis),
+        w_actual[:, None] * axis,
+        w_desired[:, None] * axis,
+        k_s[:, None],
+        k_d[:, None],
+    )
+    np.testing.assert_allclose(ball, tau[:, None] * axis, atol=1e-9)
+    np.testing.assert_array_equal(
+        hinge_pd_torques(actual, desired, 0.0, w_desired, k_s, k_d), k_s * (desired - actual) + k_d * w_desired
+    )
 
 
 def test_rotation_conversions_round_trip():

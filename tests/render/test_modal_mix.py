@@ -3,16 +3,8 @@ import numpy as np
 import pytest
 
 from eigengait.errors import UserInputError
-from eigengait.motion.modal_mix import (
-    ModalMix,
-    ModeTerm,
-    build_mix,
-    common_period,
-    equal_energy_amplitudes,
-    joint_rotations,
-    mix_trajectory,
-    parse_mix,
-)
+from eigengait.modal.shape_kinematics import equal_energy_amplitudes, joint_rotations
+from eigengait.motion.modal_mix import ModalMix, ModeTerm, build_mix, common_period, mix_trajectory, parse_mix
 
 
 def test_single_mode_reaches_its_amplitude_at_a_quarter_period(humanoid):

@@ -27,11 +27,9 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Literal
 
-import yaml
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
+from pydantic import BaseModel, ConfigDict, Field, field_validator
 
-from eigengait.errors import UserInputError
-from eigengait.inputs import read_text
+from eigengait.files import load_model
 
 FORMAT_VERSION = 1
 
@@ -91,27 +89,7 @@ def is_sidecar(path: Path) -> bool:
     return path.name.endswith(SIDECAR_SUFFIX)
 
 
-def first_error(err: ValidationError) -> tuple[str, str]:
-    """(field path, message) of the first pydantic error, for one clear user message."""
-    e = err.errors()[0]
-    loc = ".".join(str(p) for p in e["loc"]) or "(top level)"
-    return loc, e["msg"]
-
-
 def load_metadata(path: Path) -> CharacterMetadata:
-    """Read and validate a sidecar file; raise UserInputError naming the file and field."""
-    try:
-        raw = yaml.safe_load(read_text(path)) or {}
-    except yaml.YAMLError as exc:
-        raise UserInputError(
-            f"not valid YAML ({exc.__class__.__name__}: {exc})", file=path, fix="check indentation and brackets"
-        ) from None
-    if not isinstance(raw, dict):
-        raise UserInputError("expected a mapping at the top level", file=path)
-    try:
-        return CharacterMetadata.model_validate(raw)
-    except ValidationError as err:
-        field, msg = first_error(err)
-        raise UserInputError(
-            msg, file=path, field=field, fix="see the sidecar format in the README (Characters)"
-        ) from None
+    """Read and validate a sidecar file (an empty one gives the defaults); raise UserInputError naming the file and
+    field."""
+    return load_model(CharacterMetadata, path, "see the sidecar format in the README (Characters)", allow_empty=True)

@@ -15,6 +15,7 @@ import numpy as np
 from eigengait.character.loader import Character
 from eigengait.character.scene import compile_spec
 from eigengait.errors import UserInputError
+from eigengait.geometry import quat_exp
 
 DEFAULT_POSE = "default"
 
@@ -76,12 +77,6 @@ def pose_rotations(character: Character, pose: str | dict) -> dict[str, np.ndarr
     return rotations
 
 
-def _quat_of_rotvec(rotvec: np.ndarray) -> np.ndarray:
-    q = np.zeros(4)
-    mujoco.mju_axisAngle2Quat(q, rotvec / max(np.linalg.norm(rotvec), 1e-300), float(np.linalg.norm(rotvec)))
-    return q
-
-
 def posed_spec(character: Character, pose: str | dict = DEFAULT_POSE) -> mujoco.MjSpec:
     """A fresh spec of the character whose zero pose is the given relax pose."""
     spec = character.raw_spec()
@@ -93,7 +88,7 @@ def posed_spec(character: Character, pose: str | dict = DEFAULT_POSE) -> mujoco.
         j = model.joint(joint).id
         b = int(model.jnt_bodyid[j])
         rotvec = rot * model.jnt_axis[j] if rot.size == 1 else rot
-        q_rel = _quat_of_rotvec(rotvec)
+        q_rel = quat_exp(rotvec)
         anchor = model.jnt_pos[j]
         rotated_anchor = np.zeros(3)
         mujoco.mju_rotVecQuat(rotated_anchor, anchor, q_rel)

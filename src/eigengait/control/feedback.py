@@ -32,8 +32,7 @@ import mujoco
 import numpy as np
 
 from eigengait.control.pulse import State
-from eigengait.geometry import quat_to_mat
-from eigengait.sim.root import quat_pitch_roll
+from eigengait.geometry import quat_pitch_roll, quat_to_mat
 from eigengait.sim.world import GRAVITY, World
 
 FEEDBACK_DT = 0.01  # s between feature readings (feedback torques are held in between)

@@ -23,6 +23,7 @@ import numpy as np
 from scipy.spatial.transform import Rotation
 
 from eigengait.errors import UserInputError
+from eigengait.geometry import quat_to_mat
 from eigengait.motion.bvh import BvhClip, BvhJoint, write_bvh
 from eigengait.sim.world import World
 
@@ -78,19 +79,13 @@ def _leaf_tip(model: mujoco.MjModel, body: int) -> np.ndarray | None:
     boxes = [g for g in geoms if model.geom_type[g] == mujoco.mjtGeom.mjGEOM_BOX]
     if boxes:
         g = boxes[0]
-        axes = _quat_matrix(model.geom_quat[g])
+        axes = quat_to_mat(model.geom_quat[g])
         faces = model.geom_pos[g] + np.concatenate([axes * model.geom_size[g], -axes * model.geom_size[g]], axis=1).T
     elif geoms:
         faces = model.geom_pos[geoms]
     else:
         return None
     return faces[np.argmax(np.linalg.norm(faces - _local_anchor(model, body), axis=1))]
-
-
-def _quat_matrix(quat: np.ndarray) -> np.ndarray:
-    mat = np.zeros(9)
-    mujoco.mju_quat2Mat(mat, quat)
-    return mat.reshape(3, 3)
 
 
 def _foot_ends(world: World, leaves: set[int]) -> dict[int, tuple[np.ndarray | None, np.ndarray, str]]:

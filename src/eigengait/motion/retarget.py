@@ -28,11 +28,11 @@ from pathlib import Path
 
 import mujoco
 import numpy as np
-import yaml
-from pydantic import BaseModel, ConfigDict, ValidationError, field_validator
+from pydantic import BaseModel, ConfigDict, field_validator
 
 from eigengait.geometry import mat_to_quat, min_arc, quat_log, quat_to_mat
 from eigengait.errors import UserInputError
+from eigengait.files import load_model
 from eigengait.motion.bvh import BvhClip, end_site_positions, global_transforms
 from eigengait.motion.conventions import detect_conventions
 from eigengait.motion.skeleton_names import LEG_ROLES, find_roles
@@ -100,25 +100,12 @@ class Mapping:
 
 def load_mapping(path: str | Path) -> Mapping:
     """Read and validate a YAML mapping file."""
-    try:
-        raw = yaml.safe_load(Path(path).read_text())
-    except OSError as exc:
-        raise UserInputError(
-            f"cannot read the mapping file ({exc.strerror}).", file=path, fix="check the path."
-        ) from None
-    except yaml.YAMLError as exc:
-        raise UserInputError(f"the mapping is not valid YAML ({exc}).", file=path, fix="fix the YAML syntax.") from None
-    try:
-        parsed = MappingFile.model_validate(raw if raw is not None else {})
-    except ValidationError as exc:
-        err = exc.errors()[0]
-        where = ".".join(str(p) for p in err["loc"]) or "(top level)"
-        raise UserInputError(
-            err["msg"],
-            file=path,
-            field=where,
-            fix="write 'joints: {BVH_JOINT: MJCF_JOINT, ...}' and optionally 'axes: {x: +z, y: +x, z: +y}'.",
-        ) from None
+    parsed = load_model(
+        MappingFile,
+        path,
+        "write 'joints: {BVH_JOINT: MJCF_JOINT, ...}' and optionally 'axes: {x: +z, y: +x, z: +y}'.",
+        allow_empty=True,
+    )
     return Mapping(joints=dict(parsed.joints), axes=None if parsed.axes is None else axis_matrix(parsed.axes))
 
 

@@ -2,7 +2,7 @@
 
 Each tile shows the relax pose solid light grey, the pose at −A in orange and at +A in teal, where A turns the
 mode's most-moving joint by `max_rotation_deg` (so every mode is equally visible; the animation default follows
-the equal-energy rule instead, see `eigengait.motion.modal_mix`). The extremes are rendered separately and blended
+the equal-energy rule instead, see `eigengait.modal.shape_kinematics`). The extremes are rendered separately and blended
 onto the relax image, the nearer one on top where they overlap (no depth fight between coincident surfaces); each
 body's ghost is the more opaque the more that body moves (travel or own joint rotation), so the moving parts stand
 out and still parts stay grey.
@@ -22,7 +22,7 @@ import numpy as np
 from eigengait.errors import UserInputError
 from eigengait.outputs import replacing
 from eigengait.modal.modeset import ModeSet
-from eigengait.motion.modal_mix import DEFAULT_MAX_ROTATION_DEG, displaced_qpos, peak_rotation_amplitudes
+from eigengait.modal.shape_kinematics import DEFAULT_MAX_ROTATION_DEG, displaced_qpos, peak_rotation_amplitudes
 from eigengait.render.video import CameraView, FrameRenderer, creature_geoms, geom_corners
 from eigengait.sim.world import World
 

@@ -12,20 +12,9 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
-from eigengait.geometry import quat_to_mat
+from eigengait.geometry import quat_pitch_roll
 
 AXIS_TOLERANCE = 0.99  # |cos| between a joint axis and a world axis to count as that axis
-
-
-def quat_pitch_roll(quat: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Pitch and roll (rad) of body-to-world quaternions (…, 4; w, x, y, z; normalised here), independent of yaw.
-
-    The intrinsic z-y-x (yaw, pitch, roll) Euler angles of the rotation R: pitch = asin(−R[2,0]) (about y, positive
-    nose down: the body x axis tilts toward −z), roll = atan2(R[2,1], R[2,2]) (about x, positive right side down:
-    the body y axis tilts toward +z). Both use only R's third row, so neither depends on the yaw.
-    """
-    r20, r21, r22 = np.moveaxis(quat_to_mat(quat / np.linalg.norm(quat, axis=-1, keepdims=True))[..., 2, :], -1, 0)
-    return np.arcsin(np.clip(-r20, -1.0, 1.0)), np.arctan2(r21, r22)
 
 
 @dataclass(frozen=True)
@@ -83,8 +72,8 @@ class RootLayout:
     def tilt_deg(self, qpos: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Pitch and roll (degrees) of the root for qpos rows (…, nq), independent of the heading.
 
-        A free root: `quat_pitch_roll` of its quaternion. A planar root: its hinge about ±y as pitch (same sign
-        convention) and roll 0. NaN for a planar root without that hinge.
+        A free root: `geometry.quat_pitch_roll` of its quaternion. A planar root: its hinge about ±y as pitch (same
+        sign convention) and roll 0. NaN for a planar root without that hinge.
         """
         if self.quat_qpos is not None:
             pitch, roll = quat_pitch_roll(qpos[..., self.quat_qpos : self.quat_qpos + 4])

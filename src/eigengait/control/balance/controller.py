@@ -7,10 +7,11 @@ torque (world axes, N·m) that cancels part of the balance torque reaching that 
 calls; the `BalanceRig` holds only the model's addresses, the gains and the foot model, fixed for a run. The
 simulation loop (`tracker.Tracker`) samples the reference, applies the result and steps the physics.
 
-1. joint PD: τ_pd = k_s e + k_d ω_d (`pd.pd_torques` with ω_a = 0): the −k_d ω_a term is the joint damping, which
-   MuJoCo integrates implicitly (the caller sets `dof_damping` = k_d and switches the passive springs off);
+1. joint PD: τ_pd = k_s e + k_d ω_d (`pd.pd_torques` for balls, `pd.hinge_pd_torques` for hinges, with ω_a = 0):
+   the −k_d ω_a term is the joint damping, which MuJoCo integrates implicitly (the caller sets `dof_damping` = k_d
+   and switches the passive springs off);
 2. stance feet = feet touching the floor; their normal forces weight the balance torques of each foot-rooted
-   Jacobian (`momentum.py`; double support blends the two roots; flight has no balance torque);
+   Jacobian (`momentum.momentum_jacobian`; double support blends the two roots; flight has no balance torque);
 3. virtual force/torque at the COM (`virtual.py`) → τ_eq = Jᵀ w;
 4. the balance torque that reaches each stance foot is partly cancelled by an external torque on that foot, the
    artificial torque; if the cancelled fraction is below `tolerance` the balance torques are switched off.
@@ -24,12 +25,8 @@ import mujoco
 import numpy as np
 
 from eigengait.control.balance.foot import FootModel, compensation
-from eigengait.control.balance.momentum import (
-    centroidal_inertia,
-    centroidal_momentum_matrix,
-    foot_rooted_momentum_matrix,
-)
-from eigengait.control.balance.pd import pd_torques
+from eigengait.control.balance.momentum import centroidal_inertia, centroidal_momentum_matrix, momentum_jacobian
+from eigengait.control.balance.pd import hinge_pd_torques, pd_torques
 from eigengait.control.balance.virtual import VirtualGains, virtual_force, virtual_torque
 from eigengait.geometry import quat_to_mat
 from eigengait.sim.world import FLOOR, GRAVITY, World
@@ -199,7 +196,9 @@ def pd_torque(data: mujoco.MjData, rig: BalanceRig, target: dict[str, np.ndarray
         )
     if len(rig.hinge_qpos):
         dof, adr = rig.hinge_dof, rig.hinge_qpos
-        tau[dof] = rig.k_s[dof] * (target["qpos"][adr] - data.qpos[adr]) + rig.k_d[dof] * target["qvel"][dof]
+        tau[dof] = hinge_pd_torques(
+            data.qpos[adr], target["qpos"][adr], 0.0, target["qvel"][dof], rig.k_s[dof], rig.k_d[dof]
+        )
     return tau
 
 
@@ -242,8 +241,9 @@ def equilibrium_torque(
     momentum = centroidal_momentum_matrix(model, data, root)
     inertia = centroidal_inertia(model, data, root)
     for f, normal in stance.items():
-        rooted = foot_rooted_momentum_matrix(model, data, momentum, rig.foot_bodies[f], rig.root_dofs, rig.joint_dofs)
-        jac = np.linalg.solve(inertia, rooted)
+        jac = momentum_jacobian(
+            model, data, root, rig.foot_bodies[f], rig.root_dofs, rig.joint_dofs, momentum=momentum, inertia=inertia
+        )
         tau[rig.joint_dofs] += normal / total * (jac.T @ wrench)
     artificial, ratios = {}, []
     jacr = np.zeros((3, model.nv))

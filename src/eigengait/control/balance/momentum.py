@@ -83,8 +83,16 @@ def momentum_jacobian(
     foot_body: int,
     root_dofs: np.ndarray,
     joint_dofs: np.ndarray,
+    momentum: np.ndarray | None = None,
+    inertia: np.ndarray | None = None,
 ) -> np.ndarray:
-    """E16: J (6, n_joint_dofs) = M_total⁻¹ A_foot, mapping joint velocities to (ω_avg; v_com) about the COM."""
-    momentum = centroidal_momentum_matrix(model, data, root_body)
+    """E16: J (6, n_joint_dofs) = M_total⁻¹ A_foot, mapping joint velocities to (ω_avg; v_com) about the COM.
+
+    `momentum` (A) and `inertia` (M_total) of the current state may be given to share them between feet.
+    """
+    if momentum is None:
+        momentum = centroidal_momentum_matrix(model, data, root_body)
+    if inertia is None:
+        inertia = centroidal_inertia(model, data, root_body)
     rooted = foot_rooted_momentum_matrix(model, data, momentum, foot_body, root_dofs, joint_dofs)
-    return np.linalg.solve(centroidal_inertia(model, data, root_body), rooted)
+    return np.linalg.solve(inertia, rooted)
