@@ -1,14 +1,15 @@
-"""The one error type users see: it names the file, the field and the fix.
+"""The errors users see: each names the file, the field and the fix.
 
 Every module raises :class:`UserInputError` for bad input (a malformed file, an unknown name, an impossible
-parameter, a simulation that blows up). The CLI prints it as one message and exits with status 2.
+parameter) and :class:`SimulationBlowUp` when the physics diverges. Both are :class:`EigengaitError`, which the CLI
+prints as one message before exiting with status 2.
 """
 
 from __future__ import annotations
 
 
-class UserInputError(Exception):
-    """Bad input from the user, reported without a traceback.
+class EigengaitError(Exception):
+    """An error reported to the user without a traceback.
 
     Args:
         message: what is wrong, in one sentence.
@@ -32,5 +33,9 @@ class UserInputError(Exception):
         return text
 
 
-class SimulationBlowUp(UserInputError):
+class UserInputError(EigengaitError):
+    """Bad input from the user: a file, a name or a parameter the library cannot use."""
+
+
+class SimulationBlowUp(EigengaitError):
     """The physics diverged (NaN or runaway energy); the message names the time and the body."""

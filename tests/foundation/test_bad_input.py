@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from eigengait.character import load_character
-from eigengait.errors import SimulationBlowUp, UserInputError
+from eigengait.errors import EigengaitError, SimulationBlowUp, UserInputError
 from eigengait.modal import compute_modes
 from eigengait.sim import WorldOptions, build_world
 from eigengait.sim.stepping import step
@@ -117,6 +117,7 @@ def test_blow_up_names_time_and_body():
     world = build_world(load_character("humanoid"), options=WorldOptions(gravity=False))
     data = world.new_data()
     data.ctrl[:] = 1e9
-    with pytest.raises(SimulationBlowUp, match=r"t = [0-9.]+ s.*body '"):
+    with pytest.raises(SimulationBlowUp, match=r"t = [0-9.]+ s.*body '") as caught:
         for _ in range(100):
             step(world, data, 10)
+    assert isinstance(caught.value, EigengaitError) and not isinstance(caught.value, UserInputError)

@@ -107,3 +107,30 @@ def test_corrupt_checkpoint_via_cli_leaves_files_alone(tmp_path, eigengait_cli):
     result = eigengait_cli("optimize", "basic-run", "-o", run, "--max-evaluations", "60", "--resume")
     assert result.returncode == 2 and "corrupt" in result.stderr
     assert (run / "log.csv").read_text() == log
+
+
+def test_nothing_to_resume_names_the_parameter_and_the_command_prints_the_flag(tmp_path, eigengait_cli):
+    from eigengait.control.sketch import load_sketch
+    from eigengait.errors import UserInputError
+    from eigengait.optimize.mom import MomSettings
+    from eigengait.optimize.run import optimize
+
+    sketch = load_sketch(resolve("sketch", "basic-run"))
+    with pytest.raises(UserInputError) as caught:
+        optimize(sketch, tmp_path / "run", MomSettings(), resume=True, progress=False)
+    assert "without resume=True" in caught.value.fix and "--" not in str(caught.value)
+    result = eigengait_cli("optimize", "basic-run", "-o", tmp_path / "run", "--resume")
+    assert result.returncode == 2 and "without --resume" in result.stderr and "resume=True" not in result.stderr
+
+
+def test_the_adaptive_al_run_records_its_method_and_only_its_settings(tmp_path, eigengait_cli):
+    run = tmp_path / "run"
+    result = eigengait_cli("optimize", "basic-run", "-o", run, "--max-evaluations", "20", "--method", "al")
+    assert result.returncode == 0, result.stderr
+    saved = json.loads((run / "settings.json").read_text())
+    assert saved["method"] == "al" and "penalty" not in saved["settings"] and "method" not in saved["settings"]
+    assert saved["settings"]["tol_flat_fitness"] == 1000 and saved["settings"]["tol_fun"] == 0
+    resumed = eigengait_cli("optimize", "basic-run", "-o", run, "--max-evaluations", "40", "--resume")
+    assert resumed.returncode == 0, resumed.stderr
+    unknown = eigengait_cli("optimize", "basic-run", "-o", tmp_path / "other", "--method", "sqp")
+    assert unknown.returncode == 2 and "field '--method'" in unknown.stderr

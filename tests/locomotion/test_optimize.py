@@ -1,6 +1,8 @@
 """Method of multipliers, checkpoints, batched evaluation (threads, processes, Ray) against single stepping."""
 
+import json
 import pickle
+from dataclasses import asdict, fields
 
 import mujoco
 import numpy as np
@@ -11,8 +13,9 @@ from eigengait.control.sketch import load_sketch
 from eigengait.optimize.evaluate import BatchEvaluator, Outcome
 from eigengait.optimize.evaluators import ProcessEvaluator, RayEvaluator
 from eigengait.optimize.checkpoint import load_state, save_state
-from eigengait.optimize.methods import make_optimizer
-from eigengait.optimize.mom import MomSettings, MomState
+from eigengait.optimize.adaptive_al import AdaptiveAugmentedLagrangian, AlSettings
+from eigengait.optimize.methods import make_optimizer, method_settings
+from eigengait.optimize.mom import CmaOptions, MethodOfMultipliers, MomSettings, MomState
 from eigengait.optimize.problem import Problem
 from eigengait.optimize.parameters import ParameterSpace, feedback_gain_count
 
@@ -49,18 +52,92 @@ def test_method_of_multipliers_meets_the_cyclic_constraint():
     assert state.outer >= 1  # the first run (k = 0) ignores φ
 
 
+@pytest.mark.parametrize("generations", [17, 32], ids=["in-the-first-inner-run", "in-the-second"])
 @pytest.mark.parametrize("method", ["mom", "al"])
-def test_runs_are_seeded_and_a_checkpoint_resumes_exactly(tmp_path, method):
-    settings = MomSettings(seed=5, inner_generations=30, max_evaluations=400, method=method)
+def test_runs_are_seeded_and_a_checkpoint_resumes_exactly(tmp_path, method, generations):
+    settings = method_settings(method, seed=5, inner_generations=30, max_evaluations=1200, cycle_tolerance=1e-3)
     straight = MomState(x_start=np.full(4, 0.5))
     run_toy(settings, straight)
+    assert straight.outer >= 1 and straight.log[31]["outer"] == 1  # the second interruption is past the first run
     interrupted = MomState(x_start=np.full(4, 0.5))
-    run_toy(settings, interrupted, generations=17)
+    run_toy(settings, interrupted, generations=generations)
     save_state(interrupted, tmp_path / "checkpoint.npz")
     resumed = load_state(tmp_path / "checkpoint.npz")
     run_toy(settings, resumed)
     assert [r["best_cost"] for r in resumed.log] == [r["best_cost"] for r in straight.log]
     np.testing.assert_array_equal(resumed.best_x, straight.best_x)
+
+
+def test_each_method_has_its_own_settings():
+    assert isinstance(make_optimizer(toy_evaluate, method_settings("mom"), MomState(np.zeros(2))), MethodOfMultipliers)
+    al = make_optimizer(toy_evaluate, method_settings("al"), MomState(np.zeros(2)))
+    assert isinstance(al, AdaptiveAugmentedLagrangian)
+    with pytest.raises(TypeError, match="penalty"):
+        method_settings("al", penalty=10.0)  # pycma adapts its own penalties: one given here would be ignored
+    with pytest.raises(TypeError, match="method"):
+        MomSettings(method="al")
+    from eigengait.errors import UserInputError
+
+    with pytest.raises(UserInputError, match="unknown method 'sqp'"):
+        method_settings("sqp")
+
+
+def test_the_cma_options_are_settings_with_the_former_defaults():
+    options = CmaOptions(seed=4, popsize=9).pycma_options(run=2)
+    assert options == {
+        "bounds": [0, 1],
+        "seed": 6,
+        "tolx": 1e-4,
+        "maxiter": 1000,
+        "verbose": -9,
+        "verb_log": 0,
+        "verb_disp": 0,
+        "tolfun": 0,
+        "tolflatfitness": 1000,
+        "popsize": 9,
+    }
+    assert "popsize" not in CmaOptions().pycma_options(run=0)
+    shared = {f.name for f in fields(CmaOptions)}
+    assert shared < {f.name for f in fields(AlSettings)} < {f.name for f in fields(MomSettings)}
+    state = MomState(x_start=np.full(4, 0.5))
+    mom = make_optimizer(toy_evaluate, MomSettings(tol_flat_fitness=3, inner_generations=50), state)
+    mom.start_inner_run()
+    assert state.es.opts["tolflatfitness"] == 3 and state.es.opts["maxiter"] == 50
+
+
+def test_the_adaptive_al_state_is_declared_and_no_log_folder_is_left(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    state = MomState(x_start=np.full(4, 0.5))
+    assert "al" in {f.name for f in fields(MomState)}
+    run_toy(AlSettings(seed=2, inner_generations=5), state, generations=3)
+    assert state.al is not None and state.al.multipliers.shape == (4,)
+    assert set(vars(state)) == {f.name for f in fields(MomState)}
+    assert not (tmp_path / "outcmaes").exists()
+
+
+@pytest.mark.parametrize("method", ["mom", "al"])
+def test_run_folders_of_earlier_versions_resume_with_their_method(tmp_path, method):
+    """settings.json once kept the method among one settings class's fields, and the AL a penalty it ignored."""
+    from eigengait.optimize.run import prepare_folder
+
+    sketch = load_sketch(resolve("sketch", "basic-run"))
+    run = tmp_path / "run"
+    prepare_folder(run, sketch, method_settings(method, seed=4), "threads", resume=False)
+    earlier = {**asdict(MomSettings(seed=4, penalty=2.0)), "method": method}
+    earlier = {k: v for k, v in earlier.items() if k not in ("tol_fun", "tol_flat_fitness")}
+    (run / "settings.json").write_text(json.dumps({"settings": earlier, "evaluator": "processes"}))
+    save_state(MomState(x_start=np.full(3, 0.5)), run / "checkpoint.npz")
+    budget = MomSettings(max_evaluations=50)
+    settings, evaluator, state = prepare_folder(run, sketch, budget, "threads", resume=True)
+    assert settings.method == method and evaluator == "processes" and state is not None
+    assert settings.seed == 4 and settings.max_evaluations == 50
+    assert settings.penalty == 2.0 if method == "mom" else not hasattr(settings, "penalty")
+    (run / "settings.json").write_text(json.dumps({"method": "nope", "settings": {}, "evaluator": "threads"}))
+    from eigengait.errors import UserInputError
+
+    with pytest.raises(UserInputError, match="settings.json is missing or damaged") as caught:
+        prepare_folder(run, sketch, budget, "threads", resume=True)
+    assert caught.value.file == str(run / "settings.json") and "new run" in caught.value.fix
 
 
 class _Payload:
@@ -156,7 +233,7 @@ def test_process_and_ray_evaluators_agree_with_threads(problem):
 
 
 def test_adaptive_augmented_lagrangian_meets_the_cyclic_constraint(tmp_path):
-    settings = MomSettings(seed=3, inner_generations=200, cycle_tolerance=1e-3, method="al")
+    settings = AlSettings(seed=3, inner_generations=200, cycle_tolerance=1e-3)
     state = MomState(x_start=np.full(5, 0.5))
     optimizer = make_optimizer(toy_evaluate, settings, state)
     generations = 0

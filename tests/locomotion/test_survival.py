@@ -9,6 +9,7 @@ from eigengait.control.closed_loop import PUSH_SECONDS
 from eigengait.control.controller import load_controller, system_for, to_parameters
 from eigengait.control.library import resolve
 from eigengait.optimize.survival import (
+    CHECKPOINT,
     StartingFigures,
     SurvivalSettings,
     SurvivalSpace,
@@ -75,6 +76,21 @@ def test_a_resumed_run_continues_the_same_search(kangaroo, tmp_path):
     assert len(straight) == len(split) == 3
     np.testing.assert_allclose(straight[2]["candidates"], split[2]["candidates"])
     assert straight[2]["costs"] == pytest.approx(split[2]["costs"])
+
+
+def test_resume_errors_name_the_parameter_and_the_command_line_shows_its_flag(kangaroo, tmp_path):
+    from eigengait.cli.flags import for_command_line
+    from eigengait.errors import UserInputError
+
+    system, start = kangaroo
+    (tmp_path / "damaged").mkdir()
+    (tmp_path / "damaged" / CHECKPOINT).write_text("{")
+    for folder in (tmp_path / "empty", tmp_path / "damaged"):
+        with pytest.raises(UserInputError) as caught:
+            harden(system, start, FIGURES, folder, SurvivalSettings(minutes=1), resume=True, progress=lambda _: None)
+        assert "without resume=True" in caught.value.fix and "--" not in str(caught.value)
+        shown = str(for_command_line(caught.value))
+        assert "without --resume" in shown and "resume=True" not in shown
 
 
 def test_harden_command_writes_a_playable_controller_and_refuses_to_clobber(tmp_path):

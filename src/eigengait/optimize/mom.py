@@ -4,13 +4,16 @@ Outer loop: W(x, λ, k) = f(x) + λᵀφ(x) + k φᵀφ; each inner CMA-ES run m
 The first inner run uses λ = 0, k = 0, later ones k = `penalty`. σ₀ = 0.3 then σ ← 0.7σ per inner run (floor
 0.001). An inner run stops at stopTolX 1e-4 or its generation cap; the outer loop stops when every |φ_i| is below
 the tolerance, after `max_outer` inner runs, or when the evaluation/time budget is spent.
+
+`ConstrainedSearch` is what the method of multipliers shares with pycma's adaptive augmented Lagrangian
+(`optimize.adaptive_al`): restarted inner CMA-ES runs, their state and checkpoint replay, and the stopping rules.
 """
 
 from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field
-from typing import Callable
+from typing import Callable, ClassVar
 
 import cma
 import numpy as np
@@ -19,35 +22,61 @@ from eigengait.optimize.evaluate import Outcome
 
 
 @dataclass
-class MomSettings:
-    seed: int = 1
-    sigma0: float = 0.3
-    sigma_decay: float = 0.7
-    sigma_floor: float = 0.001
-    penalty: float = 0.1  # k after the first inner run
-    tol_x: float = 1e-4
-    inner_generations: int = 1000
-    max_outer: int = 20
+class CmaOptions:
+    """The options of every inner CMA-ES run (pycma's option names in brackets); parameters are normalized to
+    [0, 1]."""
+
+    seed: int = 1  # [seed] of the first inner run; the i-th later one uses seed + i
+    sigma0: float = 0.3  # step size of the first inner run
+    sigma_decay: float = 0.7  # each later inner run starts with the previous step size times this
+    sigma_floor: float = 0.001  # smallest step size an inner run starts with
+    tol_x: float = 1e-4  # [tolx] an inner run stops when its steps in x are all below this
+    tol_fun: float = 0.0  # [tolfun] ... or when its recent fitness range is below this (0: never)
+    tol_flat_fitness: int = 1000  # [tolflatfitness] ... or after this many generations of flat fitness
+    inner_generations: int = 1000  # [maxiter] ... or after this many generations
+    popsize: int | None = None  # [popsize] candidates per generation (None: pycma's 4 + 3 ln n)
+
+    def pycma_options(self, run: int) -> dict:
+        """pycma's options of inner run `run` (0 for the first), bounded to [0, 1] and silent."""
+        opts = {
+            "bounds": [0, 1],
+            "seed": self.seed + run,
+            "tolx": self.tol_x,
+            "maxiter": self.inner_generations,
+            "verbose": -9,
+            "verb_log": 0,
+            "verb_disp": 0,
+            "tolfun": self.tol_fun,
+            "tolflatfitness": self.tol_flat_fitness,
+        }
+        if self.popsize:
+            opts["popsize"] = self.popsize
+        return opts
+
+
+@dataclass
+class SearchSettings(CmaOptions):
+    """The inner runs' options and the outer loop's stopping rules, read by both constrained methods."""
+
+    max_outer: int = 20  # inner runs at most
     cycle_tolerance: float = 0.2  # |φ_i| below this on every component: cyclic
-    popsize: int | None = None  # CMA default 4 + 3 ln n
     max_evaluations: int | None = None
     max_seconds: float | None = None
-    method: str = "mom"  # "mom" (the thesis's) or "al" (pycma's adaptive augmented Lagrangian)
 
-    def __post_init__(self):
-        if self.method not in ("mom", "al"):
-            from eigengait.errors import UserInputError
 
-            raise UserInputError(
-                f"unknown method '{self.method}'", field="method", fix="use method='mom' or method='al'"
-            )
+@dataclass
+class MomSettings(SearchSettings):
+    """The method of multipliers: the shared search settings plus its penalty."""
+
+    method: ClassVar[str] = "mom"
+    penalty: float = 0.1  # k after the first inner run
 
 
 @dataclass
 class MomState:
     """Everything needed to resume: multipliers, penalty, best so far, counters, and the current inner run as
-    data (its start point and every generation's candidates and outcomes, from which the CMA object is rebuilt by
-    replaying them; see `optimize.checkpoint`)."""
+    data (its start point and every generation's candidates and outcomes; see `optimize.checkpoint`). The CMA
+    object `es` and the adaptive AL's fitness `al` are not saved: they are rebuilt by replaying that data."""
 
     x_start: np.ndarray
     outer: int = 0
@@ -64,6 +93,7 @@ class MomState:
     log: list[dict] = field(default_factory=list)
     inner_start: np.ndarray | None = None
     history: list[tuple[np.ndarray, list[Outcome]]] = field(default_factory=list)
+    al: object | None = None  # adaptive AL only: its fitness, with pycma's multipliers and penalties
 
 
 def merit(o: Outcome) -> float:
@@ -75,28 +105,18 @@ def augmented(o: Outcome, lam: np.ndarray, k: float) -> float:
     return o.cost + float(lam @ o.cycle) + k * float(o.cycle @ o.cycle)
 
 
-class MethodOfMultipliers:
-    def __init__(self, evaluate: Callable[[np.ndarray], list[Outcome]], settings: MomSettings, state: MomState):
+class ConstrainedSearch:
+    """Inner CMA-ES runs, each from the best solution so far, minimizing a fitness that handles the cyclic
+    constraint; subclasses define that fitness and what changes between inner runs."""
+
+    def __init__(self, evaluate: Callable[[np.ndarray], list[Outcome]], settings: SearchSettings, state: MomState):
         self.evaluate, self.s, self.state = evaluate, settings, state
-        if state.lam is None:
+        if state.generation == 0:  # a new search; a resumed one keeps its σ
             state.sigma = settings.sigma0
 
     def _new_es(self) -> cma.CMAEvolutionStrategy:
         st = self.state
-        opts = {
-            "bounds": [0, 1],
-            "seed": self.s.seed + st.outer,
-            "tolx": self.s.tol_x,
-            "maxiter": self.s.inner_generations,
-            "verbose": -9,
-            "verb_log": 0,
-            "verb_disp": 0,
-            "tolfun": 0,
-            "tolflatfitness": 1000,
-        }
-        if self.s.popsize:
-            opts["popsize"] = self.s.popsize
-        return cma.CMAEvolutionStrategy(np.clip(st.inner_start, 0, 1), st.sigma, opts)
+        return cma.CMAEvolutionStrategy(np.clip(st.inner_start, 0, 1), st.sigma, self.s.pycma_options(st.outer))
 
     def budget_left(self) -> bool:
         st, s = self.state, self.s
@@ -109,13 +129,12 @@ class MethodOfMultipliers:
         return True
 
     def fitness(self, X: np.ndarray, outcomes: list[Outcome]) -> list[float]:
-        """What CMA-ES minimizes this generation: the augmented Lagrangian W."""
-        st = self.state
-        lam = self.multipliers(outcomes[0].cycle)
-        return [augmented(o, lam, st.k) for o in outcomes]
+        """What CMA-ES minimizes this generation."""
+        raise NotImplementedError
 
     def multipliers(self, like: np.ndarray) -> np.ndarray:
-        return self.state.lam if self.state.lam is not None else np.zeros_like(like)
+        """The current Lagrange multipliers (logged as their norm); `like` is a constraint vector."""
+        raise NotImplementedError
 
     def generation(self) -> dict:
         """One CMA generation of the current inner run; returns its log row."""
@@ -176,12 +195,9 @@ class MethodOfMultipliers:
             self.tell(X, outcomes)
 
     def end_inner_run(self) -> None:
-        """Multiplier update and the next inner run's σ and k."""
-        st, s = self.state, self.s
-        phi = st.best.cycle
-        st.lam = (st.lam if st.lam is not None else np.zeros_like(phi)) + 2 * st.k * phi
-        st.k = s.penalty
-        st.sigma = max(s.sigma_floor, st.sigma * s.sigma_decay)
+        """The next inner run's σ; subclasses update their multipliers first."""
+        st = self.state
+        st.sigma = max(self.s.sigma_floor, st.sigma * self.s.sigma_decay)
         st.outer += 1
         st.es = None
         st.history = []
@@ -207,3 +223,25 @@ class MethodOfMultipliers:
         if st.es.stop():
             self.end_inner_run()
         return row
+
+
+class MethodOfMultipliers(ConstrainedSearch):
+    """The thesis's method of multipliers: W with fixed λ and k per inner run, both updated between runs."""
+
+    s: MomSettings
+
+    def fitness(self, X: np.ndarray, outcomes: list[Outcome]) -> list[float]:
+        """The augmented Lagrangian W."""
+        lam = self.multipliers(outcomes[0].cycle)
+        return [augmented(o, lam, self.state.k) for o in outcomes]
+
+    def multipliers(self, like: np.ndarray) -> np.ndarray:
+        return self.state.lam if self.state.lam is not None else np.zeros_like(like)
+
+    def end_inner_run(self) -> None:
+        """Multiplier update, then the next inner run's k and σ."""
+        st = self.state
+        phi = st.best.cycle
+        st.lam = (st.lam if st.lam is not None else np.zeros_like(phi)) + 2 * st.k * phi
+        st.k = self.s.penalty
+        super().end_inner_run()

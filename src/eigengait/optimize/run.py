@@ -3,8 +3,8 @@
 ```
 RUN/
   sketch.yaml          the sketch as validated
-  settings.json        seed, optimizer settings, evaluator, versions
-  checkpoint.npz       the optimizer state after the last generation, as data (resume with --resume)
+  settings.json        method, seed, optimizer settings, evaluator, versions
+  checkpoint.npz       the optimizer state after the last generation, as data (resume with resume=True)
   status.json          whether the run finished, and why (a killed or crashed run stays "finished": false)
   log.csv              one row per generation
   objective.png        best objective per generation     violation.png   best cycle violation per generation
@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import csv
 import json
-from dataclasses import asdict
+from dataclasses import asdict, replace
 from pathlib import Path
 
 import mujoco
@@ -30,8 +30,8 @@ from eigengait.control.sketch import Sketch
 from eigengait.errors import UserInputError
 from eigengait.optimize.evaluators import make_evaluator
 from eigengait.optimize.checkpoint import load_state, save_state
-from eigengait.optimize.methods import make_optimizer
-from eigengait.optimize.mom import MomSettings, MomState
+from eigengait.optimize.methods import make_optimizer, method_settings
+from eigengait.optimize.mom import MomState, SearchSettings
 from eigengait.optimize.problem import Problem
 from eigengait.outputs import check_folder, replacing, write_atomically
 
@@ -40,25 +40,31 @@ RUN_MARKERS = ("checkpoint.npz", "checkpoint.pkl", "best_controller.json")
 RUN_FILES = (*RUN_MARKERS, "status.json", "sketch.yaml", "settings.json", "log.csv", "objective.png", "violation.png")
 
 
-def _saved_settings(folder: Path) -> dict:
+def _saved_settings(folder: Path) -> tuple[SearchSettings, str]:
+    """The run's optimizer settings and evaluator, from its settings.json.
+
+    Run folders of earlier versions keep the method among the settings, and the adaptive AL's ones a `penalty`
+    that it never read; both are read as the method's own settings."""
     try:
         saved = json.loads((folder / "settings.json").read_text(encoding="utf-8"))
-        MomSettings(**saved["settings"])
-        saved["evaluator"]
+        fields = dict(saved["settings"])
+        earlier = fields.pop("method", None)
+        if earlier == "al":
+            fields.pop("penalty", None)
+        return method_settings(saved.get("method", earlier or "mom"), **fields), saved["evaluator"]
     except (OSError, ValueError, KeyError, TypeError, UserInputError) as exc:
         raise UserInputError(
             f"the run folder's settings.json is missing or damaged ({exc.__class__.__name__})",
             file=folder / "settings.json",
             fix="start a new run in another output folder",
         ) from None
-    return saved
 
 
-def _check_same_run(folder: Path, sketch: Sketch, saved: dict, seed: int | None) -> None:
+def _check_same_run(folder: Path, sketch: Sketch, saved: SearchSettings, seed: int | None) -> None:
     """Refuse to resume with a sketch or seed other than the run's own."""
-    if seed is not None and seed != saved["settings"]["seed"]:
+    if seed is not None and seed != saved.seed:
         raise UserInputError(
-            f"the run was started with seed={saved['settings']['seed']}, not seed={seed}",
+            f"the run was started with seed={saved.seed}, not seed={seed}",
             file=folder,
             field="seed",
             fix="resume without a seed, or start a new run",
@@ -80,7 +86,7 @@ def _check_same_run(folder: Path, sketch: Sketch, saved: dict, seed: int | None)
 
 
 def prepare_folder(
-    folder: Path, sketch: Sketch, settings: MomSettings, evaluator: str, resume: bool, seed: int | None = None
+    folder: Path, sketch: Sketch, settings: SearchSettings, evaluator: str, resume: bool, seed: int | None = None
 ):
     """Create or reopen a run folder; refuse to overwrite an earlier run unless resuming.
 
@@ -98,12 +104,12 @@ def prepare_folder(
             raise UserInputError(
                 "nothing to resume: no checkpoint.npz in the run folder",
                 file=folder,
-                fix="start the run without --resume",
+                fix="start the run without resume=True",
             )
-        saved = _saved_settings(folder)
+        saved, saved_evaluator = _saved_settings(folder)
         _check_same_run(folder, sketch, saved, seed)
-        merged = {**saved["settings"], **{k: getattr(settings, k) for k in BUDGET_FIELDS}}
-        return MomSettings(**merged), saved["evaluator"], load_state(checkpoint)
+        budget = {k: getattr(settings, k) for k in BUDGET_FIELDS}
+        return replace(saved, **budget), saved_evaluator, load_state(checkpoint)
     refuse_earlier_run(folder)
     check_folder(folder)
     write_atomically(folder / "sketch.yaml", yaml.safe_dump(sketch.model_dump(mode="json"), sort_keys=False))
@@ -111,6 +117,7 @@ def prepare_folder(
         folder / "settings.json",
         json.dumps(
             {
+                "method": settings.method,
                 "settings": asdict(settings),
                 "evaluator": evaluator,
                 "eigengait": __version__,
@@ -243,7 +250,7 @@ def write_best(folder: Path, problem: Problem, state: MomState) -> None:
 def optimize(
     sketch: Sketch,
     folder: Path,
-    settings: MomSettings,
+    settings: SearchSettings,
     evaluator: str = "threads",
     workers: int | None = None,
     resume: bool = False,
@@ -252,8 +259,9 @@ def optimize(
     x_start=None,
     seed: int | None = None,
 ) -> MomState:
-    """Run (or resume) the method of multipliers from `x_start` (default: the sketch's guess); checkpoints every
-    generation. `seed` is the seed the user asked for explicitly, if any; a resumed run refuses a different one."""
+    """Run (or resume) the optimizer `settings` are for (`settings.method`) from `x_start` (default: the sketch's
+    guess); checkpoints every generation. `seed` is the seed the user asked for explicitly, if any; a resumed run
+    refuses a different one."""
     problem = Problem.from_sketch(sketch, sketch_source)
     settings, evaluator, state = prepare_folder(folder, sketch, settings, evaluator, resume, seed)
     state = state or MomState(x_start=problem.space.initial() if x_start is None else x_start)

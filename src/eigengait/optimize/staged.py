@@ -6,7 +6,7 @@
 2. **Closed loop** (`RUN/`): the whole sketch (feedback gains, `horizon_cycles` cycles with no reset), started
    from stage 1's best with every gain at zero, i.e. from the open-loop gait.
 
-A sketch without feedback and with a one-cycle horizon runs stage 2 alone. `--resume` resumes whichever stage
+A sketch without feedback and with a one-cycle horizon runs stage 2 alone. `resume=True` resumes whichever stage
 was interrupted.
 """
 
@@ -19,7 +19,7 @@ import numpy as np
 
 from eigengait.control.sketch import Sketch
 from eigengait.optimize.checkpoint import load_state
-from eigengait.optimize.mom import MomSettings, MomState
+from eigengait.optimize.mom import MomState, SearchSettings
 from eigengait.optimize.parameters import feedback_gain_count
 from eigengait.optimize.run import optimize
 
@@ -36,7 +36,7 @@ def open_loop_sketch(sketch: Sketch) -> Sketch:
     )
 
 
-def _share(settings: MomSettings, share: float) -> MomSettings:
+def _share(settings: SearchSettings, share: float) -> SearchSettings:
     return replace(
         settings,
         max_evaluations=int(settings.max_evaluations * share) if settings.max_evaluations else None,
@@ -44,7 +44,7 @@ def _share(settings: MomSettings, share: float) -> MomSettings:
     )
 
 
-def _spent(settings: MomSettings, state: MomState) -> MomSettings:
+def _spent(settings: SearchSettings, state: MomState) -> SearchSettings:
     return replace(
         settings,
         max_evaluations=(max(1, settings.max_evaluations - state.evaluations) if settings.max_evaluations else None),
@@ -55,7 +55,7 @@ def _spent(settings: MomSettings, state: MomState) -> MomSettings:
 def optimize_gait(
     sketch: Sketch,
     folder: Path,
-    settings: MomSettings,
+    settings: SearchSettings,
     evaluator: str = "threads",
     workers: int | None = None,
     resume: bool = False,
@@ -102,7 +102,7 @@ def optimize_gait(
 def closed_loop_stage(
     sketch: Sketch,
     folder: Path,
-    settings: MomSettings,
+    settings: SearchSettings,
     first: MomState,
     evaluator: str = "threads",
     workers: int | None = None,

@@ -226,13 +226,13 @@ def _save(path: Path, settings: SurvivalSettings, history: list[dict]) -> None:
 
 def _load_history(path: Path, settings: SurvivalSettings) -> list[dict]:
     if not path.is_file():
-        raise UserInputError("no survival run to resume here", file=path, fix="start the run without --resume")
+        raise UserInputError("no survival run to resume here", file=path, fix="start the run without resume=True")
     try:
         data = json.loads(path.read_text())
         saved = data["settings"]
         history = data["generations"]
     except (ValueError, KeyError, TypeError):
-        raise UserInputError("cannot read the checkpoint", file=path, fix="start over with --force") from None
+        raise UserInputError("cannot read the checkpoint", file=path, fix="start over without resume=True") from None
     mine = {k: v for k, v in asdict(settings).items() if k not in ("minutes", "generations", "threads")}
     theirs = {k: (tuple(v) if isinstance(v, list) else v) for k, v in saved.items() if k in mine}
     if theirs != mine:
