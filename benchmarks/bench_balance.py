@@ -22,7 +22,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 from eigengait.character import load_character  # noqa: E402
 from eigengait.control.balance.reference import kinematic_replay  # noqa: E402
-from eigengait.control.balance.tracker import Push, track  # noqa: E402
+from eigengait.control.balance.tracker import BodyPush, track  # noqa: E402
 from eigengait.motion.bvh import read_bvh  # noqa: E402
 from eigengait.motion.retarget import builtin_mapping, retarget  # noqa: E402
 from eigengait.sim.world import build_world  # noqa: E402
@@ -108,7 +108,7 @@ def main() -> None:
     for r in ROBUSTNESS:
         survived = None
         for force in PUSHES:
-            res = track(world, reference, r, pushes=(Push((0.0, float(force), 0.0), 0.5),) if force else ())
+            res = track(world, reference, r, pushes=(BodyPush((0.0, float(force), 0.0), 0.5),) if force else ())
             if res.fell:
                 break
             survived = force

@@ -54,11 +54,12 @@ def run_rate(n: int, seconds: float, *options: str, time_step: float = H) -> flo
     """Steps per second of ``cloth run`` on the sheet (in-process, no rendering)."""
     from typer.testing import CliRunner
 
-    from eigengait.cli.cloth import app
+    from eigengait.cli import build_app
 
+    app = build_app()
     with tempfile.TemporaryDirectory() as folder:
         script = Path(folder) / "sheet.PAR"
-        args = ["run", str(script), "-o", str(Path(folder) / "out"), "--no-render", "--force", *options]
+        args = ["cloth", "run", str(script), "-o", str(Path(folder) / "out"), "--no-render", "--force", *options]
         if time_step != H:
             args += ["--time-step", repr(time_step)]
         script.write_text(sheet_script(n, 1.0, time_step))

@@ -17,7 +17,7 @@ import time
 
 from eigengait.character import load_character
 from eigengait.control.balance.standing import stand
-from eigengait.control.balance.tracker import PUSH_DURATION, Push
+from eigengait.control.balance.tracker import PUSH_DURATION, BodyPush
 from eigengait.sim.world import build_world
 
 ROBUSTNESS = [0.0, 0.25, 0.5, 0.75, 1.0]
@@ -28,7 +28,7 @@ LARGEST_TRIED = 12_800.0  # N
 
 
 def survives(world, robustness: float, force: float) -> bool:
-    push = Push(force=(0.0, force, 0.0), time_s=PUSH_TIME, body=world.model.body(world.root_body).name)
+    push = BodyPush(force=(0.0, force, 0.0), time_s=PUSH_TIME, body=world.model.body(world.root_body).name)
     return stand(world, robustness, PUSH_TIME + SETTLE, (push,)).at_rest
 
 

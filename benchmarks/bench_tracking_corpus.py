@@ -18,7 +18,7 @@ import time
 from pathlib import Path
 
 from eigengait.control.balance.reference import kinematic_replay
-from eigengait.control.balance.tracker import Push, track
+from eigengait.control.balance.tracker import BodyPush, track
 from eigengait.motion.foot_metrics import foot_report
 from eigengait.motion.soles import sole_points
 from eigengait.motion.tracking import reference_poses
@@ -38,7 +38,7 @@ def largest_push(world, reference, robustness: float, unpushed) -> str:
         return f"— (falls at {unpushed.fall_time_s:.2f} s unpushed)"
     survived = "none"
     for force in PUSH_FORCES:
-        push = Push(force=(0.0, force, 0.0), time_s=PUSH_TIME, body="torso")
+        push = BodyPush(force=(0.0, force, 0.0), time_s=PUSH_TIME, body="torso")
         if track(world, reference, robustness, duration_s=window, pushes=(push,)).fell:
             break
         survived = f"{force:.0f} N"

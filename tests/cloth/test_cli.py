@@ -6,14 +6,14 @@ import sys
 import pytest
 from typer.testing import CliRunner
 
-from eigengait.cli.cloth import app
+from eigengait.cli import build_app
 from eigengait.cloth.library import EXAMPLES
 
-runner = CliRunner()
+runner, app = CliRunner(), build_app()
 
 
 def test_examples_lists_all_six():
-    result = runner.invoke(app, ["examples"])
+    result = runner.invoke(app, ["cloth", "examples"])
     assert result.exit_code == 0
     for name in EXAMPLES:
         assert name in result.output
@@ -21,7 +21,7 @@ def test_examples_lists_all_six():
 
 @pytest.mark.parametrize("name", ["curtain", "paper", "wind", "theatre", "cardboard", "tablecloth"])
 def test_every_example_runs_briefly(name, tmp_path):
-    result = runner.invoke(app, ["run", name, "-o", str(tmp_path), "--duration", "1", "--no-render"])
+    result = runner.invoke(app, ["cloth", "run", name, "-o", str(tmp_path), "--duration", "1", "--no-render"])
     assert result.exit_code == 0, result.output
     assert not (tmp_path / ".incomplete").exists()
     frames = sorted(p.name for p in tmp_path.glob("*_1.OBT"))
@@ -32,6 +32,7 @@ def test_run_renders_pngs_and_video(tmp_path):
     result = runner.invoke(
         app,
         [
+            "cloth",
             "run",
             "tablecloth",
             "-o",
@@ -84,7 +85,9 @@ GOOD = (
 )
 def test_bad_input_exits_2_with_one_line(tmp_path, text, needle):
     out = tmp_path / "out"
-    result = runner.invoke(app, ["run", str(write(tmp_path, text)), "-o", str(out), "--no-render", "--dissertation"])
+    result = runner.invoke(
+        app, ["cloth", "run", str(write(tmp_path, text)), "-o", str(out), "--no-render", "--dissertation"]
+    )
     assert result.exit_code == 2
     assert "Traceback" not in result.output
     assert needle in result.output
@@ -98,7 +101,7 @@ def test_blow_up_warns_first_and_leaves_no_frames(tmp_path):
         .replace("(10 10 10)", "(1e5 1e5 1e5)")
     )
     result = runner.invoke(
-        app, ["run", str(write(tmp_path, text)), "-o", str(tmp_path / "o"), "--no-render", "--dissertation"]
+        app, ["cloth", "run", str(write(tmp_path, text)), "-o", str(tmp_path / "o"), "--no-render", "--dissertation"]
     )
     assert result.exit_code == 2
     assert "warning:" in result.output and "stable step" in result.output
@@ -108,15 +111,15 @@ def test_blow_up_warns_first_and_leaves_no_frames(tmp_path):
 
 
 def test_modes_command_writes_palette(tmp_path):
-    result = runner.invoke(app, ["modes", "12x12", "--palette", str(tmp_path / "m.png"), "--count", "4"])
+    result = runner.invoke(app, ["cloth", "modes", "12x12", "--palette", str(tmp_path / "m.png"), "--count", "4"])
     assert result.exit_code == 0, result.output
     assert (tmp_path / "m.png").exists() and "Hz" in result.output
 
 
 def test_unknown_integrator_and_example(tmp_path):
-    result = runner.invoke(app, ["run", "curtain", "-o", str(tmp_path), "--integrator", "verlet"])
+    result = runner.invoke(app, ["cloth", "run", "curtain", "-o", str(tmp_path), "--integrator", "verlet"])
     assert result.exit_code == 2 and "verlet" in result.output
-    result = runner.invoke(app, ["run", "curtian", "-o", str(tmp_path)])
+    result = runner.invoke(app, ["cloth", "run", "curtian", "-o", str(tmp_path)])
     assert result.exit_code == 2 and "curtain" in result.output
 
 

@@ -197,12 +197,13 @@ def test_point_attached_to_an_obstacle_sits_on_its_surface():
 def test_run_options_for_fabric(tmp_path):
     from typer.testing import CliRunner
 
-    from eigengait.cli.cloth import app
+    from eigengait.cli import build_app
 
-    runner = CliRunner()
+    runner, app = CliRunner(), build_app()
     ok = runner.invoke(
         app,
         [
+            "cloth",
             "run",
             "tablecloth",
             "-o",
@@ -221,10 +222,11 @@ def test_run_options_for_fabric(tmp_path):
     assert ok.exit_code == 0, ok.output
     assert (
         runner.invoke(
-            app, ["run", "curtain", "-o", str(tmp_path / "b"), "--duration", "1", "--no-render", "--dissertation"]
+            app,
+            ["cloth", "run", "curtain", "-o", str(tmp_path / "b"), "--duration", "1", "--no-render", "--dissertation"],
         ).exit_code
         == 0
     )
     for option, value in (("--strain-limit", "-0.1"), ("--thickness", "0")):
-        bad = runner.invoke(app, ["run", "curtain", "-o", str(tmp_path / "c"), "--no-render", option, value])
+        bad = runner.invoke(app, ["cloth", "run", "curtain", "-o", str(tmp_path / "c"), "--no-render", option, value])
         assert bad.exit_code == 2 and option in bad.output and "Traceback" not in bad.output

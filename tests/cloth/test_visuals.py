@@ -8,11 +8,11 @@ import pytest
 from typer.testing import CliRunner
 
 from eigengait.cloth import example_path, read_obt, read_par, script_model
-from eigengait.cli.cloth import app
+from eigengait.cli import build_app
 from eigengait.cloth.render import smooth_quads, vertex_normals
 from eigengait.cloth.simulate import run_samples, video_steps
 
-runner = CliRunner()
+runner, app = CliRunner(), build_app()
 
 SHEET = (
     "DURACAO = 2\nQUADROS_SEG = 2\nDELTA_t = 0.01\nNUM_SUPERFICIES = 1\nSUPERFICIE s\nMALHA (4 4)\n"
@@ -24,7 +24,7 @@ SHEET = (
 def run(tmp_path, out, *args):
     script = tmp_path / "sheet.PAR"
     script.write_text(SHEET)
-    return runner.invoke(app, ["run", str(script), "-o", str(out), "--integrator", "symplectic", *args])
+    return runner.invoke(app, ["cloth", "run", str(script), "-o", str(out), "--integrator", "symplectic", *args])
 
 
 def test_video_plays_in_real_time(tmp_path):

@@ -8,7 +8,7 @@ from pathlib import Path
 import pytest
 import typer
 
-from eigengait.cli import app, main
+from eigengait.cli import build_app, main
 from eigengait.cli.flags import FLAGS, for_command_line
 from eigengait.errors import SimulationBlowUp, UserInputError
 
@@ -122,4 +122,4 @@ def _options(command) -> set[str]:
 
 
 def test_every_flag_in_the_mapping_is_an_option_of_some_command():
-    assert set(FLAGS.values()) <= _options(typer.main.get_command(app))
+    assert set(FLAGS.values()) <= _options(typer.main.get_command(build_app()))

@@ -15,11 +15,12 @@ import typer
 from rich.console import Console
 from rich.table import Table
 
+from eigengait.cli.character import RELAX_OPTION
 from eigengait.cli.media import BVH_UNITS_OPTION, CAMERA_OPTION, SPEED_OPTION, MediaOptions
 from eigengait.errors import UserInputError
 from eigengait.inputs import check_range
 from eigengait.outputs import refuse_existing, require_suffix
-from eigengait.motion.modal_mix import DEFAULT_MAX_ROTATION_DEG
+from eigengait.modal.shape_kinematics import DEFAULT_MAX_ROTATION_DEG
 
 console = Console()
 
@@ -45,7 +46,7 @@ def palette_command(
     character: str = typer.Argument(..., help="Built-in name or MJCF path."),
     phase: str = typer.Option("air", "--phase", help="air (free body) or ground (stance toe pinned)."),
     foot: Optional[str] = typer.Option(None, "--foot", help="Stance foot for the ground phase."),
-    relax: Optional[str] = typer.Option(None, "--relax", help="Relax pose: preset or JOINT=rx,ry,rz;..."),
+    relax: Optional[str] = RELAX_OPTION,
     output: Path = typer.Option(Path("palette.png"), "-o", "--output", help="PNG file to write."),
     count: Optional[int] = typer.Option(None, "--modes", help="Show modes 1..N (default: all)."),
     columns: Optional[int] = typer.Option(None, "--columns", min=1, help="Tiles per row (default: about square)."),
@@ -69,7 +70,7 @@ def animate_command(
     mix: str = typer.Option(..., "--mix", help=MIX_HELP),
     phase: str = typer.Option("air", "--phase", help="air (free body) or ground (stance toe pinned)."),
     foot: Optional[str] = typer.Option(None, "--foot", help="Stance foot for the ground phase."),
-    relax: Optional[str] = typer.Option(None, "--relax", help="Relax pose: preset or JOINT=rx,ry,rz;..."),
+    relax: Optional[str] = RELAX_OPTION,
     seconds: float = typer.Option(4.0, "--seconds", help="Duration in seconds."),
     fps: float = typer.Option(30.0, "--fps", help="Frames per second of the video and the BVH."),
     angle: float = typer.Option(
@@ -95,7 +96,8 @@ def animate_command(
     Example: eigengait animate humanoid --mix "2:1,11:0.5@90" --video run.mp4 --bvh run.bvh
     """
     from eigengait.motion.bvh_export import write_trajectory_bvh
-    from eigengait.motion.modal_mix import build_mix, joint_rotations, mix_trajectory, parse_mix
+    from eigengait.modal.shape_kinematics import joint_rotations
+    from eigengait.motion.modal_mix import build_mix, mix_trajectory, parse_mix
     from eigengait.render.video import CameraView, render_video
 
     if video is None and bvh is None:

@@ -1,4 +1,9 @@
-"""`eigengait character inspect` and `eigengait sketch new`: bring a user's MJCF model in."""
+"""`eigengait characters`, `character export`, `character inspect` and `sketch new`: the built-in characters and a
+user's MJCF model.
+
+The options that choose a character (`--body`, `--stiffness`) and its relax pose (`--relax`) are shared with the
+commands that load one.
+"""
 
 from __future__ import annotations
 
@@ -17,8 +22,15 @@ from eigengait.errors import UserInputError
 from eigengait.inputs import check_range
 
 console = Console()
-BODY_HELP = "Root body of the creature in a scene with several (default: the largest articulated tree)."
-STIFFNESS_HELP = "`auto`: give joints without stiffness k = m·g·r/θ_sag (10° sag under the weight they carry)."
+BODY_OPTION = typer.Option(
+    None, "--body", help="Root body of the creature in a scene with several (default: the largest articulated tree)."
+)
+STIFFNESS_OPTION = typer.Option(
+    None,
+    "--stiffness",
+    help="`auto`: give joints without stiffness k = m·g·r/θ_sag (10° sag under the weight they carry).",
+)
+RELAX_OPTION = typer.Option(None, "--relax", help="Relax pose: preset or JOINT=rx,ry,rz;...")
 
 
 def print_notes(character) -> None:
@@ -27,18 +39,66 @@ def print_notes(character) -> None:
         Console(stderr=True).print(f"note: {note}", highlight=False, soft_wrap=True)
 
 
-def body_option():
-    return typer.Option(None, "--body", help=BODY_HELP)
+def characters_command(as_json: bool = typer.Option(False, "--json", help="Print JSON instead of a table.")):
+    """List the built-in characters with bodies, internal DOF and mass."""
+    from eigengait.character import builtin_names, load_character
+    from eigengait.sim import build_world
+
+    rows = []
+    for name in builtin_names():
+        character = load_character(name)
+        world = build_world(character)
+        rows.append(
+            {
+                "name": name,
+                "bodies": world.model.nbody - 1,
+                "joints": len(character.joints),
+                "dofs": character.internal_dofs,
+                "mass_kg": round(world.mass(), 2),
+                "feet": list(character.feet),
+            }
+        )
+    if as_json:
+        print(json_text.dumps(rows))
+        return
+    table = Table(title="Built-in characters")
+    for col in ("name", "bodies", "joints", "internal DOF", "mass (kg)", "feet"):
+        table.add_column(col)
+    for r in rows:
+        table.add_row(
+            r["name"],
+            str(r["bodies"]),
+            str(r["joints"]),
+            str(r["dofs"]),
+            f"{r['mass_kg']:.1f}",
+            ", ".join(r["feet"]) or "-",
+        )
+    console.print(table)
 
 
-def stiffness_option():
-    return typer.Option(None, "--stiffness", help=STIFFNESS_HELP)
+def export_command(
+    name: str = typer.Argument(..., help="Built-in name, MJCF path or character sidecar."),
+    output: Path = typer.Option(..., "-o", "--output", help="MJCF file to write."),
+    relax: Optional[str] = RELAX_OPTION,
+    force: bool = typer.Option(False, "--force", help="Overwrite an existing file."),
+    body: Optional[str] = BODY_OPTION,
+    stiffness: Optional[str] = STIFFNESS_OPTION,
+):
+    """Write the character's MJCF exactly as simulated (springs, motors, contact spheres, floor)."""
+    from eigengait.character import load_character
+    from eigengait.character.relax import parse_relax_argument
+    from eigengait.sim.world import build_world
+
+    refuse_existing([output], force)
+    world = build_world(load_character(name, body, stiffness), parse_relax_argument(relax))
+    write_atomically(output, world.mjcf())
+    console.print(f"wrote {output}")
 
 
 def inspect_command(
     model: str = typer.Argument(..., help="Built-in name, MJCF path or character sidecar."),
-    body: Optional[str] = body_option(),
-    stiffness: Optional[str] = stiffness_option(),
+    body: Optional[str] = BODY_OPTION,
+    stiffness: Optional[str] = STIFFNESS_OPTION,
     as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
     output: Optional[Path] = typer.Option(
         None, "-o", "--output", help="Write an editable sidecar NAME.eigengait.yaml."
@@ -80,8 +140,8 @@ def inspect_command(
 def sketch_new_command(
     model: str = typer.Argument(..., help="Built-in name, MJCF path or character sidecar."),
     output: Path = typer.Option(..., "-o", "--output", help="Sketch file to write (.yaml)."),
-    body: Optional[str] = body_option(),
-    stiffness: Optional[str] = stiffness_option(),
+    body: Optional[str] = BODY_OPTION,
+    stiffness: Optional[str] = STIFFNESS_OPTION,
     random: Optional[int] = typer.Option(
         None, "--random", help="Draw the priority modes and signs from this seed (the thesis's random sketches)."
     ),
@@ -119,6 +179,12 @@ def sketch_new_command(
     console.print(f"wrote {output}: feet {', '.join(sketch['feet'])}, period {sketch['timing']['period']} s")
 
 
-def register(app: typer.Typer, character_app: typer.Typer) -> None:
-    character_app.command("inspect")(inspect_command)
+def register(app: typer.Typer) -> None:
+    """Add `characters`, the `character` group (`export`, `inspect`) and the hidden `sketch-new` that `main` runs for
+    `sketch new`."""
+    app.command("characters")(characters_command)
     app.command("sketch-new", hidden=True)(sketch_new_command)
+    character_app = typer.Typer(no_args_is_help=True, help="Inspect and export characters.")
+    character_app.command("export")(export_command)
+    character_app.command("inspect")(inspect_command)
+    app.add_typer(character_app, name="character")

@@ -22,20 +22,15 @@ from eigengait.cloth.output import staged_file, staged_output, write_frame, writ
 from eigengait.cloth.par import read_par
 from eigengait.cloth.strain import DEFAULT_BOUND
 from eigengait.cli.flags import for_command_line, keywords_as_flags
-from eigengait.errors import UserInputError
+from eigengait.errors import EigengaitError, UserInputError
 from eigengait.inputs import check_range
 from eigengait.outputs import check_output
 
-app = typer.Typer(
-    help="Deformable surfaces (FLEX3D, Nedel 1993): run .PAR scripts, examples, vibration modes.",
-    no_args_is_help=True,
-    add_completion=False,
-)
 console = Console()
 errors = Console(stderr=True)
 
 
-def _fail(error: UserInputError) -> typer.Exit:
+def _fail(error: EigengaitError) -> typer.Exit:
     errors.print(f"[bold red]error:[/] {for_command_line(error)}", highlight=False, soft_wrap=True)
     return typer.Exit(2)
 
@@ -52,7 +47,6 @@ def _progress() -> Progress:
     )
 
 
-@app.command("examples")
 def examples() -> None:
     """List the dissertation's example scenes shipped with eigengait."""
     table = Table("name", "scene", title="shipped FLEX3D examples (run: eigengait cloth run NAME -o DIR)")
@@ -61,7 +55,6 @@ def examples() -> None:
     console.print(table)
 
 
-@app.command("run")
 def run(
     script: str = typer.Argument(..., help="a .PAR file or a shipped example name (see 'examples')"),
     output: Path = typer.Option(..., "-o", "--output", help="folder for the frame set (new, empty, or --force)"),
@@ -146,7 +139,7 @@ def run(
                     "sheet": f"{path.stem}_sheet.png",
                 }
             write_manifest(staging, summary)
-    except UserInputError as error:
+    except EigengaitError as error:
         raise _fail(error) from None
     console.print(
         f"wrote {len(frames)} frames ({parsed.frames_per_second:g} per simulated second, {total:g} s) of "
@@ -221,7 +214,6 @@ def _render(model, states: dict, frames, shots, staging: Path, video: Path, name
 _SIZE = re.compile(r"^(\d+)x(\d+)$")
 
 
-@app.command("modes")
 def modes(
     target: str = typer.Argument(..., help="a .PAR file, an example name, or a size like 20x20"),
     palette: Optional[Path] = typer.Option(None, help="PNG with one tile per mode"),
@@ -261,5 +253,14 @@ def modes(
         if palette is not None:
             draw_palette(model, result, palette)
             console.print(f"palette written to {palette}")
-    except UserInputError as error:
+    except EigengaitError as error:
         raise _fail(error) from None
+
+
+def register(app: typer.Typer) -> None:
+    """Add the `cloth` command group: examples, run, modes."""
+    cloth = typer.Typer(help="The FLEX3D deformable-surface simulator.", no_args_is_help=True)
+    cloth.command("examples")(examples)
+    cloth.command("run")(run)
+    cloth.command("modes")(modes)
+    app.add_typer(cloth, name="cloth")

@@ -1,4 +1,4 @@
-"""The command line's words for library errors: a parameter named in a `UserInputError` becomes its flag.
+"""The command line's words for library errors: a parameter named in an `EigengaitError` becomes its flag.
 
 Library functions name their own Python parameters: `field="robustness"`, `fix="pass stiffness='auto'"`. A user of
 the command line typed flags, so before printing an error the CLI rewrites, through `FLAGS`:
@@ -14,10 +14,11 @@ from __future__ import annotations
 import copy
 import re
 
-from eigengait.errors import UserInputError
+from eigengait.errors import EigengaitError
 
 #: library parameter → the flag that sets it, for every parameter a library error may name
 FLAGS = {
+    "activation_time": "--activation-time",
     "base_hz": "--base-hz",
     "bvh_units": "--bvh-units",
     "count": "--modes",  # render.palette's number of modes
@@ -69,7 +70,7 @@ def _field(field: str | None) -> str | None:
     return "/".join(FLAGS[n] for n in names) if all(n in FLAGS for n in names) else field
 
 
-def for_command_line(error: UserInputError) -> UserInputError:
+def for_command_line(error: EigengaitError) -> EigengaitError:
     """The same error (same type) in the command line's words; the original is left unchanged."""
     shown = copy.copy(error)
     if error.file is None:

@@ -18,7 +18,7 @@ import viser
 from eigengait.render.offscreen import use_offscreen_gl
 from eigengait.studio.access import AccessGate, guarded_serving
 from eigengait.studio.character_panel import CharacterPanel
-from eigengait.studio.feedback import Feedback
+from eigengait.studio.feedback import Messages
 from eigengait.studio.listen import check_listen_address, port_taken
 from eigengait.studio.optimize_panel import OptimizePanel
 from eigengait.studio.palette_view import PaletteView
@@ -49,15 +49,15 @@ class Studio:
         self.server.gui.add_markdown(
             "**eigengait studio** — mode numbers start at 1 (lowest non-rigid mode); ψ in N·m.", order=0.0
         )
-        self.feedback = Feedback(self.server)
+        self.messages = Messages(self.server)
         self.stage = Stage(self.server)
-        self.character_panel = CharacterPanel(self.server, self.state, self.feedback, gui_order=1.0)
-        self.sketch_view = SketchView(self.server, self.state, self.stage, self.feedback, gui_order=2.0)
-        self.palette = PaletteView(self.server, self.state, self.feedback, gui_order=3.0)
-        self.play_panel = PlayPanel(self.server, self.sandbox, self.stage, self.feedback, gui_order=5.0)
-        self.track_panel = TrackPanel(self.server, self.sandbox, self.stage, self.feedback, gui_order=6.0)
+        self.character_panel = CharacterPanel(self.server, self.state, self.messages, gui_order=1.0)
+        self.sketch_view = SketchView(self.server, self.state, self.stage, self.messages, gui_order=2.0)
+        self.palette = PaletteView(self.server, self.state, self.messages, gui_order=3.0)
+        self.play_panel = PlayPanel(self.server, self.sandbox, self.stage, self.messages, gui_order=5.0)
+        self.track_panel = TrackPanel(self.server, self.sandbox, self.stage, self.messages, gui_order=6.0)
         self.optimize_panel = OptimizePanel(
-            self.server, self.state, self.feedback, self.play_panel.play_file, gui_order=4.0
+            self.server, self.state, self.messages, self.play_panel.play_file, gui_order=4.0
         )
         self.server.on_client_connect(self._frame_camera)
         self.state.open(target)

@@ -6,15 +6,15 @@ import viser
 
 from eigengait.character import builtin_names
 from eigengait.control.library import preset_names
-from eigengait.studio.feedback import Feedback
+from eigengait.studio.feedback import Messages
 from eigengait.studio.state import AUTOSAVE_NAME, SKETCH_SUFFIXES, StudioState
 
 CUSTOM_POSE = "(rotations below)"
 
 
 class CharacterPanel:
-    def __init__(self, server: viser.ViserServer, state: StudioState, feedback: Feedback, gui_order: float):
-        self.server, self.state, self.feedback = server, state, feedback
+    def __init__(self, server: viser.ViserServer, state: StudioState, messages: Messages, gui_order: float):
+        self.server, self.state, self.messages = server, state, messages
         self.syncing = False
         gui = server.gui
         with gui.add_folder("Character and files", order=gui_order):
@@ -38,17 +38,17 @@ class CharacterPanel:
             gui.add_markdown(
                 f"Every change is autosaved to `{AUTOSAVE_NAME}`. Shipped sketches: {', '.join(preset_names())}."
             )
-        self.builtin.on_update(feedback.guarded(self._on_builtin))
-        self.load.on_click(feedback.guarded(self._on_load))
-        self.pose.on_update(feedback.guarded(self._on_pose))
-        self.apply_rotations.on_click(feedback.guarded(self._on_rotations))
-        self.save.on_click(feedback.guarded(self._on_save))
+        self.builtin.on_update(messages.guarded(self._on_builtin))
+        self.load.on_click(messages.guarded(self._on_load))
+        self.pose.on_update(messages.guarded(self._on_pose))
+        self.apply_rotations.on_click(messages.guarded(self._on_rotations))
+        self.save.on_click(messages.guarded(self._on_save))
         state.subscribe("model", self.sync)
 
     def _on_builtin(self, event: viser.GuiEvent) -> None:
         if not self.syncing and self.builtin.value != self.state.sketch.character:
             self.state.load_character(self.builtin.value)
-            self.feedback.info(f"Loaded the built-in character **{self.builtin.value}**.", event.client)
+            self.messages.info(f"Loaded the built-in character **{self.builtin.value}**.", event.client)
 
     def _on_load(self, event: viser.GuiEvent) -> None:
         text = self.path.value.strip()
@@ -56,16 +56,16 @@ class CharacterPanel:
             self.state.load_character(text)
         else:
             self.state.load_sketch(text)
-        self.feedback.info(f"Loaded `{text}`.", event.client)
+        self.messages.info(f"Loaded `{text}`.", event.client)
 
     def _on_pose(self, event: viser.GuiEvent) -> None:
         if not self.syncing and self.pose.value != CUSTOM_POSE:
             self.state.set_relax_pose(self.pose.value)
-            self.feedback.info(f"Relax pose **{self.pose.value}**: modes recomputed.", event.client)
+            self.messages.info(f"Relax pose **{self.pose.value}**: modes recomputed.", event.client)
 
     def _on_rotations(self, event: viser.GuiEvent) -> None:
         self.state.set_relax_pose(self.rotations.value)
-        self.feedback.info("Relax pose rotations applied: modes recomputed.", event.client)
+        self.messages.info("Relax pose rotations applied: modes recomputed.", event.client)
 
     def _on_save(self, event: viser.GuiEvent) -> None:
         name, sandbox = self.save_name.value, self.state.sandbox
@@ -73,9 +73,9 @@ class CharacterPanel:
 
         def save() -> None:
             self.state.save_sketch(name)
-            self.feedback.info(f"Saved the sketch to `{sandbox.relative(path)}`.", event.client)
+            self.messages.info(f"Saved the sketch to `{sandbox.relative(path)}`.", event.client)
 
-        self.feedback.write_asking(event.client, path, sandbox.relative(path), save)
+        self.messages.write_asking(event.client, path, sandbox.relative(path), save)
 
     def sync(self) -> None:
         sketch, system = self.state.sketch, self.state.system

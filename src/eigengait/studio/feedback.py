@@ -1,7 +1,7 @@
 """Messages to the animator: a status line every tab sees, plus a notification in the tab that acted.
 
-`guarded` wraps GUI callbacks so bad input (UserInputError) becomes a red message instead of a server error;
-`write_asking` asks the tab before a save or export replaces an existing file.
+`guarded` wraps GUI callbacks so bad input or a blow-up (an EigengaitError) becomes a red message instead of a
+server error; `write_asking` asks the tab before a save or export replaces an existing file.
 """
 
 from __future__ import annotations
@@ -13,10 +13,10 @@ from pathlib import Path
 
 import viser
 
-from eigengait.errors import UserInputError
+from eigengait.errors import EigengaitError
 
 
-class Feedback:
+class Messages:
     def __init__(self, server: viser.ViserServer):
         self.server = server
         self.status = server.gui.add_markdown("Ready.", order=0.5)
@@ -33,13 +33,13 @@ class Feedback:
             c.add_notification("Refused", text, auto_close_seconds=8.0, color="red")
 
     def guarded(self, callback: Callable[[viser.GuiEvent], None]) -> Callable[[viser.GuiEvent], None]:
-        """A GUI callback that reports UserInputError (and unexpected errors) instead of raising."""
+        """A GUI callback that reports an EigengaitError (and unexpected errors) instead of raising."""
 
         @functools.wraps(callback)
         def run(event: viser.GuiEvent) -> None:
             try:
                 callback(event)
-            except UserInputError as err:
+            except EigengaitError as err:
                 self.error(str(err), event.client)
             except Exception as exc:  # the server must survive any single action
                 traceback.print_exc()

@@ -23,7 +23,7 @@ import viser.uplot as uplot
 
 from eigengait.errors import UserInputError
 from eigengait.optimize.staged import STAGE_ONE
-from eigengait.studio.feedback import Feedback
+from eigengait.studio.feedback import Messages
 from eigengait.studio.state import StudioState
 
 RUNS_FOLDER = "studio-runs"
@@ -47,11 +47,11 @@ class OptimizePanel:
         self,
         server: viser.ViserServer,
         state: StudioState,
-        feedback: Feedback,
+        messages: Messages,
         play: Callable[[Path, viser.ClientHandle | None], None],
         gui_order: float,
     ):
-        self.server, self.state, self.feedback, self.play = server, state, feedback, play
+        self.server, self.state, self.messages, self.play = server, state, messages, play
         self.process: subprocess.Popen | None = None
         self.folder: Path | None = None
         self.generations = 0
@@ -65,10 +65,10 @@ class OptimizePanel:
             self.cost_plot = self._plot("log₁₀ best objective f", "#2a6fb0")
             self.violation_plot = self._plot("log₁₀ cycle violation max|φᵢ|", "#c0392b")
             self.play_best = gui.add_button("Play best gait so far", icon=viser.Icon.WALK, disabled=True)
-        self.start.on_click(feedback.guarded(self._on_start))
-        self.stop.on_click(feedback.guarded(self._on_stop))
-        self.resume.on_click(feedback.guarded(self._on_resume))
-        self.play_best.on_click(feedback.guarded(self._on_play_best))
+        self.start.on_click(messages.guarded(self._on_start))
+        self.stop.on_click(messages.guarded(self._on_stop))
+        self.resume.on_click(messages.guarded(self._on_resume))
+        self.play_best.on_click(messages.guarded(self._on_play_best))
         threading.Thread(target=self._poll, name="optimize-poll", daemon=True).start()
 
     def _plot(self, title: str, color: str) -> viser.GuiUplotHandle:
@@ -117,20 +117,20 @@ class OptimizePanel:
     def _on_start(self, event: viser.GuiEvent) -> None:
         folder = self.state.sandbox.root / RUNS_FOLDER / datetime.now().strftime("run-%Y%m%d-%H%M%S")
         self._launch(folder, resume=False)
-        self.feedback.info(f"Optimizing in `{self.state.sandbox.relative(folder)}`.", event.client)
+        self.messages.info(f"Optimizing in `{self.state.sandbox.relative(folder)}`.", event.client)
 
     def _on_stop(self, event: viser.GuiEvent) -> None:
         if self.running:
             self.process.terminate()
             self.process.wait(timeout=30)
         self._buttons()
-        self.feedback.info("Optimization stopped; Resume continues from the last generation.", event.client)
+        self.messages.info("Optimization stopped; Resume continues from the last generation.", event.client)
 
     def _on_resume(self, event: viser.GuiEvent) -> None:
         if self.folder is None or not (self.folder / "checkpoint.npz").is_file():
             raise UserInputError("nothing to resume yet: no generation has been checkpointed")
         self._launch(self.folder, resume=True)
-        self.feedback.info(f"Resuming `{self.state.sandbox.relative(self.folder)}`.", event.client)
+        self.messages.info(f"Resuming `{self.state.sandbox.relative(self.folder)}`.", event.client)
 
     def _on_play_best(self, event: viser.GuiEvent) -> None:
         path = self.folder / "best_controller.json" if self.folder else None
@@ -175,10 +175,10 @@ class OptimizePanel:
         if was_running and not self.running:
             code = self.process.returncode
             if code == 0:
-                self.feedback.info(f"Optimization finished after {self.generations} generations.")
+                self.messages.info(f"Optimization finished after {self.generations} generations.")
             elif code > 0:
                 tail = (self.folder / CHILD_LOG).read_text().strip().splitlines()[-1:] or ["(no output)"]
-                self.feedback.error(f"the optimization ended with status {code}: {tail[0]}")
+                self.messages.error(f"the optimization ended with status {code}: {tail[0]}")
             self._buttons()
 
     def close(self) -> None:

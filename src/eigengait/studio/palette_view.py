@@ -19,8 +19,8 @@ import numpy as np
 import viser
 
 from eigengait.errors import UserInputError
-from eigengait.motion.modal_mix import displaced_qpos, peak_rotation_amplitudes
-from eigengait.studio.feedback import Feedback
+from eigengait.modal.shape_kinematics import displaced_qpos, peak_rotation_amplitudes
+from eigengait.studio.feedback import Messages
 from eigengait.studio.figures import UNIT_CUBE_FACES, UNIT_CUBE_VERTICES, Figure, place
 from eigengait.studio.state import STATUSES, StudioState
 
@@ -45,8 +45,8 @@ PSI_LIMIT = 200.0  # N·m: slider range ±
 
 
 class PaletteView:
-    def __init__(self, server: viser.ViserServer, state: StudioState, feedback: Feedback, gui_order: float):
-        self.server, self.state, self.feedback = server, state, feedback
+    def __init__(self, server: viser.ViserServer, state: StudioState, messages: Messages, gui_order: float):
+        self.server, self.state, self.messages = server, state, messages
         self.gui_order = gui_order
         self.lock = threading.Lock()
         self.mesh: viser.BatchedMeshHandle | None = None
@@ -183,7 +183,7 @@ class PaletteView:
         slider = self.server.gui.add_slider(f"ψ {phase} {mode} (N·m)", -PSI_LIMIT, PSI_LIMIT, 0.5, 1.0, visible=False)
 
         @status.on_update
-        @self.feedback.guarded
+        @self.messages.guarded
         def _(event: viser.GuiEvent) -> None:
             if not self.syncing:
                 try:
@@ -193,7 +193,7 @@ class PaletteView:
                     raise
 
         @slider.on_update
-        @self.feedback.guarded
+        @self.messages.guarded
         def _(event: viser.GuiEvent) -> None:
             if not self.syncing:
                 try:

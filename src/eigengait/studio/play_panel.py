@@ -17,7 +17,7 @@ from eigengait.control.library import gait_names, resolve
 from eigengait.control.playback import PlaybackResult, play
 from eigengait.errors import UserInputError
 from eigengait.sim.world import World
-from eigengait.studio.feedback import Feedback
+from eigengait.studio.feedback import Messages
 from eigengait.studio.model_files import confine_character
 from eigengait.studio.sandbox import Sandbox
 from eigengait.studio.stage import Stage
@@ -26,8 +26,8 @@ EXPORT_FPS = 30.0  # frames/s of exported BVH and video (the CLI's --fps default
 
 
 class PlayPanel:
-    def __init__(self, server: viser.ViserServer, sandbox: Sandbox, stage: Stage, feedback: Feedback, gui_order: float):
-        self.server, self.sandbox, self.stage, self.feedback = server, sandbox, stage, feedback
+    def __init__(self, server: viser.ViserServer, sandbox: Sandbox, stage: Stage, messages: Messages, gui_order: float):
+        self.server, self.sandbox, self.stage, self.messages = server, sandbox, stage, messages
         self.controller: ControllerFile | None = None
         self.world: World | None = None
         self.result: PlaybackResult | None = None
@@ -52,10 +52,10 @@ class PlayPanel:
             self.export_video = gui.add_button("Export video", disabled=True)
             self.copy_name = gui.add_text("save controller as", "my-gait.controller.json")
             self.save = gui.add_button("Save controller", disabled=True, icon=viser.Icon.DEVICE_FLOPPY)
-        self.play.on_click(feedback.guarded(lambda e: self.play_file(self.path.value, e.client)))
-        self.export_bvh.on_click(feedback.guarded(self._on_bvh))
-        self.export_video.on_click(feedback.guarded(self._on_video))
-        self.save.on_click(feedback.guarded(self._on_save))
+        self.play.on_click(messages.guarded(lambda e: self.play_file(self.path.value, e.client)))
+        self.export_bvh.on_click(messages.guarded(self._on_bvh))
+        self.export_video.on_click(messages.guarded(self._on_video))
+        self.save.on_click(messages.guarded(self._on_save))
 
     def _controller_path(self, text: str) -> Path:
         text = str(text).strip()
@@ -86,7 +86,7 @@ class PlayPanel:
         )
         for button in (self.export_bvh, self.export_video, self.save):
             button.disabled = False
-        self.feedback.info(f"Playing `{self.path.value}` with gravity.", client)
+        self.messages.info(f"Playing `{self.path.value}` with gravity.", client)
         return result
 
     def _played(self) -> PlaybackResult:
@@ -102,9 +102,9 @@ class PlayPanel:
 
         def export() -> None:
             write_trajectory_bvh(world, result.qpos, result.fps, path, fps=EXPORT_FPS)
-            self.feedback.info(f"Wrote `{self.sandbox.relative(path)}`.", event.client)
+            self.messages.info(f"Wrote `{self.sandbox.relative(path)}`.", event.client)
 
-        self.feedback.write_asking(event.client, path, self.sandbox.relative(path), export)
+        self.messages.write_asking(event.client, path, self.sandbox.relative(path), export)
 
     def _on_video(self, event: viser.GuiEvent) -> None:
         from eigengait.render.video import render_video
@@ -113,11 +113,11 @@ class PlayPanel:
         path = self.sandbox.resolve(self.video_name.value, (".mp4", ".gif"))
 
         def export() -> None:
-            self.feedback.info(f"Rendering `{self.sandbox.relative(path)}` …", event.client)
+            self.messages.info(f"Rendering `{self.sandbox.relative(path)}` …", event.client)
             render_video(world, result.qpos, result.fps, path, fps=EXPORT_FPS)
-            self.feedback.info(f"Wrote `{self.sandbox.relative(path)}`.", event.client)
+            self.messages.info(f"Wrote `{self.sandbox.relative(path)}`.", event.client)
 
-        self.feedback.write_asking(event.client, path, self.sandbox.relative(path), export)
+        self.messages.write_asking(event.client, path, self.sandbox.relative(path), export)
 
     def _on_save(self, event: viser.GuiEvent) -> None:
         self._played()
@@ -126,6 +126,6 @@ class PlayPanel:
 
         def save() -> None:
             save_controller(controller, path)
-            self.feedback.info(f"Saved the controller to `{self.sandbox.relative(path)}`.", event.client)
+            self.messages.info(f"Saved the controller to `{self.sandbox.relative(path)}`.", event.client)
 
-        self.feedback.write_asking(event.client, path, self.sandbox.relative(path), save)
+        self.messages.write_asking(event.client, path, self.sandbox.relative(path), save)

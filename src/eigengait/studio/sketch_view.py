@@ -14,7 +14,7 @@ import time
 import viser
 
 from eigengait.control.sketch_sim import simulate_sketch
-from eigengait.studio.feedback import Feedback
+from eigengait.studio.feedback import Messages
 from eigengait.studio.stage import Stage
 from eigengait.studio.state import StudioState
 
@@ -30,9 +30,9 @@ TIMING_FIELDS = (
 
 class SketchView:
     def __init__(
-        self, server: viser.ViserServer, state: StudioState, stage: Stage, feedback: Feedback, gui_order: float
+        self, server: viser.ViserServer, state: StudioState, stage: Stage, messages: Messages, gui_order: float
     ):
-        self.server, self.state, self.stage, self.feedback = server, state, stage, feedback
+        self.server, self.state, self.stage, self.messages = server, state, stage, messages
         self.wake = threading.Event()
         self.edited_at = 0.0
         self.latency_s = float("nan")
@@ -49,7 +49,7 @@ class SketchView:
         slider = self.server.gui.add_slider(label, low, high, step, low)
 
         @slider.on_update
-        @self.feedback.guarded
+        @self.messages.guarded
         def _(event: viser.GuiEvent) -> None:
             if not self.syncing:
                 self.state.set_timing(**{field: slider.value})
@@ -77,7 +77,7 @@ class SketchView:
             try:
                 self._simulate()
             except Exception as exc:  # a sketch that cannot be simulated must not stop the worker
-                self.feedback.error(f"the sketch could not be simulated: {exc}")
+                self.messages.error(f"the sketch could not be simulated: {exc}")
 
     def _simulate(self) -> None:
         with self.state.lock:

@@ -15,7 +15,7 @@ from pathlib import Path
 
 from eigengait.character import builtin_names, load_character
 from eigengait.character.relax import parse_relax_argument
-from eigengait.control.binding import mode_counts, sketch_system
+from eigengait.control.binding import gait_system, mode_counts
 from eigengait.files import dump
 from eigengait.control.gait import GaitSystem
 from eigengait.control.library import preset_names, resolve
@@ -104,7 +104,7 @@ class StudioState:
 
     def _install(self, sketch: Sketch, clip: bool) -> None:
         """Bind a sketch to its character (recomputing modes) and make it current; nothing changes on error."""
-        system = sketch_system(sketch, gravity=False)
+        system = gait_system(sketch, gravity=False)
         if clip:
             sketch = _clipped(sketch, system)
         check_modes(sketch, mode_counts(system))

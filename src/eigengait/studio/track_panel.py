@@ -13,7 +13,7 @@ import viser
 from eigengait.character import builtin_names
 from eigengait.errors import UserInputError
 from eigengait.motion.tracking import run_track
-from eigengait.studio.feedback import Feedback
+from eigengait.studio.feedback import Messages
 from eigengait.studio.sandbox import Sandbox
 from eigengait.studio.stage import Stage
 
@@ -21,8 +21,8 @@ TRACKING_CHARACTERS = ("walker", "humanoid")
 
 
 class TrackPanel:
-    def __init__(self, server: viser.ViserServer, sandbox: Sandbox, stage: Stage, feedback: Feedback, gui_order: float):
-        self.sandbox, self.stage, self.feedback = sandbox, stage, feedback
+    def __init__(self, server: viser.ViserServer, sandbox: Sandbox, stage: Stage, messages: Messages, gui_order: float):
+        self.sandbox, self.stage, self.messages = sandbox, stage, messages
         self.result = None
         gui = server.gui
         with gui.add_folder("Track mocap (gravity on)", order=gui_order, expand_by_default=False):
@@ -43,7 +43,7 @@ class TrackPanel:
             self.push = gui.add_text("push", "", hint="optional FORCE@TIME (N, s), sideways at the torso")
             self.run = gui.add_button("Track in physics", icon=viser.Icon.RUN)
             self.report = gui.add_markdown("")
-        self.run.on_click(feedback.guarded(lambda e: self.track_file(self.clip.value, e.client)))
+        self.run.on_click(messages.guarded(lambda e: self.track_file(self.clip.value, e.client)))
 
     def track_file(self, text: str, client: viser.ClientHandle | None = None):
         """Retarget and track the clip; show the simulated motion and report its errors."""
@@ -67,5 +67,5 @@ class TrackPanel:
             f"{reference.duration:.2f} s ({state}); joint RMS {result.joint_rms_deg:.1f}°, COM error "
             f"{result.com_error_m:.3f} m, mean artificial torque {result.artificial_torque:.1f} N·m."
         )
-        self.feedback.info(f"Tracking `{self.sandbox.relative(path)}` in physics.", client)
+        self.messages.info(f"Tracking `{self.sandbox.relative(path)}` in physics.", client)
         return result

@@ -8,15 +8,15 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
-from eigengait.control.balance.tracker import Push
+from eigengait.control.balance.tracker import BodyPush
 from eigengait.control.playback import parse_pushes
 
 
-def sideways_pushes(texts: Sequence[str], body: str) -> tuple[Push, ...]:
+def sideways_pushes(texts: Sequence[str], body: str) -> tuple[BodyPush, ...]:
     """Pushes on `body` from one or more push texts (each may list several pushes), in time order."""
     pushes = [p for text in texts for p in parse_pushes(text)]
     return tuple(
-        Push(force=(0.0, p.force, 0.0), time_s=p.time, body=body) for p in sorted(pushes, key=lambda p: p.time)
+        BodyPush(force=(0.0, p.force, 0.0), time_s=p.time, body=body) for p in sorted(pushes, key=lambda p: p.time)
     )
 
 

@@ -14,7 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from eigengait.control.balance.reference import Reference, kinematic_replay
-from eigengait.control.balance.tracker import PUSH_DURATION, Push, TrackerSettings, TrackingResult, track
+from eigengait.control.balance.tracker import PUSH_DURATION, BodyPush, TrackerSettings, TrackingResult, track
 from eigengait.control.playback import pushes_survived
 from eigengait.sim.world import World
 
@@ -29,7 +29,7 @@ class StandingResult:
     and the mean horizontal speed of the root body over the run's last REST_WINDOW seconds (m/s)."""
 
     tracking: TrackingResult
-    pushes: tuple[Push, ...]
+    pushes: tuple[BodyPush, ...]
     mass_kg: float
     end_speed_mps: float
 
@@ -76,7 +76,7 @@ def stand(
     world: World,
     robustness: float,
     duration_s: float,
-    pushes: Sequence[Push] = (),
+    pushes: Sequence[BodyPush] = (),
     settings: TrackerSettings = TrackerSettings(),
 ) -> StandingResult:
     """Stand in the world's pose for duration_s seconds under the given pushes, balance at `robustness` ∈ [0, 1]."""

@@ -37,7 +37,7 @@ PUSH_DURATION = 0.1  # s
 
 
 @dataclass(frozen=True)
-class Push:
+class BodyPush:
     """A horizontal force (N, world axes) on a body for PUSH_DURATION seconds starting at time_s."""
 
     force: tuple[float, float, float]
@@ -173,7 +173,7 @@ class Tracker:
                     return True
         return False
 
-    def _push_bodies(self, pushes: Sequence[Push]) -> list[int]:
+    def _push_bodies(self, pushes: Sequence[BodyPush]) -> list[int]:
         """Body id of each push; a body the character does not have is a UserInputError."""
         ids = [mujoco.mj_name2id(self.model, mujoco.mjtObj.mjOBJ_BODY, p.body) for p in pushes]
         for push, body in zip(pushes, ids):
@@ -183,14 +183,14 @@ class Tracker:
                 )
         return ids
 
-    def _apply_pushes(self, pushes: Sequence[Push], bodies: list[int], t: float) -> None:
+    def _apply_pushes(self, pushes: Sequence[BodyPush], bodies: list[int], t: float) -> None:
         """Set the external forces (N, world) of the pushes active at time t (s); all others are zero."""
         self.data.xfrc_applied[:, :3] = 0.0
         for push, body in zip(pushes, bodies):
             if push.time_s <= t < push.time_s + PUSH_DURATION:
                 self.data.xfrc_applied[body, :3] += push.force
 
-    def run(self, duration_s: float | None = None, pushes: Sequence[Push] = ()) -> TrackingResult:
+    def run(self, duration_s: float | None = None, pushes: Sequence[BodyPush] = ()) -> TrackingResult:
         """Simulate from the reference's first frame for duration_s (default: the whole reference), with the
         given pushes."""
         model, data, ref = self.model, self.data, self.reference
@@ -246,10 +246,10 @@ def track(
     robustness: float,
     settings: TrackerSettings = TrackerSettings(),
     duration_s: float | None = None,
-    pushes: Sequence[Push] = (),
+    pushes: Sequence[BodyPush] = (),
 ) -> TrackingResult:
     """Track `reference` on `world`'s character with the given robustness in [0, 1]."""
     return Tracker(world, reference, robustness, settings).run(duration_s, pushes)
 
 
-__all__ = ["FootModel", "Push", "Tracker", "TrackerSettings", "TrackingResult", "track"]
+__all__ = ["BodyPush", "FootModel", "Tracker", "TrackerSettings", "TrackingResult", "track"]
