@@ -123,8 +123,10 @@ def test_optimized_hip_feedback_reduces_cycle_to_cycle_drift(hopper):
 
 
 def test_every_cycle_played_in_full_is_counted(gait):
-    """4 cycles of 0.3396 s are 2717.05 steps of 0.5 ms: the last cycle ends on the last step and still counts."""
+    """A cycle of 0.3396 s is 679.26 steps of 0.5 ms, played as 679: it ends on the last step and still counts.
+    (One cycle, which the open-loop run survives on any build; whether it survives a fourth is chaotic.)"""
     system, p = gait
-    run = ClosedLoopRunner(system).run([p], 4)
+    assert p.period / system.world.model.opt.timestep % 1 == pytest.approx(0.26, abs=0.01)
+    run = ClosedLoopRunner(system).run([p], 1)
     assert not run.fell[0]
-    assert len(run.cycle_ends[0]) == 4 and run.cycle_ends[0][-1] == run.ended[0] - 1
+    assert len(run.cycle_ends[0]) == 1 and run.cycle_ends[0][-1] == run.ended[0] - 1
