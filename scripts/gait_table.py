@@ -69,20 +69,20 @@ def main() -> None:
     parser.add_argument("--recorded", type=Path, default=None)
     args = parser.parse_args()
     print(
-        "| gait | cycles | speed (m/s) | cadence (steps/min) | flight | swing clearance (m) | stance slip (m) | "
-        "pitch (°) | roll (°) | max jump (°) | mean τ² ((N·m)²) | pushes (of 5) | targets met |"
+        "| gait | played with | cycles | speed (m/s) | cadence (steps/min) | flight | swing clearance (m) | "
+        "stance slip (m) | pitch (°) | roll (°) | max jump (°) | mean τ² ((N·m)²) | pushes (of 5) | targets met |"
     )
-    print("|---|---:|---:|---:|---:|---:|---:|---|---|---:|---:|---:|---|")
+    print("|---|---|---:|---:|---:|---:|---:|---:|---|---|---:|---:|---:|---|")
     failures = []
     for name in gait_names():
         if args.recorded is not None:
             record = json.loads((args.recorded / f"{name}.json").read_text(encoding="utf-8"))
-            m, pushes = record["played"], record["pushes"]
+            m, pushes, lag = record["played"], record["pushes"], record.get("activation_time")
         else:
             controller = load_controller(resolve("gait", name))
             system = system_for(controller)
             params = to_parameters(controller, system)
-            planner = controller.planner()
+            planner, lag = controller.planner(), controller.activation_time
             m = play(system, params, cycles=20, lookahead=planner).summary()
             pushes = push_robustness(system, params, lookahead=planner)
         met = targets(name, m, pushes)
@@ -92,8 +92,10 @@ def main() -> None:
         roll = "{:.0f} … {:.0f}".format(*m["torso_roll_deg"])
         lifts = list(m["swing_clearance_m"].values())
         clearance = "none" if None in lifts else f"{min(lifts):.3f}"
+        control = ("lookahead" if m["lookahead"] else "pulses") + (f", {lag * 1000:.0f} ms lag" if lag else "")
         print(
-            f"| `{name}` | {m['cycles_completed']}{' (fell)' if m['fell'] else ''} | {m['mean_speed_mps']:.2f} | "
+            f"| `{name}` | {control} | {m['cycles_completed']}{' (fell)' if m['fell'] else ''} | "
+            f"{m['mean_speed_mps']:.2f} | "
             f"{m['cadence_spm']:.0f} | {m['flight_fraction']:.2f} | {clearance} | {m['stance_slip_max_m']} | "
             f"{pitch} | {roll} | {m['max_frame_jump_deg']:.1f} | {m['mean_squared_torque']:.0f} | {pushed} | "
             f"{sum(met.values())} of {len(met)} |"

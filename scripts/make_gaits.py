@@ -28,6 +28,7 @@ from eigengait.control.sketch_character import sketch_character
 from eigengait.optimize.mom import MomSettings
 from eigengait.optimize.staged import optimize_gait
 from eigengait.optimize.survival import CHECKPOINT, StartingFigures, SurvivalSettings, harden
+from eigengait.sim.build import build_fingerprint
 
 GAITS = {
     "humanoid-basic-run": "basic-run",
@@ -50,6 +51,7 @@ GAITS = {
 PUSHED = ("humanoid-basic-run", "dog-trot")  # the gaits with a push target (docs/locomotion.md)
 WITHOUT = "without_lookahead_"  # prefix of the figures of the same gait played without its lookahead
 PACKAGE = Path(__file__).resolve().parents[1] / "src" / "eigengait" / "data" / "gaits"
+ACTIVATION_TIME = 0.04  # s: the motor lag every gait is also measured with (docs/locomotion.md, "Motor activation")
 MEASURES = Path("out/gait-measures")  # each gait's full playback summaries, read by scripts/gait_table.py
 
 
@@ -104,28 +106,52 @@ def hardened(controller, folder: Path, minutes: float, seed: int):
     return out
 
 
-def measure(controller) -> None:
-    """Play the controller 20 cycles with physics only, with its lookahead (given the sketch's mean speed as its
-    target if it has none) and without, keep the lookahead only if it survives at least as long, push the gaits
-    that have a push target; record the figures and ship it."""
+def played(controller) -> dict:
+    """The controller played 20 cycles with physics only, without and with its lookahead; the lookahead is kept
+    (`lookahead` None otherwise) only if it survives at least as long. Returns the figures and what was kept."""
     system = system_for(controller)
     params = to_parameters(controller, system)
-    sketch = load_sketch(resolve("sketch", GAITS[controller.name]))
-    controller.sketch = sketch_modes(sketch)
-    if controller.lookahead is None:
-        controller.lookahead = LookaheadFile(speed=sketch.targets.mean_speed)
-    planner = controller.planner()
     described = lambda result: {  # noqa: E731
         **result.summary(),
         **sketch_character(system, params, controller.sketch, result.torques),
     }
     alone = described(play(system, params, cycles=20))
-    free = described(play(system, params, cycles=20, lookahead=planner))
-    if free["cycles_completed"] < alone["cycles_completed"]:  # shipped as it plays best
+    free = described(play(system, params, cycles=20, lookahead=controller.planner()))
+    lookahead = controller.lookahead
+    if free["cycles_completed"] < alone["cycles_completed"]:
+        lookahead, free = None, alone
+    return {"system": system, "params": params, "alone": alone, "free": free, "lookahead": lookahead}
+
+
+def rank(play: dict) -> tuple:
+    """Longer survival first, then the smaller largest frame jump."""
+    return (play["free"]["cycles_completed"], -(play["free"]["max_frame_jump_deg"] or 0.0))
+
+
+def measure(controller) -> None:
+    """Play the controller as it is and with its motors' activation time switched (`ACTIVATION_TIME` when it has
+    none, none when it has one), each with its lookahead (given the sketch's mean speed as its target if it has
+    none) and without; ship the variant that survives longest (then: the smaller frame jumps), with its lookahead
+    only if that survives at least as long; push the gaits that have a push target; record the figures."""
+    sketch = load_sketch(resolve("sketch", GAITS[controller.name]))
+    controller.sketch = sketch_modes(sketch)
+    if controller.lookahead is None:
+        controller.lookahead = LookaheadFile(speed=sketch.targets.mean_speed)
+    switched = None if controller.activation_time is not None else ACTIVATION_TIME
+    variants = {
+        tau: controller.model_copy(update={"activation_time": tau}) for tau in (controller.activation_time, switched)
+    }
+    plays = {tau: played(c) for tau, c in variants.items()}
+    for tau, run in plays.items():
         print(
-            f"{controller.name}: {free['cycles_completed']} cycles with lookahead, {alone['cycles_completed']} without"
+            f"{controller.name}: activation time {tau}: {run['free']['cycles_completed']} cycles, "
+            f"jump {run['free']['max_frame_jump_deg']}°, lookahead {run['lookahead'] is not None}"
         )
-        controller.lookahead, planner, free = None, None, alone
+    tau = max(plays, key=lambda t: rank(plays[t]))
+    controller, best = variants[tau], plays[tau]
+    controller.lookahead = best["lookahead"]
+    planner = controller.planner()
+    system, params, alone, free = best["system"], best["params"], best["alone"], best["free"]
     pushes = push_robustness(system, params, lookahead=planner) if controller.name in PUSHED else None
     kept = {
         k: controller.metrics[k]
@@ -136,11 +162,19 @@ def measure(controller) -> None:
     controller.metrics = numbers(free)
     controller.metrics.update({f"{WITHOUT}{k}": v for k, v in numbers(alone).items() if k != "lookahead"})
     controller.metrics.update(kept)
+    controller.measured_on = build_fingerprint()
     if pushes is not None:
         controller.metrics["pushes_survived_of_5"] = sum(pushes)
     save_controller(controller, PACKAGE / f"{controller.name}.json")
     MEASURES.mkdir(parents=True, exist_ok=True)
-    record = {"played": free, "without_lookahead": alone, "pushes": pushes}
+    others = [t for t in plays if t != tau]
+    record = {
+        "played": free,
+        "without_lookahead": alone,
+        "pushes": pushes,
+        "activation_time": tau,
+        "other_activation": {"activation_time": others[0], "played": plays[others[0]]["free"]} if others else None,
+    }
     (MEASURES / f"{controller.name}.json").write_text(json.dumps(record, indent=1), encoding="utf-8")
     print(json.dumps({"gait": controller.name, **controller.metrics}))
 

@@ -2,8 +2,11 @@
 
 import mujoco
 import numpy as np
+import pytest
+from mujoco import rollout
 
 from eigengait.character import load_character
+from eigengait.errors import UserInputError
 from eigengait.sim import WorldOptions, build_world
 
 
@@ -53,6 +56,40 @@ def test_motor_limits_are_the_joint_stiffness_times_the_strength_angle():
     np.testing.assert_allclose(world.motor_limits[springs], model.jnt_stiffness[joints][springs])
     forearm, thigh = (world.motor_limits[joints == model.joint(n).id][0] for n in ("left_forearm", "left_thigh"))
     assert forearm < thigh / 5  # a light forearm cannot be driven like a leg
+
+
+def test_activation_time_lags_each_motor_torque_as_a_first_order_filter():
+    """A step command u from rest: the applied torque is u (1 − exp(−t/τ)) (MuJoCo's exact filter), and the torques
+    read from full-physics rollout states are those applied; with no activation time they are the commands."""
+    character = load_character("humanoid")
+    instant = build_world(character, options=WorldOptions(gravity=False))
+    assert instant.model.na == 0
+    commands = np.ones((3, instant.nmotor))
+    assert instant.applied_motor_torques(np.zeros((3, 99)), commands) is commands
+    tau = 0.02
+    world = build_world(character, options=WorldOptions(gravity=False, activation_time=tau))
+    model, data = world.model, world.new_data()
+    assert model.na == world.nmotor
+    u = np.linspace(-30.0, 30.0, world.nmotor)
+    steps = 80
+    controls = np.zeros((1, steps, model.nu))
+    controls[0, :, : world.nmotor] = u
+    state = np.empty(mujoco.mj_stateSize(model, mujoco.mjtState.mjSTATE_FULLPHYSICS))
+    mujoco.mj_getState(model, data, state, mujoco.mjtState.mjSTATE_FULLPHYSICS)
+    states, _ = rollout.rollout(model, data, state[None], controls)
+    applied = world.applied_motor_torques(states[0], controls[0, :, : world.nmotor])
+    t = model.opt.timestep * np.arange(1, steps + 1)
+    np.testing.assert_allclose(applied, np.outer(1 - np.exp(-t / tau), u), atol=1e-9)
+    data.act[:] = applied[-2]  # the activation before the last step
+    data.ctrl[: world.nmotor] = u
+    mujoco.mj_forward(model, data)
+    np.testing.assert_allclose(data.actuator_force[: world.nmotor], applied[-1])  # what the joints got in it
+
+
+def test_an_impossible_activation_time_is_one_clear_error():
+    with pytest.raises(UserInputError) as err:
+        WorldOptions(activation_time=-0.01)
+    assert err.value.field == "activation_time" and "0.01-0.05" in err.value.fix
 
 
 def test_sidecar_strength_scales_each_axis_of_an_anisotropic_joint(tmp_path):

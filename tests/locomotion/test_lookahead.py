@@ -186,3 +186,27 @@ def test_plans_can_keep_to_the_sketchs_modes():
     with pytest.raises(UserInputError) as err:
         validate(ControllerFile, data, Path("dog.json"), "fix it")
     assert "in_sketch" in str(err.value)
+
+
+def test_a_controller_with_an_activation_time_plays_torques_that_lag_their_commands(hopper, tmp_path):
+    """The file's activation time builds motors with a first-order lag: the first step applies u (1 − e^(−dt/τ)) of
+    the instant controller's u, in the feedback runner and under lookahead alike."""
+    _, p, path = hopper
+    data = json.loads(path.read_text())
+    data["activation_time"] = 0.03
+    lagged_file = tmp_path / "lagged.json"
+    lagged_file.write_text(json.dumps(data))
+    lagged = system_for(load_controller(lagged_file))
+    instant = system_for(load_controller(path))
+    assert lagged.world.model.na == lagged.world.nmotor and instant.world.model.na == 0
+    assert to_file(lagged, p).activation_time == 0.03
+    first = [ClosedLoopRunner(s).run([p], 0.1).torques[0, 0] for s in (instant, lagged)]
+    share = 1 - np.exp(-instant.world.model.opt.timestep / 0.03)
+    assert np.abs(first[0]).max() > 1.0
+    np.testing.assert_allclose(first[1], share * first[0], atol=1e-9)
+    run = LookaheadRunner(lagged, LookaheadSettings(speed=1.0, **QUICK))
+    try:
+        played = run.run(p, 0.5)
+    finally:
+        run.close()
+    assert np.abs(played.torques[0, 0]).max() < share * np.abs(lagged.torque_limits).max() * 1.000001

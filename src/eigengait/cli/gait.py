@@ -95,7 +95,7 @@ def optimize_command(
     """Optimize a sketch into a cyclic, physically simulated gait (method of multipliers + CMA-ES)."""
     from eigengait.control.library import resolve
     from eigengait.control.sketch import load_sketch
-    from eigengait.optimize.mom import MomSettings
+    from eigengait.optimize.methods import method_settings
     from eigengait.optimize.staged import optimize_gait
 
     for value, option, low, high in (
@@ -112,7 +112,8 @@ def optimize_command(
     path = resolve("sketch", sketch)
     loaded = load_sketch(path)
     tolerance = tolerance if tolerance is not None else loaded.targets.cycle_tolerance
-    settings = MomSettings(
+    settings = method_settings(
+        method,
         seed=1 if seed is None else seed,
         max_evaluations=evaluations,
         max_seconds=minutes * 60 if minutes else None,
@@ -120,7 +121,6 @@ def optimize_command(
         max_outer=max_outer,
         cycle_tolerance=tolerance,
         popsize=popsize,
-        method=method,
     )
     if not resume:
         _start_run(output, force)
@@ -174,6 +174,11 @@ def play_command(
         "--lookahead/--no-lookahead",
         help="Use the controller's lookahead (sampled pulse corrections at each state start), if it has one.",
     ),
+    activation_time: Optional[float] = typer.Option(
+        None,
+        "--activation-time",
+        help="Motors follow their torque commands with this first-order lag (s), instead of the controller's own.",
+    ),
     as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
     video: Optional[Path] = typer.Option(None, "--video", help="Write a video (.mp4/.gif)."),
     bvh: Optional[Path] = typer.Option(None, "--bvh", help="Write the motion as BVH."),
@@ -202,13 +207,20 @@ def play_command(
     refuse_existing([video, bvh], force)
     path = resolve("gait", controller)
     c = load_controller(path)
+    if activation_time is not None:
+        c = c.model_copy(update={"activation_time": activation_time})
     system = system_for(c, path)
     planner = c.planner() if lookahead and not snap else None
     status = status_console(as_json)
     progress = (lambda k, n: status.print(f"lookahead: cycle {k}/{n}")) if planner is not None else None
     params = to_parameters(c, system, path)
     result = play(system, params, cycles, snap=snap, pushes=pushes, source=path, lookahead=planner, progress=progress)
-    summary = {"controller": str(path), "character": c.character, **result.summary()}
+    summary = {
+        "controller": str(path),
+        "character": c.character,
+        "activation_time": c.activation_time,
+        **result.summary(),
+    }
     if c.sketch is not None:
         summary.update(sketch_character(system, params, c.sketch, result.torques))
     if as_json:

@@ -1,28 +1,33 @@
-"""A sketch bound to its character: the gait system (world, mode bases per phase and foot, pulse controller)."""
+"""A sketch or a controller file bound to its character: the gait system (world, mode bases per phase and foot,
+pulse controller)."""
 
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from eigengait.character import load_character
 from eigengait.control.gait import GaitSystem
 from eigengait.control.sketch import Sketch, check_modes
 from eigengait.sim.world import WorldOptions
 
+if TYPE_CHECKING:
+    from eigengait.control.controller import ControllerFile
 
-def sketch_system(sketch: Sketch, gravity: bool = True, source: str | Path | None = None) -> GaitSystem:
-    """The sketch's gait system (one modal analysis per phase and foot), mode numbers not yet checked; an error in
-    the sketch's feet names `source`."""
-    character = load_character(sketch.character)
-    feet = sketch.feet or character.meta.gait_order
+
+def gait_system(spec: Sketch | ControllerFile, gravity: bool = True, source: str | Path | None = None) -> GaitSystem:
+    """The gait system a sketch or a controller file names (one modal analysis per phase and foot), mode numbers not
+    yet checked; a sketch that names no feet takes the character's gait order. An error in the feet names `source`."""
+    character = load_character(spec.character)
+    feet = (spec.feet or character.meta.gait_order) if isinstance(spec, Sketch) else spec.feet
     return GaitSystem(
         character,
-        sketch.relax_pose,
+        spec.relax_pose,
         feet,
-        sketch.symmetric,
-        sketch.basis,
-        sketch.torque_limit,
-        WorldOptions(gravity=gravity),
+        spec.symmetric,
+        spec.basis,
+        spec.torque_limit,
+        WorldOptions(gravity=gravity, activation_time=spec.activation_time),
         source,
     )
 
@@ -33,6 +38,6 @@ def mode_counts(system: GaitSystem) -> dict[str, int]:
 
 def bind_sketch(sketch: Sketch, source: str | Path | None = None, gravity: bool = True) -> GaitSystem:
     """The sketch's gait system; every mode number the sketch names must exist (error names `source`)."""
-    system = sketch_system(sketch, gravity, source)
+    system = gait_system(sketch, gravity, source)
     check_modes(sketch, mode_counts(system), source)
     return system

@@ -275,7 +275,7 @@ class ClosedLoopRunner:
             s, d = self.pool.rollout(model, self.datas, state[idx], control, control_spec=spec)
             self.steps_simulated += idx.size * (b - a)
             states[idx, a:b], sensors[idx, a:b] = s, d
-            torques[idx, a:b] = control[:, :, :n_motor]
+            torques[idx, a:b] = system.world.applied_motor_torques(s, control[:, :, :n_motor])
             state[idx], sensors_now[idx] = s[:, -1], d[:, -1]
             bad, blown, qvel = failed_steps(s, d, time_before, system.world, self.standing_com, dt)
             for k, i in enumerate(idx):

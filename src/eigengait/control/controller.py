@@ -13,6 +13,7 @@ from typing import Annotated, Literal
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 
+from eigengait.control.binding import gait_system
 from eigengait.control.feedback import FEATURES, HIP_GAINS, FeedbackGains
 from eigengait.control.lookahead import LookaheadSettings
 from eigengait.control.sketch import PhaseSketch, Sketch
@@ -107,6 +108,7 @@ class ControllerFile(BaseModel):
     symmetric: bool
     basis: Literal["modal", "canonical"] = "modal"
     torque_limit: float = Field(gt=0, le=MAX_CONTROL)
+    activation_time: float | None = Field(None, gt=0, le=1)  # s: the motors' first-order lag (none: at once)
     period: float = Field(gt=0)
     air_ratio: float = Field(ge=0, le=1)
     pulse_air: float = Field(gt=0)
@@ -120,6 +122,7 @@ class ControllerFile(BaseModel):
     lookahead: LookaheadFile | None = None
     sketch: dict[Literal["air", "ground"], PhaseSketch] | None = None  # the modes of the sketch it was made from
     metrics: dict[str, float | bool | int] = Field(default_factory=dict)
+    measured_on: dict[str, str | list[str]] | None = None  # the build the metrics were played on (sim/build.py)
 
     def planner(self) -> LookaheadSettings | None:
         """The lookahead settings `play` uses, or None when the controller plays its pulses as they are."""
@@ -158,6 +161,7 @@ def to_file(
         symmetric=system.mirror is not None,
         basis=system.basis,
         torque_limit=system.torque_limit,
+        activation_time=system.options.activation_time,
         period=p.period,
         air_ratio=p.air_ratio,
         pulse_air=p.pulse_air,
@@ -242,15 +246,5 @@ def to_parameters(controller: ControllerFile, system: GaitSystem, source: str | 
 
 
 def system_for(controller: ControllerFile, source: str | Path | None = None) -> GaitSystem:
-    """Build the gait system a controller names; an error in its feet names `source` (the controller file)."""
-    from eigengait.character import load_character
-
-    return GaitSystem(
-        load_character(controller.character),
-        controller.relax_pose,
-        controller.feet,
-        controller.symmetric,
-        controller.basis,
-        controller.torque_limit,
-        source=source,
-    )
+    """The gait system a controller names, gravity on; an error in its feet names `source` (the controller file)."""
+    return gait_system(controller, source=source)

@@ -189,7 +189,7 @@ class LookaheadRunner:
                 add_pushes(control, pushes, n + a, dt, nu)
                 s, d = self.pool.rollout(model, self.datas, x[None], control, control_spec=spec)
                 out_states[0, n + a : n + b], out_sensors[0, n + a : n + b] = s[0], d[0]
-                out_torques[0, n + a : n + b] = control[0, :, :n_motor]
+                out_torques[0, n + a : n + b] = system.world.applied_motor_torques(s[0], control[0, :, :n_motor])
                 bad, blown, qvel = failed_steps(s, d, x[None, :1], system.world, cost.h, dt)
                 bad, blown, qvel = bad[0], blown[0], qvel[0]
                 if bad.any():

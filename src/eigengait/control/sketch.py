@@ -115,6 +115,9 @@ class Sketch(BaseModel):
     targets: Targets = Field(default_factory=Targets)
     feedback: Feedback = Field(default_factory=Feedback)
     torque_limit: float = Field(400.0, gt=0, description="N·m per dof")
+    activation_time: float | None = Field(
+        None, gt=0, le=1, description="s: each torque follows its command through a first-order lag (none: at once)"
+    )
 
     @model_validator(mode="after")
     def _version(self):

@@ -5,7 +5,9 @@
   actuators whose bias is −k_i·θ_i − d_i·θ̇_i, θ_i the rotation-vector component about joint axis i.
 * One motor per internal degree of freedom (`ctrl` = torque in N·m about that dof's axis, joint frame), in qvel
   order: this is where controllers put their torques, within `motor_limits` (stiffness × `strength`, if the
-  character states one).
+  character states one). With an `activation_time` τ (WorldOptions), each motor's torque follows its command
+  through a first-order lag, as a muscle's force follows its excitation (MuJoCo's exact filter, its state in
+  `data.act`): a step in the command reaches 63 % of its size after τ seconds. Without it, torques act at once.
 * Every body collides with the ground (not with itself); feet get toe and heel contact spheres from their sites.
   `contact="feet"` lets only the spheres collide, and `set_stance_foot` restricts that to one foot (the thesis's
   filtering).
@@ -31,16 +33,19 @@ from eigengait.sim.root import RootLayout, root_layout
 BODY_GROUP, FOOT_GROUP, FLOOR_AFFINITY = 1, 2, 3
 FLOOR = "eigengait:floor"
 GRAVITY = 9.81
+MAX_ACTIVATION_TIME = 1.0  # s
 
 
 @dataclass(frozen=True)
 class WorldOptions:
-    """gravity on/off; timestep in s; which geoms touch the ground; place the feet on the ground."""
+    """gravity on/off; timestep in s; which geoms touch the ground; place the feet on the ground; the motors'
+    activation time constant in s (None: torques act at once)."""
 
     gravity: bool = True
     timestep: float = 0.0005
     contact: Literal["all", "feet", "none"] = "all"
     floor: bool = True
+    activation_time: float | None = None
 
     def __post_init__(self):
         if not 0 < self.timestep <= 0.05:
@@ -48,6 +53,12 @@ class WorldOptions:
                 f"timestep {self.timestep} s is out of range",
                 field="timestep",
                 fix="use a step between 1e-5 and 0.05 s (default 0.0005)",
+            )
+        if self.activation_time is not None and not 0 < self.activation_time <= MAX_ACTIVATION_TIME:
+            raise UserInputError(
+                f"activation time {self.activation_time} s is out of range",
+                field="activation_time",
+                fix=f"use a time constant above 0 and at most {MAX_ACTIVATION_TIME} s (muscles: 0.01-0.05 s), or none",
             )
 
 
@@ -78,6 +89,14 @@ class World:
     @property
     def comvel_sensor(self) -> int:
         return 3
+
+    def applied_motor_torques(self, states: np.ndarray, commands: np.ndarray) -> np.ndarray:
+        """Torques (N·m, … × nmotor) the motors applied: their filtered activations, read from full-physics
+        states (… × state size, after each step) when the character has an activation time, else the commands."""
+        if not self.model.na:
+            return commands
+        act = 1 + self.model.nq + self.model.nv
+        return states[..., act : act + self.nmotor]
 
     @property
     def dof_stiffness(self) -> np.ndarray:
@@ -154,7 +173,7 @@ def _add_springs(spec: mujoco.MjSpec, character: Character) -> None:
             act.ctrllimited = mujoco.mjtLimited.mjLIMITED_FALSE
 
 
-def _add_motors(spec: mujoco.MjSpec, character: Character) -> None:
+def _add_motors(spec: mujoco.MjSpec, character: Character, tau: float | None) -> None:
     for name in character.joints:
         for axis in range(character.joint_dofs[name]):
             act = spec.add_actuator()
@@ -163,6 +182,10 @@ def _add_motors(spec: mujoco.MjSpec, character: Character) -> None:
             act.trntype = mujoco.mjtTrn.mjTRN_JOINT
             act.gear = np.eye(6)[axis] if character.joint_dofs[name] == 3 else np.eye(6)[0]
             act.ctrllimited = mujoco.mjtLimited.mjLIMITED_FALSE
+            if tau is not None:
+                act.dyntype = mujoco.mjtDyn.mjDYN_FILTEREXACT
+                act.dynprm[0] = tau
+                act.actearly = True  # the force of a step uses the activation at its end, as recorded
 
 
 def _set_contacts(spec: mujoco.MjSpec, character: Character, contact: str) -> None:
@@ -258,7 +281,7 @@ def build_world(character: Character, pose: str | dict = DEFAULT_POSE, options: 
     spec.option.timestep = options.timestep
     spec.option.gravity = [0, 0, -GRAVITY if options.gravity else 0.0]
     spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
-    _add_motors(spec, character)  # motors first: ctrl[:nmotor] are the joint torques
+    _add_motors(spec, character, options.activation_time)  # motors first: ctrl[:nmotor] are the joint torques
     _add_springs(spec, character)
     _set_contacts(spec, character, options.contact)
     _add_floor_and_sensors(spec, character, root.name, options.floor)
