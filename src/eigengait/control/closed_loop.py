@@ -4,9 +4,9 @@ The horizon is cut into chunks of `FEEDBACK_DT`; each chunk is one `mujoco.rollo
 standing. At each chunk boundary the features of every candidate are read from its last state (NumPy, whole
 batch), recorded as the reference during the first cycle, and turned into feedback torques afterwards (see
 `feedback.py`). Sideways pushes are generalized forces on the root's y translation. A candidate falls when its
-COM drops below half the standing height, its root turns upside down, or it blows up (`sim/stepping.py`: a
-non-finite or runaway state, or a torque MuJoCo would refuse; recorded as `blow_up`); it is not simulated
-further.
+COM drops below half the standing height, its root turns upside down, or it blows up (`sim/falls.py`'s
+`failed_steps` and `sim/stepping.py`: a non-finite or runaway state, or a torque MuJoCo would refuse; recorded as
+`blow_up`); it is not simulated further.
 """
 
 from __future__ import annotations
@@ -28,11 +28,8 @@ from eigengait.control.feedback import (
 )
 from eigengait.control.gait import GaitParameters, GaitSystem
 from eigengait.control.phase_clock import MAX_WAIT, PhaseClock
-from eigengait.sim.contacts import spheres_touching
-from eigengait.sim.falls import has_fallen
-from eigengait.sim.root import RootLayout
-from eigengait.sim.world import World
-from eigengait.sim.stepping import blown_up_dof, blown_up_steps, first_bad_torque
+from eigengait.sim.falls import failed_steps
+from eigengait.sim.stepping import blown_up_dof, first_bad_torque
 
 PUSH_SECONDS = 0.1  # s, duration of every push
 
@@ -68,24 +65,6 @@ def add_pushes(control: np.ndarray, pushes: tuple[Push, ...], first_step: int, d
         control[:, on, nu + 1] = push.force
 
 
-def fallen(states: np.ndarray, sensors: np.ndarray, root: RootLayout, nq: int, standing_com: float) -> np.ndarray:
-    """Per row: fallen by `sim/falls.py`'s rule (against the standing COM height), or a non-finite state."""
-    finite = np.isfinite(states[..., 1:]).all(axis=-1) & (np.abs(states[..., 1:]) < 1e6).all(axis=-1)
-    return has_fallen(sensors[..., 2], standing_com, root.up_z(states[..., 1 : 1 + nq])) | ~finite
-
-
-def failed_steps(
-    states: np.ndarray, sensors: np.ndarray, clock_before: np.ndarray, world: World, standing_com: float, dt: float
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """A rollout chunk's failures per row and step (rows × steps): fallen or blown up; blown up alone; and the
-    chunk's qvel (rows × steps × nv) that `blown_up_dof` reads. `clock_before` (rows × 1): each row's time (s)
-    before the chunk's first step, so a clock that restarts is caught as a blow-up."""
-    nq, nv = world.model.nq, world.model.nv
-    qvel = states[..., 1 + nq : 1 + nq + nv]
-    blown = blown_up_steps(qvel, np.concatenate([clock_before, states[..., 0]], axis=-1), dt)
-    return fallen(states, sensors, world.root, nq, standing_com) | blown, blown, qvel
-
-
 def clock_cycle_ends(period: float, timestep: float, cycles: int) -> list[int]:
     """Index of the last physics step of each of `cycles` cycles played on the fixed clock."""
     return [int(round(c * period / timestep)) - 1 for c in range(1, cycles + 1)]
@@ -100,9 +79,9 @@ def cycle_errors(
     One block per cycle k: the state at its end against the state at its start ((q₀, q̇₀) for the first); for
     symmetric gaits one more block: the mirrored state half a cycle in against (q₀, q̇₀).
     """
-    nq, nv, dt = system.world.model.nq, system.world.model.nv, system.world.model.opt.timestep
-    q = lambda k: states[k, 1 : 1 + nq]  # noqa: E731
-    v = lambda k: states[k, 1 + nq : 1 + nq + nv]  # noqa: E731
+    view, dt = system.world.view, system.world.model.opt.timestep
+    q = lambda k: view.qpos(states[k])  # noqa: E731
+    v = lambda k: view.qvel(states[k])  # noqa: E731
     ends = clock_cycle_ends(p.period, dt, cycles) if ends is None else ends
     errors, start = [], None
     for k in ends[:cycles]:
@@ -203,7 +182,6 @@ class ClosedLoopRunner:
         self.standing_com = world.standing_com_height
         self.chunk = steps_per_reading(self.model.opt.timestep)
         self.motor_dofs = np.asarray(world.internal_qvel)
-        self.feet = {f: (world.foot_point_sensors(f), world.foot_radius(f)) for f in world.character.feet}
         self.steps_simulated = 0
 
     def close(self) -> None:
@@ -271,13 +249,13 @@ class ClosedLoopRunner:
             if idx.size == 0:
                 break
             add_pushes(control, pushes, a, dt, nu)
-            time_before = state[idx, :1]
+            time_before = system.world.view.time(state[idx])[:, None]
             s, d = self.pool.rollout(model, self.datas, state[idx], control, control_spec=spec)
             self.steps_simulated += idx.size * (b - a)
             states[idx, a:b], sensors[idx, a:b] = s, d
             torques[idx, a:b] = system.world.applied_motor_torques(s, control[:, :, :n_motor])
             state[idx], sensors_now[idx] = s[:, -1], d[:, -1]
-            bad, blown, qvel = failed_steps(s, d, time_before, system.world, self.standing_com, dt)
+            bad, blown, qvel = failed_steps(system.world.view, s, d, time_before, self.standing_com, dt)
             for k, i in enumerate(idx):
                 upto = min(b, steps[i]) - a
                 hit = np.flatnonzero(bad[k, :upto])
@@ -311,4 +289,4 @@ class ClosedLoopRunner:
 
     def _touching(self, sensors: np.ndarray) -> dict[str, bool]:
         """Whether each foot touches the ground (`sim/contacts.py`), from its contact spheres' centre sensors."""
-        return {f: bool(spheres_touching(sensors[np.add(adrs, 2)], r).any()) for f, (adrs, r) in self.feet.items()}
+        return {f: bool(on) for f, on in self.system.world.view.feet_touching(sensors).items()}

@@ -75,40 +75,35 @@ class FeatureReader:
     """Reads normalized features from rollout states and sensors (last axis: MuJoCo state / sensordata)."""
 
     def __init__(self, world: World):
-        model = world.model
-        self.nq = model.nq
-        self.root = world.root
-        self.com, self.comvel = world.com_sensor, world.comvel_sensor
-        self.toe = {f: world.foot_sensor[p.toe] for f, p in world.character.feet.items()}
+        self.view, self.root = world.view, world.root
         h = world.standing_com_height
         self.scale = np.array(
             [h, h, np.sqrt(GRAVITY * h), np.sqrt(GRAVITY * h), 1, 1, np.sqrt(GRAVITY / h), np.sqrt(GRAVITY / h)]
         )
 
     def _tilt(self, state: np.ndarray) -> np.ndarray:
-        nq = self.nq
+        qpos, qvel = self.view.qpos(state), self.view.qvel(state)
         if self.root.quat_qpos is not None:
             a = self.root.quat_qpos
-            return root_tilt(state[..., 1 + a : 1 + a + 4], state[..., 1 + nq + 3 : 1 + nq + 6])
-        return planar_tilt(self.root, state, nq)
+            return root_tilt(qpos[..., a : a + 4], qvel[..., 3:6])  # a free root's angular velocity: its qvel 3-5
+        return planar_tilt(self.root, qpos, qvel)
 
     def read(self, state: np.ndarray, sensors: np.ndarray, support: str) -> np.ndarray:
         """Features (…×8) with the COM offset taken from `support`'s toe."""
-        com = sensors[..., self.com : self.com + 3]
-        toe = sensors[..., self.toe[support] : self.toe[support] + 3]
-        vel = sensors[..., self.comvel : self.comvel + 3]
+        com, toe, vel = self.view.com(sensors), self.view.toe(sensors, support), self.view.com_velocity(sensors)
         tilt = self._tilt(state)
         raw = np.concatenate([com[..., :2] - toe[..., :2], vel[..., :2], tilt], axis=-1)
         return raw / self.scale
 
 
-def planar_tilt(root, state: np.ndarray, nq: int) -> np.ndarray:
-    """(pitch, 0, ω_pitch, 0) of a planar root from its hinge about y (rad, rad/s); zeros without one. The root's
-    joints come first and each has one coordinate, so the hinge's qvel address equals its qpos address."""
-    out = np.zeros(state.shape[:-1] + (4,))
+def planar_tilt(root, qpos: np.ndarray, qvel: np.ndarray) -> np.ndarray:
+    """(pitch, 0, ω_pitch, 0) of a planar root from its hinge about y (rad, rad/s), for qpos (…, nq) and qvel
+    (…, nv); zeros without one. The root's joints come first and each has one coordinate, so the hinge's qvel
+    address equals its qpos address."""
+    out = np.zeros(qpos.shape[:-1] + (4,))
     if root.pitch_qpos is not None:
-        out[..., 0] = root.pitch_sign * state[..., 1 + root.pitch_qpos]
-        out[..., 2] = root.pitch_sign * state[..., 1 + nq + root.pitch_qpos]
+        out[..., 0] = root.pitch_sign * qpos[..., root.pitch_qpos]
+        out[..., 2] = root.pitch_sign * qvel[..., root.pitch_qpos]
     return out
 
 

@@ -14,7 +14,7 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
-from eigengait.sim.contacts import spheres_touching
+from eigengait.sim.contacts import foot_touching, spheres_touching
 from eigengait.sim.root import root_layout
 
 DEBOUNCE_S = 0.02  # s
@@ -68,7 +68,7 @@ def foot_contacts(rec: GaitRecording) -> dict[str, np.ndarray]:
     `DEBOUNCE_S` inside the recording ignored)."""
     out = {}
     for foot in rec.foot_points:
-        on = _sphere_contacts(rec, foot).any(axis=1)
+        on = foot_touching(rec.foot_points[foot], rec.foot_radius[foot])
         out[foot] = _debounce(on, DEBOUNCE_S * rec.fps) if len(on) > 2 else on
     return out
 

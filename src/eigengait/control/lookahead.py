@@ -27,18 +27,11 @@ import mujoco
 import numpy as np
 from mujoco import rollout
 
-from eigengait.control.closed_loop import (
-    BatchRun,
-    FeedbackPlan,
-    Push,
-    add_pushes,
-    clock_cycle_ends,
-    failed_steps,
-    fallen,
-)
+from eigengait.control.closed_loop import BatchRun, FeedbackPlan, Push, add_pushes, clock_cycle_ends
 from eigengait.control.feedback import FeatureReader, hip_motors_by_foot, steps_per_reading
 from eigengait.control.gait import GaitParameters, GaitSystem
 from eigengait.control.pulse import State
+from eigengait.sim.falls import failed_steps, fallen
 from eigengait.sim.stepping import blown_up_dof
 from eigengait.sim.world import GRAVITY
 
@@ -75,8 +68,7 @@ class TaskCost:
 
     def __init__(self, system: GaitSystem, speed: float, height: float, start_qpos: np.ndarray, start_com: np.ndarray):
         world = system.world
-        self.root, self.nq = world.root, world.model.nq
-        self.com, self.comvel = world.com_sensor, world.comvel_sensor
+        self.root, self.view = world.root, world.view
         self.h = world.standing_com_height  # m, the standing COM height
         self.v_unit = np.sqrt(GRAVITY * self.h)
         self.speed, self.height = speed, height
@@ -85,10 +77,10 @@ class TaskCost:
 
     def __call__(self, states: np.ndarray, sensors: np.ndarray, every: int) -> np.ndarray:
         """Cost per plan of rollout states and sensors (plans × steps × …), sampled every `every` steps."""
-        bad = fallen(states, sensors, self.root, self.nq, self.h)
+        bad = fallen(self.view, states, sensors, self.h)
         s, d = states[:, every - 1 :: every], sensors[:, every - 1 :: every]
-        qpos = s[..., 1 : 1 + self.nq]
-        com, vel = d[..., self.com : self.com + 3], d[..., self.comvel : self.comvel + 3]
+        qpos = self.view.qpos(s)
+        com, vel = self.view.com(d), self.view.com_velocity(d)
         yaw = np.angle(np.exp(1j * (self.root.heading(qpos) - self.heading)))
         with np.errstate(invalid="ignore", over="ignore"):
             terms = (
@@ -146,6 +138,7 @@ class LookaheadRunner:
         """Play `cycles` cycles from (q₀, q̇₀); `progress(cycle, cycles)` is called after each completed cycle."""
         system, model, settings = self.system, self.model, self.settings
         dt, nv, nu, n_motor = model.opt.timestep, model.nv, model.nu, system.world.nmotor
+        view = system.world.view
         states_of_cycle = system.states(p)
         cycle_controls = system.controls(p, cycles=1)
         n_cycle = len(cycle_controls)
@@ -190,7 +183,7 @@ class LookaheadRunner:
                 s, d = self.pool.rollout(model, self.datas, x[None], control, control_spec=spec)
                 out_states[0, n + a : n + b], out_sensors[0, n + a : n + b] = s[0], d[0]
                 out_torques[0, n + a : n + b] = system.world.applied_motor_torques(s[0], control[0, :, :n_motor])
-                bad, blown, qvel = failed_steps(s, d, x[None, :1], system.world, cost.h, dt)
+                bad, blown, qvel = failed_steps(view, s, d, view.time(x)[None, None], cost.h, dt)
                 bad, blown, qvel = bad[0], blown[0], qvel[0]
                 if bad.any():
                     first = int(np.argmax(bad))
@@ -222,8 +215,7 @@ class LookaheadRunner:
         """The cost with the first cycle's mean COM height (played as the pulses are) as its height target."""
         system = self.system
         _, d = self.pool.rollout(self.model, self.datas, x[None], cycle_controls[None])
-        com = system.world.com_sensor
-        height = float(np.mean(d[0, :, com + 2]))
+        height = float(np.mean(system.world.view.com(d[0])[:, 2]))
         return TaskCost(system, self.settings.speed, height, p.qpos0, system.initial_com(p))
 
     def _decide(self, x, plan, nominal, lengths, horizon, state, directions, scale, cost, start):

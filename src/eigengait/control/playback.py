@@ -120,7 +120,8 @@ def _run(system, p, cycles, pushes, lookahead: LookaheadSettings | None, progres
 def _play_snapped(runner: ClosedLoopRunner, p: GaitParameters, cycles: int) -> tuple[BatchRun, int]:
     """Cycle by cycle from (q₀, q̇₀), open loop, keeping the root's forward position: the thesis's reset."""
     parts, completed, blow_up = [], 0, None
-    forward = runner.system.world.root.forward_qpos
+    view = runner.system.world.view
+    forward = view.root.forward_qpos
     start = p
     for _ in range(cycles):
         run = runner.run([start], 1)
@@ -131,7 +132,7 @@ def _play_snapped(runner: ClosedLoopRunner, p: GaitParameters, cycles: int) -> t
         completed += 1
         qpos0 = p.qpos0.copy()
         if forward is not None:
-            qpos0[forward] = run.states[0, -1, 1 + forward]
+            qpos0[forward] = view.qpos(run.states[0, -1])[forward]
         start = GaitParameters(**{**p.__dict__, "qpos0": qpos0})
     cat = lambda name: np.concatenate([getattr(r, name)[0, : r.ended[0]] for r in parts])[None]  # noqa: E731
     ended = sum(int(r.ended[0]) for r in parts)
@@ -157,14 +158,14 @@ def _result(
     pushes: tuple[Push, ...],
     planned: bool = False,
 ) -> PlaybackResult:
-    world, model = system.world, system.world.model
-    dt, nq, nv = model.opt.timestep, model.nq, model.nv
+    world, model, view = system.world, system.world.model, system.world.view
+    dt = model.opt.timestep
     end = int(run.ended[0])
     states, sensors, torques = run.states[0, :end], run.sensors[0, :end], run.torques[0, :end]
-    qvel = states[:, 1 + nq : 1 + nq + nv]
+    qvel = view.qvel(states)
     work = float(np.sum(np.clip(np.sum(torques * qvel[:, world.internal_qvel], axis=1), 0, None)) * dt)
     duration = end * dt
-    distance = float(sensors[-1, 0] - system.initial_com(p)[0])
+    distance = float(view.com(sensors[-1])[0] - system.initial_com(p)[0])
     # frame k shows time k / fps: frame 0 is the initial state, frame k the state after step round(k/(fps dt))
     states = np.vstack([system.initial_state(p), states])
     sensors = np.vstack([system.initial_sensors(p), sensors])
@@ -173,13 +174,10 @@ def _result(
     recording = GaitRecording(
         fps=fps,
         period=p.period,
-        qpos=states[frames, 1 : 1 + nq],
-        com=sensors[frames, 0:3],
-        foot_points={
-            f: np.stack([sensors[frames, a : a + 3] for a in world.foot_point_sensors(f)], axis=1)
-            for f in world.character.feet
-        },
-        foot_radius={f: world.foot_radius(f) for f in world.character.feet},
+        qpos=view.qpos(states)[frames],
+        com=view.com(sensors)[frames],
+        foot_points={f: view.foot_points(sensors[frames], f) for f in world.character.feet},
+        foot_radius=dict(view.foot_radius),
     )
     quality = {**gait_metrics(model, recording), **gait_signatures(model, recording)} if len(frames) > 1 else {}
     violation = _violation(system, p, run, completed) if not snap else _snapped_violation(system, p, run)

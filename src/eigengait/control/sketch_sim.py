@@ -55,7 +55,7 @@ def simulate_sketch(
     states, _ = rollout.rollout(model, mujoco.MjData(model), system.initial_state(p)[None], u[None])
     wall = time.perf_counter() - start
     stride = max(1, int(round(1 / (SKETCH_FPS * model.opt.timestep))))
-    qpos = states[0, stride - 1 :: stride, 1 : 1 + model.nq]
+    qpos = system.world.view.qpos(states[0, stride - 1 :: stride])
     biggest = 0.0
     for q in qpos:
         for j in system.world.internal_qpos_joints:

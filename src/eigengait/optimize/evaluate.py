@@ -65,12 +65,9 @@ class BatchEvaluator:
         self.runner = ClosedLoopRunner(system, self.threads)
         self.dt = self.model.opt.timestep
         self.sample_every = max(1, int(round(sample_dt / self.dt)))
-        self.nq, self.nv = self.model.nq, self.model.nv
+        self.nv = self.model.nv
         world = system.world
-        self.toe_radius = {f: world.foot_radius(f) for f in system.feet}
-        feet = world.character.feet
-        self.toe_sensor = {f: world.foot_sensor[feet[f].toe] for f in system.feet}
-        self.heel_sensor = {f: world.foot_sensor[feet[f].heel] if feet[f].heel else None for f in system.feet}
+        self.view = world.view
         self.hip_joint = {f: self.model.joint(leg_root_joint(world, f)).id for f in dict.fromkeys(system.feet)}
         self.kinematics = mujoco.MjData(self.model)
 
@@ -104,21 +101,21 @@ class BatchEvaluator:
                 energy=0.0,
                 soft={"fall": 2 * FALL_PENALTY},
             )
-        tg, nq, nv = self.targets, self.nq, self.nv
+        tg, view = self.targets, self.view
         end = int(run.ended[i])
         states, sensors, torques = run.states[i, :end], run.sensors[i, :end], run.torques[i, :end]
         samples = slice(self.sample_every - 1, None, self.sample_every)
-        comvel = sensors[:, 3:6]
-        mean_vel = (sensors[-1, 0:3] - self.system.initial_com(p)) / (end * self.dt)
+        comvel = view.com_velocity(sensors)
+        mean_vel = (view.com(sensors[-1]) - self.system.initial_com(p)) / (end * self.dt)
         energy = terms.energy_objective(torques) if end else 0.0
-        qvel = states[samples, 1 + nq : 1 + nq + nv]
+        qvel = view.qvel(states[samples])
         soft = {
             "min_speed": terms.min_speed_term(comvel[samples, 0], tg.min_speed),
             "mean_speed": terms.mean_speed_term(mean_vel, tg.mean_speed, tg.lateral_speed, tg.vertical_speed),
             "joint_speed": terms.joint_speed_term(qvel[:, self.system.world.internal_qvel], tg.joint_speed),
             "energy_max": terms.energy_limit_term(energy, tg.energy),
             "priority": terms.priority_term(self._priority_split(p)),
-            "upright": terms.upright_term(self.system.world.root.up_z(states[samples, 1 : 1 + nq])),
+            "upright": terms.upright_term(view.up_z(states[samples])),
             **self._stance_terms(p, states, sensors),
         }
         if run.fell[i]:
@@ -150,10 +147,10 @@ class BatchEvaluator:
     # ------------------------------------------------------------------ stance terms (Eqs. 4.17–4.20)
     def _hips(self, states: np.ndarray) -> dict[str, np.ndarray]:
         """World hip-anchor positions (n × 3) per leg, from forward kinematics of the recorded states."""
-        model, data, nq = self.model, self.kinematics, self.nq
+        model, data = self.model, self.kinematics
         out = {f: np.empty((len(states), 3)) for f in self.hip_joint}
         for k, row in enumerate(states):
-            data.qpos[:] = row[1 : 1 + nq]
+            data.qpos[:] = self.view.qpos(row)
             mujoco.mj_kinematics(model, data)
             for f, j in self.hip_joint.items():
                 out[f][k] = data.xanchor[j]
@@ -161,7 +158,7 @@ class BatchEvaluator:
 
     def _stance_terms(self, p: GaitParameters, states: np.ndarray, sensors: np.ndarray) -> dict[str, float]:
         out = {"stance_contact": 0.0, "stance_rise": 0.0, "anti_stumble": 0.0}
-        n, dt = len(sensors), self.dt
+        n, dt, view = len(sensors), self.dt, self.view
         schedule = self.system.states(p)
         distinct = list(dict.fromkeys(self.system.feet))
         for c in range(self.cycles):
@@ -172,16 +169,16 @@ class BatchEvaluator:
                 a, b = int((offset + s.start) / dt), min(n, int((offset + s.start + s.duration) / dt))
                 if a >= n:
                     continue
-                toe = self.toe_sensor[s.foot]
-                clearance = sensors[a:b, toe + 2] - self.toe_radius[s.foot]
+                clearance = view.toe(sensors[a:b], s.foot)[:, 2] - view.foot_radius[s.foot]
                 out["stance_contact"] += terms.stance_contact_term(clearance[: max(1, int(s.pulse / 2 / dt))])
                 air = schedule[k - 1]
                 w0 = int((offset + air.start) / dt)
                 after = schedule[(k + 1) % len(schedule)]
                 w1 = min(n, int((offset + s.start + s.duration + after.duration) / dt))
-                if self.heel_sensor[s.foot] is not None and w1 > w0:
-                    heel = self.heel_sensor[s.foot]
-                    rise = terms.push_off_rise(sensors[w0:w1, 5], sensors[w0:w1, toe + 2], sensors[w0:w1, heel + 2], dt)
+                if view.has_heel(s.foot) and w1 > w0:
+                    window = sensors[w0:w1]
+                    toe_z, heel_z = view.toe(window, s.foot)[:, 2], view.heel(window, s.foot)[:, 2]
+                    rise = terms.push_off_rise(view.com_velocity(window)[:, 2], toe_z, heel_z, dt)
                     out["stance_rise"] += terms.stance_rise_term(rise)
                 if len(distinct) == 2:
                     other = distinct[1] if s.foot == distinct[0] else distinct[0]
@@ -196,5 +193,5 @@ class BatchEvaluator:
         return out
 
     def _toe_to_hip(self, sensors: np.ndarray, hips: dict[str, np.ndarray], foot: str) -> np.ndarray:
-        toe = sensors[:, self.toe_sensor[foot] : self.toe_sensor[foot] + 3]
+        toe = self.view.toe(sensors, foot)
         return np.linalg.norm(toe - hips[foot], axis=1)

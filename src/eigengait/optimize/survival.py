@@ -134,7 +134,7 @@ class SurvivalScorer:
 
     def score(self, params: list[GaitParameters], generation: int, horizon: int) -> tuple[np.ndarray, np.ndarray]:
         """(cost, mean cycles survived) per candidate."""
-        dt = self.runner.model.opt.timestep
+        dt, view = self.runner.model.opt.timestep, self.system.world.view
         cycles = np.zeros((len(params), self.settings.copies))
         speed, effort = np.zeros_like(cycles), np.zeros_like(cycles)
         for c, push in enumerate(generation_pushes(self.settings, generation, self.period, horizon, self.mass)):
@@ -142,7 +142,8 @@ class SurvivalScorer:
             for i, p in enumerate(params):
                 end = max(int(run.ended[i]), 1)
                 cycles[i, c] = min(len(run.cycle_ends[i]) + (end * dt % p.period) / p.period, horizon)
-                speed[i, c] = (run.sensors[i, end - 1, 0] - run.sensors[i, 0, 0]) / (end * dt)
+                com_x = view.com(run.sensors[i, :end])[:, 0]
+                speed[i, c] = (com_x[-1] - com_x[0]) / (end * dt)
                 effort[i, c] = np.mean(np.sum(run.torques[i, :end] ** 2, axis=1))
         lag = np.clip(self.target_speed - speed.mean(axis=1), 0, None) / self.target_speed
         excess = np.clip(effort.mean(axis=1) / self.target_effort - 1, 0, None)

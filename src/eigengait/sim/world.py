@@ -11,7 +11,8 @@
 * Every body collides with the ground (not with itself); feet get toe and heel contact spheres from their sites.
   `contact="feet"` lets only the spheres collide, and `set_stance_foot` restricts that to one foot (the thesis's
   filtering).
-* Sensors: the COM and COM velocity of the whole creature, and the world position of every foot's toe and heel.
+* Sensors: the COM and COM velocity of the whole creature, and the world position of every foot's toe and heel
+  (`World.view` reads them, and the recorded states, by name).
 * Everything added is named with a reserved prefix (`eigengait:`, `motor:`, `spring:`, `contact:`, `pos:`),
   which `character/scene.py` forbids in models, so it cannot clash with the model's own names.
 """
@@ -19,6 +20,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import cached_property
 from typing import Literal
 
 import mujoco
@@ -28,6 +30,7 @@ from eigengait.character.loader import Character
 from eigengait.character.relax import DEFAULT_POSE, posed_spec
 from eigengait.character.scene import compile_spec
 from eigengait.errors import UserInputError
+from eigengait.sim.recording import RolloutView
 from eigengait.sim.root import RootLayout, root_layout
 
 BODY_GROUP, FOOT_GROUP, FLOOR_AFFINITY = 1, 2, 3
@@ -90,13 +93,17 @@ class World:
     def comvel_sensor(self) -> int:
         return 3
 
+    @cached_property
+    def view(self) -> RolloutView:
+        """Named reads of this world's recorded states and sensordata (`sim/recording.py`)."""
+        return RolloutView.of(self)
+
     def applied_motor_torques(self, states: np.ndarray, commands: np.ndarray) -> np.ndarray:
         """Torques (N·m, … × nmotor) the motors applied: their filtered activations, read from full-physics
         states (… × state size, after each step) when the character has an activation time, else the commands."""
         if not self.model.na:
             return commands
-        act = 1 + self.model.nq + self.model.nv
-        return states[..., act : act + self.nmotor]
+        return self.view.act(states)[..., : self.nmotor]
 
     @property
     def dof_stiffness(self) -> np.ndarray:
