@@ -18,7 +18,7 @@ import viser
 from eigengait.render.offscreen import use_offscreen_gl
 from eigengait.studio.access import AccessGate, guarded_serving
 from eigengait.studio.character_panel import CharacterPanel
-from eigengait.studio.feedback import Messages
+from eigengait.studio.messages import Messages
 from eigengait.studio.listen import check_listen_address, port_taken
 from eigengait.studio.optimize_panel import OptimizePanel
 from eigengait.studio.palette_view import PaletteView

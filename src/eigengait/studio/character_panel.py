@@ -6,7 +6,7 @@ import viser
 
 from eigengait.character import builtin_names
 from eigengait.control.library import preset_names
-from eigengait.studio.feedback import Messages
+from eigengait.studio.messages import Messages
 from eigengait.studio.state import AUTOSAVE_NAME, SKETCH_SUFFIXES, StudioState
 
 CUSTOM_POSE = "(rotations below)"

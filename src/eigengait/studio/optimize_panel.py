@@ -23,7 +23,7 @@ import viser.uplot as uplot
 
 from eigengait.errors import UserInputError
 from eigengait.optimize.staged import STAGE_ONE
-from eigengait.studio.feedback import Messages
+from eigengait.studio.messages import Messages
 from eigengait.studio.state import StudioState
 
 RUNS_FOLDER = "studio-runs"

@@ -20,7 +20,7 @@ import viser
 
 from eigengait.errors import UserInputError
 from eigengait.modal.shape_kinematics import displaced_qpos, peak_rotation_amplitudes
-from eigengait.studio.feedback import Messages
+from eigengait.studio.messages import Messages
 from eigengait.studio.figures import UNIT_CUBE_FACES, UNIT_CUBE_VERTICES, Figure, place
 from eigengait.studio.state import STATUSES, StudioState
 

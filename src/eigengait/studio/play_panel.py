@@ -17,7 +17,7 @@ from eigengait.control.library import gait_names, resolve
 from eigengait.control.playback import PlaybackResult, play
 from eigengait.errors import UserInputError
 from eigengait.sim.world import World
-from eigengait.studio.feedback import Messages
+from eigengait.studio.messages import Messages
 from eigengait.studio.model_files import confine_character
 from eigengait.studio.sandbox import Sandbox
 from eigengait.studio.stage import Stage

@@ -14,7 +14,7 @@ import time
 import viser
 
 from eigengait.control.sketch_sim import simulate_sketch
-from eigengait.studio.feedback import Messages
+from eigengait.studio.messages import Messages
 from eigengait.studio.stage import Stage
 from eigengait.studio.state import StudioState
 

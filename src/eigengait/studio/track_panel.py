@@ -13,7 +13,7 @@ import viser
 from eigengait.character import builtin_names
 from eigengait.errors import UserInputError
 from eigengait.motion.tracking import run_track
-from eigengait.studio.feedback import Messages
+from eigengait.studio.messages import Messages
 from eigengait.studio.sandbox import Sandbox
 from eigengait.studio.stage import Stage
 
