@@ -52,6 +52,8 @@ def section(name: str, record: dict, reference: dict | None) -> str:
     sketch = load_sketch(resolve("sketch", GAITS[name]))
     m = record["played"]
     planner = "with its lookahead" if m.get("lookahead") else "without lookahead (it lasts longer so)"
+    if record.get("activation_time"):
+        planner += f", its motors lagging {1000 * record['activation_time']:.0f} ms behind their commands"
     survived = f"{m['cycles_completed']} of 20 cycles" + (" (fell)" if m["fell"] else "")
     lines = [
         f"## `{name}`",
