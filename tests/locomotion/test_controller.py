@@ -121,3 +121,23 @@ def test_push_off_rise_counts_only_the_thesis_conditions():
     assert terms.push_off_rise(np.full(15, 0.5), toe, heel, dt) == 0.0  # the COM never fell
     fast = np.r_[np.zeros(5), np.linspace(0.0, 0.3, 10)]  # toe 3.3 m/s faster than the COM
     assert terms.push_off_rise(com_vz, fast, fast + 0.05, dt) == 0.0
+
+
+def test_activations_convert_between_mode_numbers_and_columns():
+    """Mode numbers count from 1, columns from 0: sparse ψ -> dense and back, zeros dropped, bad numbers named."""
+    from eigengait.control.activations import dense_to_sparse, mode_index, mode_indices, psi_key, sparse_to_dense
+    from eigengait.errors import UserInputError
+
+    sparse = {1: 10.0, 4: -2.5}
+    dense = sparse_to_dense(sparse, 5)
+    np.testing.assert_array_equal(dense, [10.0, 0.0, 0.0, -2.5, 0.0])
+    assert dense_to_sparse(dense) == sparse  # the zeros are left out
+    assert dense_to_sparse(np.zeros(3)) == {}
+    assert all(type(m) is int and type(v) is float for m, v in dense_to_sparse(dense).items())
+    np.testing.assert_array_equal(sparse_to_dense(dense_to_sparse(dense), 5), dense)
+    assert mode_index(1) == 0 and mode_indices([3, 1]) == [2, 0]
+    assert psi_key("left", "air", 3) == "psi/left/air/3"
+    for bad in (0, 6):
+        with pytest.raises(UserInputError, match=f"mode {bad} does not exist \\(5 modes\\)") as err:
+            sparse_to_dense({bad: 1.0}, 5, "gait.json", "activations.left.air")
+        assert err.value.file == "gait.json" and err.value.field == "activations.left.air"

@@ -17,6 +17,7 @@ import mujoco
 import numpy as np
 from mujoco import rollout
 
+from eigengait.control.activations import mode_indices
 from eigengait.control.feedback import (
     MIRROR_SIGNS,
     FeatureReader,
@@ -163,7 +164,7 @@ def _canonical_matrix(system: GaitSystem, gains: FeedbackGains, state, role, mot
             G[:, i] = hip_torque(gains.hip, np.eye(8)[i], role, motors, n_motor)
     if state.phase in gains.modal:
         modes, K = gains.modal[state.phase]
-        basis = system.basis_matrix(state.foot, state.phase)[:, [m - 1 for m in modes]]
+        basis = system.basis_matrix(state.foot, state.phase)[:, mode_indices(modes)]
         G += basis @ K
     return G
 

@@ -13,6 +13,7 @@ from typing import Annotated, Literal
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 
+from eigengait.control.activations import dense_to_sparse
 from eigengait.control.binding import gait_system
 from eigengait.control.feedback import FEATURES, HIP_GAINS, FeedbackGains
 from eigengait.control.lookahead import LookaheadSettings
@@ -152,7 +153,7 @@ def to_file(
     """The file of controller `p`; `sketch` (its sketch's modes, `sketch_modes`) is kept for `play`'s figures."""
     acts: dict[str, dict[str, dict[int, float]]] = {}
     for (foot, phase), psi in p.activations.items():
-        acts.setdefault(foot, {})[phase] = {int(i + 1): float(v) for i, v in enumerate(psi) if v != 0}
+        acts.setdefault(foot, {})[phase] = dense_to_sparse(psi)
     return ControllerFile(
         name=name,
         character=system.character.name if _is_builtin(system) else str(system.character.reference.resolve()),

@@ -14,6 +14,7 @@ import mujoco
 import numpy as np
 
 from eigengait.character.loader import Character
+from eigengait.control.activations import sparse_to_dense
 from eigengait.control.feedback import FeedbackGains
 from eigengait.control.mirror import Mirror
 from eigengait.control.pulse import State, control_sequence, schedule, state_torques
@@ -104,16 +105,9 @@ class GaitSystem:
         out = {}
         for foot in self.active_feet:
             for phase in ("air", "ground"):
-                psi = np.zeros(self.mode_count(phase))
-                for m, v in sparse(foot, phase).items():
-                    if not 1 <= m <= len(psi):
-                        raise UserInputError(
-                            f"mode {m} does not exist ({len(psi)} modes)",
-                            file=source,
-                            field=f"activations.{foot}.{phase}",
-                        )
-                    psi[m - 1] = v
-                out[(foot, phase)] = psi
+                out[(foot, phase)] = sparse_to_dense(
+                    sparse(foot, phase), self.mode_count(phase), source, f"activations.{foot}.{phase}"
+                )
         return out
 
     def states(self, p: GaitParameters) -> list[State]:

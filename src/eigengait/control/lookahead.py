@@ -27,6 +27,7 @@ import mujoco
 import numpy as np
 from mujoco import rollout
 
+from eigengait.control.activations import mode_indices
 from eigengait.control.closed_loop import BatchRun, FeedbackPlan, Push, add_pushes, clock_cycle_ends
 from eigengait.control.feedback import FeatureReader, hip_motors_by_foot, steps_per_reading
 from eigengait.control.gait import GaitParameters, GaitSystem
@@ -104,7 +105,7 @@ def plan_directions(system: GaitSystem, state: State, settings: LookaheadSetting
         return system.basis_matrix(state.foot, state.phase)[:, : settings.modes]
     foot = state.foot if state.foot in system.active_feet else system.active_feet[0]
     basis = system.basis_matrix(foot, state.phase)
-    columns = basis[:, [m - 1 for m in settings.chosen[state.phase] if m <= basis.shape[1]]]
+    columns = basis[:, mode_indices(m for m in settings.chosen[state.phase] if m <= basis.shape[1])]
     return columns if foot == state.foot else system.mirror.dofs(columns.T).T
 
 

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from eigengait.control.activations import mode_indices, sparse_to_dense
 from eigengait.control.gait import GaitParameters, GaitSystem
 from eigengait.control.sketch import PhaseSketch
 
@@ -24,7 +25,7 @@ def _span(basis: np.ndarray, modes: list[int]) -> np.ndarray:
     """Orthonormal columns (n × r) spanning the torque columns of the 1-based `modes` of `basis`."""
     if not modes:
         return np.zeros((basis.shape[0], 0))
-    q, r = np.linalg.qr(basis[:, np.array(modes) - 1])
+    q, r = np.linalg.qr(basis[:, mode_indices(modes)])
     return q[:, np.abs(np.diag(r)) > 1e-10 * max(1.0, np.abs(r).max())]
 
 
@@ -81,9 +82,7 @@ def psi_comparison(system: GaitSystem, p: GaitParameters, sketch: SketchModes) -
     for foot in system.active_feet:
         for phase in ("air", "ground"):
             psi = p.activations[(foot, phase)]
-            target = np.zeros_like(psi)
-            for m, value in sketch[phase].priority.items():
-                target[m - 1] = value
+            target = sparse_to_dense(sketch[phase].priority, len(psi))
             drawn.append(target)
             optimized.append(psi)
             weight.append(target != 0)

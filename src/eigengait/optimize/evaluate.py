@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 import mujoco
 import numpy as np
 
+from eigengait.control.activations import mode_indices
 from eigengait.control.closed_loop import BatchRun, ClosedLoopRunner, cycle_errors
 from eigengait.control.feedback import leg_root_joint
 from eigengait.control.gait import GaitParameters, GaitSystem
@@ -140,7 +141,7 @@ class BatchEvaluator:
         out = []
         for (foot, phase), psi in p.activations.items():
             prio = np.zeros(len(psi), bool)
-            prio[[m - 1 for m in self.space.sketch.phase(phase).priority]] = True
+            prio[mode_indices(self.space.sketch.phase(phase).priority)] = True
             out.append((psi[prio], psi[~prio]))
         return out
 

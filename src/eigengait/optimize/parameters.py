@@ -16,6 +16,7 @@ import numpy as np
 
 from eigengait.sim.limits import clip_to_joint_ranges, floor_penetration
 from eigengait.sim.stepping import MAX_SPEED
+from eigengait.control.activations import mode_index, psi_key
 from eigengait.control.feedback import FEATURES, HIP_GAINS, FeedbackGains
 from eigengait.control.gait import GaitParameters, GaitSystem
 from eigengait.control.sketch import Sketch
@@ -73,9 +74,9 @@ class ParameterSpace:
                     if m in ps.priority:
                         v = ps.priority[m]
                         lo, hi = (abs(v), 3 * scale) if v > 0 else (-3 * scale, -abs(v))
-                        self.entries.append(Entry(f"psi/{foot}/{phase}/{m}", lo, hi, v))
+                        self.entries.append(Entry(psi_key(foot, phase, m), lo, hi, v))
                     else:
-                        self.entries.append(Entry(f"psi/{foot}/{phase}/{m}", -scale, scale, 0.0))
+                        self.entries.append(Entry(psi_key(foot, phase, m), -scale, scale, 0.0))
                     self.psi_slots.append((foot, phase, m))
         init = sketch.initial
         self.entries += [
@@ -90,8 +91,8 @@ class ParameterSpace:
         sketched = set() if sketch.basis == "canonical" else set(sketch.air.optimized_modes(air.count))
         self.pose_modes = sorted(sketched | set(lowest))
         for m in self.pose_modes:
-            amp = MAX_JOINT_ANGLE / np.abs(air.shapes[system.world.internal_qvel, m - 1]).max()
-            omega = 2 * np.pi * air.frequencies_hz[m - 1]
+            amp = MAX_JOINT_ANGLE / np.abs(air.shapes[system.world.internal_qvel, mode_index(m)]).max()
+            omega = 2 * np.pi * air.frequencies_hz[mode_index(m)]
             self.entries.append(Entry(f"q0/{m}", -amp, amp, 0.0))
             self.entries.append(Entry(f"qd0/{m}", -amp * omega, amp * omega, 0.0))
         self._add_feedback(sketch)
@@ -146,13 +147,13 @@ class ParameterSpace:
         system, model = self.system, self.system.world.model
         sparse: dict[tuple[str, str], dict[int, float]] = {}
         for foot, phase, m in self.psi_slots:
-            sparse.setdefault((foot, phase), {})[m] = get(f"psi/{foot}/{phase}/{m}")
+            sparse.setdefault((foot, phase), {})[m] = get(psi_key(foot, phase, m))
         activations = system.dense_activations(lambda foot, phase: sparse.get((foot, phase), {}))
         qpos = model.qpos0.copy()
         qvel = np.zeros(model.nv)
         shapes = system.air_modes.shapes
-        disp = sum((get(f"q0/{m}") * shapes[:, m - 1] for m in self.pose_modes), np.zeros(model.nv))
-        vel = sum((get(f"qd0/{m}") * shapes[:, m - 1] for m in self.pose_modes), np.zeros(model.nv))
+        disp = sum((get(f"q0/{m}") * shapes[:, mode_index(m)] for m in self.pose_modes), np.zeros(model.nv))
+        vel = sum((get(f"qd0/{m}") * shapes[:, mode_index(m)] for m in self.pose_modes), np.zeros(model.nv))
         root = system.world.root
         disp[list(root.translation_qvel)] = 0.0  # root translation is set below; modes keep joints and rotation
         mujoco.mj_integratePos(model, qpos, disp, 1.0)
