@@ -100,7 +100,7 @@ class World:
 
     def applied_motor_torques(self, states: np.ndarray, commands: np.ndarray) -> np.ndarray:
         """Torques (N·m, … × nmotor) the motors applied: their filtered activations, read from full-physics
-        states (… × state size, after each step) when the character has an activation time, else the commands."""
+        states (… × state size, after each step) when the motors have an activation time, else the commands."""
         if not self.model.na:
             return commands
         return self.view.act(states)[..., : self.nmotor]
