@@ -112,3 +112,17 @@ def test_nan_in_a_controller_is_refused(tmp_path, capsys, monkeypatch):
     code, err = run_cli(capsys, monkeypatch, ["play", path, "--cycles", "1"])
     assert_clean_refusal(code, err)
     assert "period" in err and "finite" in err
+
+
+def test_a_sketch_preview_that_blows_up_names_time_body_and_sketch(tmp_path, capsys, monkeypatch):
+    import yaml
+
+    sketch = yaml.safe_load(resolve("sketch", "kangaroo").read_text())
+    sketch.update(character=_kangaroo_without_strength(tmp_path), torque_limit=1e9)
+    sketch["ground"]["priority"] = {1: 1e8}
+    sketch["air"]["priority"] = {1: 1e8}
+    path = tmp_path / "wild.yaml"
+    path.write_text(yaml.safe_dump(sketch))
+    code, err = run_cli(capsys, monkeypatch, ["sketch", str(path), "--seconds", "1", "--json"])
+    assert_clean_refusal(code, err)
+    assert "blew up at t = " in err and "body '" in err and "wild.yaml" in err

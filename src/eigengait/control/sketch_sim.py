@@ -14,6 +14,7 @@ from eigengait.control.gait import GaitParameters
 from eigengait.control.sketch import Sketch
 from eigengait.control.binding import bind_sketch
 from eigengait.control.gait import GaitSystem
+from eigengait.sim.stepping import blown_up_dof, blown_up_steps, raise_blow_up
 from eigengait.sim.world import World
 
 SKETCH_FPS = 30.0
@@ -54,6 +55,11 @@ def simulate_sketch(
     start = time.perf_counter()
     states, _ = rollout.rollout(model, mujoco.MjData(model), system.initial_state(p)[None], u[None])
     wall = time.perf_counter() - start
+    view = system.world.view
+    blown = blown_up_steps(view.qvel(states[0]), np.r_[0.0, view.time(states[0])], model.opt.timestep)
+    if blown.any():
+        step = int(np.argmax(blown))
+        raise_blow_up(system.world, (step + 1) * model.opt.timestep, blown_up_dof(view.qvel(states[0]), step), source)
     stride = max(1, int(round(1 / (SKETCH_FPS * model.opt.timestep))))
     qpos = system.world.view.qpos(states[0, stride - 1 :: stride])
     biggest = 0.0
