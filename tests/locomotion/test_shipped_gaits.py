@@ -89,6 +89,7 @@ def test_snap_is_an_explicit_option(eigengait_cli):
 
 
 def test_play_can_give_the_motors_an_activation_time(eigengait_cli):
+    """The kangaroo's pulses (its file states no lag) played with a 40 ms and a 1 ms motor lag."""
     lagged = json.loads(
         eigengait_cli("play", "kangaroo-hop", "--cycles", "1", "--json", "--activation-time", "0.04").stdout
     )
@@ -96,6 +97,7 @@ def test_play_can_give_the_motors_an_activation_time(eigengait_cli):
         eigengait_cli("play", "kangaroo-hop", "--cycles", "1", "--json", "--activation-time", "0.001").stdout
     )
     assert lagged["activation_time"] == 0.04 and instant["activation_time"] == 0.001
-    assert lagged["mean_squared_torque"] != instant["mean_squared_torque"]
+    # the hop's 80-100 ms rectangular pulses lose much of their energy through a 40 ms lag, little through 1 ms
+    assert lagged["mean_squared_torque"] < 0.7 * instant["mean_squared_torque"]
     bad = eigengait_cli("play", "kangaroo-hop", "--activation-time", "-1")
     assert bad.returncode == 2 and "--activation-time" in bad.stderr and "0.01-0.05" in bad.stderr
