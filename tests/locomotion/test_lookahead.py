@@ -192,13 +192,12 @@ def test_plans_can_keep_to_the_sketchs_modes():
 def test_a_controller_with_an_activation_time_plays_torques_that_lag_their_commands(hopper, tmp_path):
     """The file's activation time builds motors with a first-order lag: the first step applies u (1 − e^(−dt/τ)) of
     the instant controller's u, in the feedback runner and under lookahead alike."""
-    _, p, path = hopper
+    instant, p, path = hopper
     data = json.loads(path.read_text())
     data["activation_time"] = 0.03
     lagged_file = tmp_path / "lagged.json"
     lagged_file.write_text(json.dumps(data))
     lagged = system_for(load_controller(lagged_file))
-    instant = system_for(load_controller(path))
     assert lagged.world.model.na == lagged.world.nmotor and instant.world.model.na == 0
     assert to_file(lagged, p).activation_time == 0.03
     first = [ClosedLoopRunner(s).run([p], 0.1).torques[0, 0] for s in (instant, lagged)]

@@ -24,6 +24,7 @@ from eigengait.control.gait import GaitParameters, GaitSystem
 from eigengait.errors import UserInputError
 from eigengait.json_text import finite
 from eigengait.sim.stepping import MAX_CONTROL, MAX_SPEED
+from eigengait.sim.world import MAX_ACTIVATION_TIME
 
 FORMAT_VERSION = 1
 FINGERPRINT_MODES = 6
@@ -109,7 +110,9 @@ class ControllerFile(BaseModel):
     symmetric: bool
     basis: Literal["modal", "canonical"] = "modal"
     torque_limit: float = Field(gt=0, le=MAX_CONTROL)
-    activation_time: float | None = Field(None, gt=0, le=1)  # s: the motors' first-order lag (none: at once)
+    activation_time: float | None = Field(
+        None, gt=0, le=MAX_ACTIVATION_TIME
+    )  # s: the motors' first-order lag (none: at once)
     period: float = Field(gt=0)
     air_ratio: float = Field(ge=0, le=1)
     pulse_air: float = Field(gt=0)

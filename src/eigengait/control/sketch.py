@@ -25,6 +25,7 @@ from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from eigengait.files import read_mapping, validate
 from eigengait.errors import UserInputError
+from eigengait.sim.world import MAX_ACTIVATION_TIME
 
 FORMAT_VERSION = 1
 
@@ -116,7 +117,10 @@ class Sketch(BaseModel):
     feedback: Feedback = Field(default_factory=Feedback)
     torque_limit: float = Field(400.0, gt=0, description="N·m per dof")
     activation_time: float | None = Field(
-        None, gt=0, le=1, description="s: each torque follows its command through a first-order lag (none: at once)"
+        None,
+        gt=0,
+        le=MAX_ACTIVATION_TIME,
+        description="s: each torque follows its command through a first-order lag (none: at once)",
     )
 
     @model_validator(mode="after")

@@ -56,12 +56,14 @@ def simulate_sketch(
     states, _ = rollout.rollout(model, mujoco.MjData(model), system.initial_state(p)[None], u[None])
     wall = time.perf_counter() - start
     view = system.world.view
-    blown = blown_up_steps(view.qvel(states[0]), np.r_[0.0, view.time(states[0])], model.opt.timestep)
+    qvel, times = view.qvel(states[0]), view.time(states[0])
+    blown = blown_up_steps(qvel, np.r_[0.0, times], model.opt.timestep)
     if blown.any():
         step = int(np.argmax(blown))
-        raise_blow_up(system.world, (step + 1) * model.opt.timestep, blown_up_dof(view.qvel(states[0]), step), source)
+        # the time of the step itself: MuJoCo's reset of a diverged simulation restarts the recorded clock
+        raise_blow_up(system.world, (step + 1) * model.opt.timestep, blown_up_dof(qvel, step), source)
     stride = max(1, int(round(1 / (SKETCH_FPS * model.opt.timestep))))
-    qpos = system.world.view.qpos(states[0, stride - 1 :: stride])
+    qpos = view.qpos(states[0, stride - 1 :: stride])
     biggest = 0.0
     for q in qpos:
         for j in system.world.internal_qpos_joints:
