@@ -40,7 +40,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from eigengait.control.controller import load_controller, system_for, to_parameters  # noqa: E402
+from eigengait.control.binding import gait_system
+from eigengait.control.controller import load_controller, to_parameters  # noqa: E402
 from eigengait.control.library import resolve  # noqa: E402
 from eigengait.control.playback import play, push_robustness  # noqa: E402
 from eigengait.control.sketch import PhaseSketch, Sketch, load_sketch  # noqa: E402
@@ -111,7 +112,7 @@ def run_one(sketch: Sketch, folder: Path, evaluations: int, seed: int) -> dict:
     optimize_gait(sketch, folder, settings, resume=resume, progress=False)
     seconds = time.perf_counter() - start
     controller = load_controller(folder / "best_controller.json")
-    system = system_for(controller)
+    system = gait_system(controller)
     params = to_parameters(controller, system)
     played = play(system, params, cycles=20)
     pushes = push_robustness(system, params) if played.cycles_completed >= 3 else [False] * 5

@@ -16,7 +16,8 @@ import csv
 import tempfile
 from pathlib import Path
 
-from eigengait.control.controller import load_controller, system_for, to_parameters
+from eigengait.control.binding import gait_system
+from eigengait.control.controller import load_controller, to_parameters
 from eigengait.control.library import resolve
 from eigengait.control.playback import play, push_robustness
 from eigengait.control.sketch import load_sketch
@@ -66,7 +67,7 @@ def main() -> None:
             )
             rows = list(csv.DictReader(open(folder / "log.csv")))
             controller = load_controller(folder / "best_controller.json")
-            system = system_for(controller)
+            system = gait_system(controller)
             params = to_parameters(controller, system)
             result = play(system, params, cycles=20)
             pushes = push_robustness(system, params)

@@ -19,7 +19,8 @@ import time
 
 import numpy as np
 
-from eigengait.control.controller import load_controller, system_for, to_parameters
+from eigengait.control.binding import gait_system
+from eigengait.control.controller import load_controller, to_parameters
 from eigengait.control.library import gait_names, resolve
 from eigengait.control.playback import play, push_robustness
 
@@ -51,7 +52,7 @@ def main() -> None:
     print("|---|---|---:|---:|---:|---:|---:|---:|---|---|---:|---:|")
     for name in args.gaits:
         controller = load_controller(resolve("gait", name))
-        system = system_for(controller)
+        system = gait_system(controller)
         params = to_parameters(controller, system)
         t0 = time.perf_counter()
         alone = play(system, params, cycles=args.cycles)

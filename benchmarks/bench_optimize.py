@@ -17,7 +17,8 @@ from pathlib import Path
 from eigengait.control.library import resolve
 from eigengait.control.sketch import load_sketch
 from eigengait.optimize.mom import MomSettings
-from eigengait.control.controller import load_controller, system_for, to_parameters
+from eigengait.control.binding import gait_system
+from eigengait.control.controller import load_controller, to_parameters
 from eigengait.control.playback import play
 from eigengait.optimize.staged import STAGE_ONE, optimize_gait
 from population_unit import population_seconds
@@ -67,7 +68,7 @@ def main() -> None:
             else:
                 print(f"  violation < {tol:<4}: not reached")
         offset += float(rows[-1]["seconds"]) if rows else 0.0
-    system = system_for(controller)
+    system = gait_system(controller)
     result = play(system, to_parameters(controller, system), cycles=20)
     print("played 20 cycles, no reset:", result.summary())
 

@@ -17,7 +17,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from eigengait.control.controller import load_controller, system_for, to_parameters  # noqa: E402
+from eigengait.control.binding import gait_system
+from eigengait.control.controller import load_controller, to_parameters  # noqa: E402
 from eigengait.control.library import gait_names, resolve  # noqa: E402
 from eigengait.control.playback import play  # noqa: E402
 from eigengait.motion.resample import resample  # noqa: E402
@@ -32,7 +33,7 @@ OUT = Path(__file__).resolve().parents[1] / "docs" / "images"
 
 def strip(name: str, folder: Path) -> Path:
     controller = load_controller(resolve("gait", name))
-    system = system_for(controller)
+    system = gait_system(controller)
     result = play(system, to_parameters(controller, system), cycles=2, lookahead=controller.planner())
     world, period = system.world, controller.period
     times = np.arange(len(result.qpos)) / result.fps

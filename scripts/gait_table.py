@@ -15,7 +15,8 @@ import argparse
 import json
 from pathlib import Path
 
-from eigengait.control.controller import load_controller, system_for, to_parameters
+from eigengait.control.binding import gait_system
+from eigengait.control.controller import load_controller, to_parameters
 from eigengait.control.library import gait_names, resolve
 from eigengait.control.playback import play, push_robustness
 
@@ -80,7 +81,7 @@ def main() -> None:
             m, pushes, lag = record["played"], record["pushes"], record.get("activation_time")
         else:
             controller = load_controller(resolve("gait", name))
-            system = system_for(controller)
+            system = gait_system(controller)
             params = to_parameters(controller, system)
             planner, lag = controller.planner(), controller.activation_time
             m = play(system, params, cycles=20, lookahead=planner).summary()

@@ -13,12 +13,12 @@ import argparse
 import json
 from pathlib import Path
 
+from eigengait.control.binding import gait_system
 from eigengait.control.controller import (
     LookaheadFile,
     load_controller,
     save_controller,
     sketch_modes,
-    system_for,
     to_parameters,
 )
 from eigengait.control.library import resolve
@@ -91,7 +91,7 @@ def make(
 
 def hardened(controller, folder: Path, minutes: float, seed: int):
     """The controller after `minutes` of survival optimization in `folder` (resumed if interrupted)."""
-    system = system_for(controller)
+    system = gait_system(controller)
     start = to_parameters(controller, system)
     before = play(system, start, cycles=20)
     figures = StartingFigures.of(before)
@@ -109,7 +109,7 @@ def hardened(controller, folder: Path, minutes: float, seed: int):
 def played(controller) -> dict:
     """The controller played 20 cycles with physics only, without and with its lookahead; the lookahead is kept
     (`lookahead` None otherwise) only if it survives at least as long. Returns the figures and what was kept."""
-    system = system_for(controller)
+    system = gait_system(controller)
     params = to_parameters(controller, system)
     described = lambda result: {  # noqa: E731
         **result.summary(),

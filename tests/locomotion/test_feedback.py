@@ -8,7 +8,8 @@ import numpy as np
 import pytest
 
 from eigengait.control.closed_loop import ClosedLoopRunner, cycle_errors
-from eigengait.control.controller import load_controller, system_for, to_parameters
+from eigengait.control.binding import gait_system
+from eigengait.control.controller import load_controller, to_parameters
 from eigengait.control.feedback import (
     HIP_GAINS,
     FeedbackGains,
@@ -41,7 +42,7 @@ def test_root_tilt_reads_pitch_roll_and_world_rates():
 
 def shipped(name):
     controller = load_controller(resolve("gait", name))
-    system = system_for(controller)
+    system = gait_system(controller)
     return system, to_parameters(controller, system)
 
 
@@ -100,7 +101,7 @@ def drift(runner, system, p, cycles=3):
 def hopper():
     """An open-loop hop (no feedback gains) that drifts from cycle to cycle and falls in its fifth."""
     controller = load_controller(Path(__file__).parent / "data" / "kangaroo_open_loop.json")
-    system = system_for(controller)
+    system = gait_system(controller)
     return system, to_parameters(controller, system)
 
 

@@ -10,7 +10,8 @@ import pytest
 
 from eigengait.control.closed_loop import ClosedLoopRunner, Push
 from eigengait.control.feedback import FeedbackGains
-from eigengait.control.controller import ControllerFile, load_controller, system_for, to_file, to_parameters
+from eigengait.control.binding import gait_system
+from eigengait.control.controller import ControllerFile, load_controller, to_file, to_parameters
 from eigengait.control.lookahead import (
     FALL_COST,
     SPEED_WEIGHT,
@@ -29,7 +30,7 @@ def hopper():
     """An open-loop hop (no feedback gains) that drifts from cycle to cycle and falls in its fifth."""
     path = Path(__file__).parent / "data" / "kangaroo_open_loop.json"
     controller = load_controller(path)
-    system = system_for(controller)
+    system = gait_system(controller)
     return system, to_parameters(controller, system), path
 
 
@@ -168,7 +169,7 @@ def test_plans_can_keep_to_the_sketchs_modes():
 
     # instant motors: a lag carries each state's torque into the next state's basis for a few tens of ms
     controller = load_controller(resolve("gait", "dog-trot")).model_copy(update={"activation_time": None})
-    system = system_for(controller)
+    system = gait_system(controller)
     p = to_parameters(controller, system)
     shares = {}
     for in_sketch in (False, True):
@@ -197,7 +198,7 @@ def test_a_controller_with_an_activation_time_plays_torques_that_lag_their_comma
     data["activation_time"] = 0.03
     lagged_file = tmp_path / "lagged.json"
     lagged_file.write_text(json.dumps(data))
-    lagged = system_for(load_controller(lagged_file))
+    lagged = gait_system(load_controller(lagged_file))
     assert lagged.world.model.na == lagged.world.nmotor and instant.world.model.na == 0
     assert to_file(lagged, p).activation_time == 0.03
     first = [ClosedLoopRunner(s).run([p], 0.1).torques[0, 0] for s in (instant, lagged)]

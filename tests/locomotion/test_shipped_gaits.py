@@ -5,7 +5,8 @@ import json
 import numpy as np
 import pytest
 
-from eigengait.control.controller import load_controller, system_for, to_parameters
+from eigengait.control.binding import gait_system
+from eigengait.control.controller import load_controller, to_parameters
 from eigengait.control.library import gait_names, resolve
 from eigengait.control.playback import play
 from eigengait.sim.build import build_fingerprint
@@ -38,7 +39,7 @@ def test_shipped_gait_replays_its_recorded_metrics_without_reset(name):
     the figures replay exactly only on the build that recorded them (`measured_on`); on any build, a replay of the
     first cycles is deterministic."""
     controller = load_controller(resolve("gait", name))
-    system = system_for(controller)
+    system = gait_system(controller)
     params = to_parameters(controller, system)
     assert controller.measured_on is not None, "measure it with scripts/make_gaits.py --measure-only"
     if controller.measured_on != build_fingerprint():

@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 
 from eigengait.control.closed_loop import PUSH_SECONDS
-from eigengait.control.controller import load_controller, system_for, to_parameters
+from eigengait.control.binding import gait_system
+from eigengait.control.controller import load_controller, to_parameters
 from eigengait.control.library import resolve
 from eigengait.optimize.survival import (
     CHECKPOINT,
@@ -25,7 +26,7 @@ FIGURES = StartingFigures(speed=1.0, effort=6000.0)
 def kangaroo():
     path = resolve("gait", "kangaroo-hop")
     c = load_controller(path)
-    system = system_for(c, path)
+    system = gait_system(c, source=path)
     return system, to_parameters(c, system, path)
 
 

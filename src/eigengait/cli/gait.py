@@ -189,7 +189,8 @@ def play_command(
     force: bool = typer.Option(False, "--force", help="Overwrite existing outputs."),
 ):
     """Play a controller on the ground with gravity, physics only; report speed, energy, survival and gait quality."""
-    from eigengait.control.controller import load_controller, system_for, to_parameters
+    from eigengait.control.binding import gait_system
+    from eigengait.control.controller import load_controller, to_parameters
     from eigengait.control.library import resolve
     from eigengait.control.playback import parse_pushes, play
     from eigengait.control.sketch_character import sketch_character
@@ -209,7 +210,7 @@ def play_command(
     c = load_controller(path)
     if activation_time is not None:
         c = c.model_copy(update={"activation_time": activation_time})
-    system = system_for(c, path)
+    system = gait_system(c, source=path)
     planner = c.planner() if lookahead and not snap else None
     status = status_console(as_json)
     progress = (lambda k, n: status.print(f"lookahead: cycle {k}/{n}")) if planner is not None else None
@@ -249,7 +250,8 @@ def harden_command(
     force: bool = START_OVER_OPTION,
 ):
     """Optimize a gait's survival with no reset under sampled sideways pushes (pulses, timing, hip feedback)."""
-    from eigengait.control.controller import load_controller, system_for, to_parameters
+    from eigengait.control.binding import gait_system
+    from eigengait.control.controller import load_controller, to_parameters
     from eigengait.control.library import resolve
     from eigengait.control.playback import play
     from eigengait.optimize.survival import CHECKPOINT, StartingFigures, SurvivalSettings, harden
@@ -266,7 +268,7 @@ def harden_command(
     _refuse_force_with_resume(force, resume)
     path = resolve("gait", controller)
     c = load_controller(path)
-    system = system_for(c, path)
+    system = gait_system(c, source=path)
     start = to_parameters(c, system, path)
     check_folder(output)
     if (output / CHECKPOINT).exists() and not (resume or force):
@@ -346,7 +348,8 @@ def demo_command(
     """The main job on the humanoid: modes -> palette -> basic-run sketch -> optimization -> hardening -> playback
     -> video, BVH."""
     from eigengait.character import load_character
-    from eigengait.control.controller import load_controller, system_for, to_parameters
+    from eigengait.control.binding import gait_system
+    from eigengait.control.controller import load_controller, to_parameters
     from eigengait.control.library import resolve
     from eigengait.control.playback import play
     from eigengait.control.sketch import load_sketch
@@ -394,7 +397,7 @@ def demo_command(
         f"{state.evaluations} evaluations in {state.elapsed:.0f} s"
     )
     c = load_controller(folder / "optimization" / "best_controller.json")
-    system = system_for(c)
+    system = gait_system(c)
     params = to_parameters(c, system)
     if harden_minutes > 0:
         before = play(system, params, cycles=20)

@@ -14,7 +14,6 @@ import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 
 from eigengait.control.activations import dense_to_sparse
-from eigengait.control.binding import gait_system
 from eigengait.control.feedback import FEATURES, HIP_GAINS, FeedbackGains
 from eigengait.control.lookahead import LookaheadSettings
 from eigengait.control.sketch import PhaseSketch, Sketch
@@ -247,8 +246,3 @@ def to_parameters(controller: ControllerFile, system: GaitSystem, source: str | 
         qvel0=np.array(controller.initial_qvel),
         feedback=controller.feedback.gains(),
     )
-
-
-def system_for(controller: ControllerFile, source: str | Path | None = None) -> GaitSystem:
-    """The gait system a controller names, gravity on; an error in its feet names `source` (the controller file)."""
-    return gait_system(controller, source=source)

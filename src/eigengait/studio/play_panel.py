@@ -12,7 +12,8 @@ from pathlib import Path
 import viser
 
 from eigengait.character import builtin_names
-from eigengait.control.controller import ControllerFile, load_controller, save_controller, system_for, to_parameters
+from eigengait.control.binding import gait_system
+from eigengait.control.controller import ControllerFile, load_controller, save_controller, to_parameters
 from eigengait.control.library import gait_names, resolve
 from eigengait.control.playback import PlaybackResult, play
 from eigengait.errors import UserInputError
@@ -71,7 +72,7 @@ class PlayPanel:
         controller = load_controller(path)
         if controller.character not in builtin_names():
             confine_character(self.sandbox, Path(controller.character))
-        system = system_for(controller, path)
+        system = gait_system(controller, source=path)
         result = play(system, to_parameters(controller, system, path), int(self.cycles.value), snap=self.snap.value)
         if len(result.qpos) == 0:
             raise UserInputError("the controller produced no motion", file=path)
