@@ -133,3 +133,23 @@ def test_the_cost_charges_lost_speed_and_extra_effort(kangaroo):
     assert free[0] == pytest.approx(1 - survived[0] / 4)
     assert cost(100.0, 1e12)[0][0] == pytest.approx(free[0] + 0.5 * (1 - 0), abs=0.02)  # nearly all speed lost
     assert cost(0.0, 1.0)[0][0] > free[0] + 100  # thousands of times the reference effort
+
+
+def test_the_slip_term_reads_the_slip_that_playback_reports(kangaroo):
+    from eigengait.control.playback import play
+    from eigengait.optimize.survival import SLIP_WEIGHT, SurvivalScorer
+
+    system, start = kangaroo
+    reported = play(system, start, cycles=4).quality["stance_slip_max_m"]
+    costs = {}
+    for max_slip in (None, 0.001):
+        scorer = SurvivalScorer(system, start, SurvivalSettings(minutes=1, copies=1, max_slip=max_slip), FIGURES)
+        try:
+            costs[max_slip] = scorer.score([start], generation=0, horizon=4)[0][0]
+            run = scorer.runner.run([start], 4)
+            measured = scorer._slip(start, run.sensors[0, : int(run.ended[0])])
+        finally:
+            scorer.close()
+    assert reported > 0.002  # the hop's foot slides a little: the term has something to charge
+    assert measured == pytest.approx(reported, abs=1e-4)  # the same frames as playback records
+    assert costs[0.001] - costs[None] == pytest.approx(SLIP_WEIGHT * (measured / 0.001 - 1), rel=1e-6)

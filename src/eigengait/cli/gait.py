@@ -245,11 +245,15 @@ def harden_command(
     copies: int = typer.Option(3, "--copies", help="Plays per candidate: one undisturbed, the others pushed."),
     impulse: float = typer.Option(0.6, "--push-impulse", help="Largest sampled push (N·s per kg of body mass)."),
     horizon: int = typer.Option(8, "--horizon", help="Cycles played at the start (grows as candidates survive)."),
+    max_slip: float = typer.Option(
+        0.03, "--max-slip", help="Stance-foot slip penalized beyond this (m, mean per stance; 0: not penalized)."
+    ),
     workers: int = typer.Option(1, "--workers", help="Simulation threads."),
     resume: bool = RESUME_OPTION,
     force: bool = START_OVER_OPTION,
 ):
-    """Optimize a gait's survival with no reset under sampled sideways pushes (pulses, timing, hip feedback)."""
+    """Optimize a gait's survival with no reset under sampled sideways pushes (pulses, timing, hip feedback, foot
+    slip)."""
     from eigengait.control.binding import gait_system
     from eigengait.control.controller import load_controller, to_parameters
     from eigengait.control.library import resolve
@@ -262,6 +266,7 @@ def harden_command(
         (copies, "--copies", 1, 100),
         (impulse, "--push-impulse", 0.0, 10.0),
         (horizon, "--horizon", 4, 100),
+        (max_slip, "--max-slip", 0.0, 10.0),
         (workers, "--workers", 1, 1024),
     ):
         check_range(value, option, low, high)
@@ -285,6 +290,7 @@ def harden_command(
         push_impulse=(min(0.2, impulse), impulse),
         horizon=horizon,
         max_horizon=max(24, horizon),
+        max_slip=max_slip or None,
         threads=workers,
     )
     before = play(system, start, cycles=20, source=path)
@@ -297,9 +303,16 @@ def harden_command(
     console.print(
         f"survival with no reset (20 cycles): {before.cycles_completed} -> {after.cycles_completed} cycles; "
         f"speed {before.mean_speed_mps:.2f} -> {after.mean_speed_mps:.2f} m/s; mean squared torque "
-        f"{before.mean_squared_torque:.0f} -> {after.mean_squared_torque:.0f} (N·m)²"
+        f"{before.mean_squared_torque:.0f} -> {after.mean_squared_torque:.0f} (N·m)²; stance slip "
+        f"{_slip_cm(before)} -> {_slip_cm(after)}"
     )
     console.print(f"run folder: {output} (best_controller.json, log.csv, {CHECKPOINT})")
+
+
+def _slip_cm(played) -> str:
+    """A played gait's `stance_slip_max_m` in cm ("n/a" without a stance)."""
+    metres = played.quality.get("stance_slip_max_m")
+    return "n/a" if metres is None else f"{100 * metres:.1f} cm"
 
 
 def gaits_command(as_json: bool = typer.Option(False, "--json", help="Print JSON.")):

@@ -58,24 +58,22 @@ def _debounce(on: np.ndarray, min_frames: float) -> np.ndarray:
     return on
 
 
-def _sphere_contacts(rec: GaitRecording, foot: str) -> np.ndarray:
-    """(F × k) bool: each contact sphere of the foot touches the ground (`sim/contacts.py`)."""
-    return spheres_touching(rec.foot_points[foot][..., 2], rec.foot_radius[foot])
+def _foot_contact(points: np.ndarray, radius: float, fps: float) -> np.ndarray:
+    """(F,) bool: some contact sphere (centres `points`, F × k × 3, m) touches the ground, debounced (gaps, then
+    contacts, shorter than `DEBOUNCE_S` inside the recording ignored)."""
+    on = foot_touching(points, radius)
+    return _debounce(on, DEBOUNCE_S * fps) if len(on) > 2 else on
 
 
 def foot_contacts(rec: GaitRecording) -> dict[str, np.ndarray]:
-    """foot -> (F,) bool: some contact sphere touches the ground, debounced (gaps, then contacts, shorter than
-    `DEBOUNCE_S` inside the recording ignored)."""
-    out = {}
-    for foot in rec.foot_points:
-        on = foot_touching(rec.foot_points[foot], rec.foot_radius[foot])
-        out[foot] = _debounce(on, DEBOUNCE_S * rec.fps) if len(on) > 2 else on
-    return out
+    """foot -> (F,) bool: the foot is on the ground (`_foot_contact`)."""
+    return {f: _foot_contact(p, rec.foot_radius[f], rec.fps) for f, p in rec.foot_points.items()}
 
 
-def _stance_slips(points: np.ndarray, spheres: np.ndarray, contact: np.ndarray) -> np.ndarray:
+def _stance_slips(points: np.ndarray, radius: float, contact: np.ndarray) -> np.ndarray:
     """Per stance (run of `contact`): the largest horizontal (xy) distance, in m, one sphere centre travels between
-    the first and last frames of a run in which it touches throughout. points F × k × 3, spheres F × k."""
+    the first and last frames of a run in which it touches throughout. points F × k × 3."""
+    spheres = spheres_touching(points[..., 2], radius)
     stance_starts, _ = _runs(contact)
     slip = np.zeros(len(stance_starts))
     for k in range(spheres.shape[1]):
@@ -83,6 +81,17 @@ def _stance_slips(points: np.ndarray, spheres: np.ndarray, contact: np.ndarray) 
         travel = np.linalg.norm(points[b - 1, k, :2] - points[a, k, :2], axis=1)
         np.maximum.at(slip, np.searchsorted(stance_starts, a, side="right") - 1, travel)
     return slip
+
+
+def stance_slip(foot_points: dict[str, np.ndarray], foot_radius: dict[str, float], fps: float) -> dict:
+    """foot -> mean over its stances of `_stance_slips` (m), None for a foot that never stands; the feet's contact
+    spheres sampled at `fps` frames/s (foot -> F × k × 3 world centres, m). This is `stance_slip_m` of
+    `gait_metrics`, for any sampled motion (a played recording, an optimizer's rollout)."""
+    out = {}
+    for foot, points in foot_points.items():
+        slips = _stance_slips(points, foot_radius[foot], _foot_contact(points, foot_radius[foot], fps))
+        out[foot] = rounded(slips.mean()) if slips.size else None
+    return out
 
 
 def _swing_clearances(points: np.ndarray, radius: float, contact: np.ndarray) -> np.ndarray:
@@ -178,8 +187,7 @@ def gait_metrics(model: mujoco.MjModel, rec: GaitRecording) -> dict:
     contacts = foot_contacts(rec)
     touchdowns = {f: touchdown_frames(c) for f, c in contacts.items()}
     in_contact = np.any(list(contacts.values()), axis=0) if contacts else np.zeros(frames, bool)
-    slips = {f: _stance_slips(rec.foot_points[f], _sphere_contacts(rec, f), c) for f, c in contacts.items()}
-    slip = {f: rounded(s.mean()) if s.size else None for f, s in slips.items()}
+    slip = stance_slip(rec.foot_points, rec.foot_radius, rec.fps)
     clearances = {f: _swing_clearances(rec.foot_points[f], rec.foot_radius[f], c) for f, c in contacts.items()}
     pitch, roll = _root_tilt_series(model, rec.qpos)
     moved = frames > 1

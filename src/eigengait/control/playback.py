@@ -18,6 +18,7 @@ from eigengait.control.gait_metrics import GaitRecording, gait_metrics
 from eigengait.control.gait_signatures import gait_signatures
 from eigengait.control.lookahead import LookaheadRunner, LookaheadSettings
 from eigengait.errors import UserInputError
+from eigengait.sim.recording import frame_rows
 from eigengait.sim.stepping import raise_blow_up
 from eigengait.sim.world import GRAVITY
 
@@ -166,11 +167,9 @@ def _result(
     work = float(np.sum(np.clip(np.sum(torques * qvel[:, world.internal_qvel], axis=1), 0, None)) * dt)
     duration = end * dt
     distance = float(view.com(sensors[-1])[0] - system.initial_com(p)[0])
-    # frame k shows time k / fps: frame 0 is the initial state, frame k the state after step round(k/(fps dt))
     states = np.vstack([system.initial_state(p), states])
     sensors = np.vstack([system.initial_sensors(p), sensors])
-    frames = np.round(np.arange(int(duration * fps) + 1) / fps / dt).astype(int)
-    frames = frames[frames <= end]
+    frames = frame_rows(end, dt, fps)
     recording = GaitRecording(
         fps=fps,
         period=p.period,

@@ -9,12 +9,15 @@ numbers), so their ranking compares controllers, not luck. The cost of one candi
 
     mean over copies of (1 − cycles survived / H)  +  SPEED_WEIGHT · max(0, v* − v) / v*
                                                  +  EFFORT_WEIGHT · max(0, E / E* − 1)
+                                                 +  SLIP_WEIGHT · max(0, s / s* − 1)
 
 with v the mean forward COM speed of the copies, v* = `speed_share` × the starting gait's speed, E the mean
 squared motor torque (the thesis's E_energia) and E* = `effort_share` × the starting gait's: a gait cannot buy
-survival by standing still or by flailing. The horizon H starts at `horizon` cycles and grows by `HORIZON_STEP` (up
-to `max_horizon`) whenever the generation's median candidate survives it: the optimizer always sees the fall it
-has to prevent.
+survival by standing still or by flailing. s is the copies' mean stance-foot slip (`stance_slip_max_m` of the
+gait metrics, the feet sampled at 60 frames/s) and s* = `max_slip` (the last term only when `max_slip` is set):
+a gait cannot keep its feet by sliding them either. The horizon H starts at `horizon` cycles and grows by
+`HORIZON_STEP` (up to `max_horizon`) whenever the generation's median candidate survives it: the optimizer always
+sees the fall it has to prevent.
 
 Searched (normalized, 0 = the starting gait): the period (±20 %), the air ratio (±0.1), both pulse durations
 (±30 %), every non-zero activation ψ (± half its size, at least ±5 N·m) and the eight `hip` feedback gains
@@ -37,14 +40,18 @@ import numpy as np
 from eigengait.control.closed_loop import PUSH_SECONDS, ClosedLoopRunner, Push
 from eigengait.control.controller import save_controller, to_file
 from eigengait.control.feedback import FeedbackGains
+from eigengait.control.gait_metrics import stance_slip
 from eigengait.control.gait import GaitParameters, GaitSystem
 from eigengait.control.lookahead import LookaheadSettings
 from eigengait.errors import UserInputError
 from eigengait.outputs import write_atomically
+from eigengait.sim.recording import frame_rows
 from eigengait.sim.world import GRAVITY
 
 SPEED_WEIGHT = 0.5
 EFFORT_WEIGHT = 0.5
+SLIP_WEIGHT = 0.5
+SLIP_FPS = 60.0  # frames/s at which the slip is measured, as playback records
 HORIZON_STEP = 4  # cycles added when the median candidate survives the horizon
 CHECKPOINT = "survival.json"
 VALIDATION_GENERATION = -1  # the pushes of the final choice: a stream no generation uses
@@ -75,6 +82,7 @@ class SurvivalSettings:
     max_horizon: int = 24
     speed_share: float = 0.9  # the gait must keep this share of its starting speed
     effort_share: float = 1.2  # and use at most this share of its starting mean squared torque
+    max_slip: float | None = 0.03  # m: stance-foot slip above this is penalized (None: not measured)
     sigma0: float = 0.3
     threads: int = 1
 
@@ -136,7 +144,7 @@ class SurvivalScorer:
         """(cost, mean cycles survived) per candidate."""
         dt, view = self.runner.model.opt.timestep, self.system.world.view
         cycles = np.zeros((len(params), self.settings.copies))
-        speed, effort = np.zeros_like(cycles), np.zeros_like(cycles)
+        speed, effort, slip = np.zeros_like(cycles), np.zeros_like(cycles), np.zeros_like(cycles)
         for c, push in enumerate(generation_pushes(self.settings, generation, self.period, horizon, self.mass)):
             run = self.runner.run(params, horizon, () if push is None else (push,))
             for i, p in enumerate(params):
@@ -145,10 +153,23 @@ class SurvivalScorer:
                 com_x = view.com(run.sensors[i, :end])[:, 0]
                 speed[i, c] = (com_x[-1] - com_x[0]) / (end * dt)
                 effort[i, c] = np.mean(np.sum(run.torques[i, :end] ** 2, axis=1))
+                if self.settings.max_slip is not None:
+                    slip[i, c] = self._slip(p, run.sensors[i, : int(run.ended[i])])
         lag = np.clip(self.target_speed - speed.mean(axis=1), 0, None) / self.target_speed
         excess = np.clip(effort.mean(axis=1) / self.target_effort - 1, 0, None)
         cost = (1 - cycles.mean(axis=1) / horizon) + SPEED_WEIGHT * lag + EFFORT_WEIGHT * excess
+        if self.settings.max_slip is not None:
+            cost += SLIP_WEIGHT * np.clip(slip.mean(axis=1) / self.settings.max_slip - 1, 0, None)
         return cost, cycles.mean(axis=1)
+
+    def _slip(self, p: GaitParameters, sensors: np.ndarray) -> float:
+        """`stance_slip_max_m` (m; 0 without a stance) of a rollout's sensor rows, its feet sampled at `SLIP_FPS`
+        as playback samples them (`sim.recording.frame_rows`)."""
+        view, dt = self.system.world.view, self.runner.model.opt.timestep
+        rows = np.vstack([self.system.initial_sensors(p), sensors])[frame_rows(len(sensors), dt, SLIP_FPS)]
+        points = {f: view.foot_points(rows, f) for f in view.foot_radius}
+        slips = [v for v in stance_slip(points, view.foot_radius, SLIP_FPS).values() if v is not None]
+        return max(slips, default=0.0)
 
 
 def harden(

@@ -105,3 +105,10 @@ class RolloutView:
     def feet_touching(self, sensors: np.ndarray) -> dict[str, np.ndarray]:
         """foot -> (…) bool: one of its contact spheres touches the ground (`sim/contacts.py`)."""
         return {f: foot_touching(self.foot_points(sensors, f), r) for f, r in self.foot_radius.items()}
+
+
+def frame_rows(steps: int, timestep: float, fps: float) -> np.ndarray:
+    """Frames at t = k / fps (k = 0, 1, …) of a rollout of `steps` physics steps of `timestep` s, as row indices
+    into [initial state, state after step 1, …, state after step `steps`]: each frame is the nearest step."""
+    rows = np.round(np.arange(int(steps * timestep * fps) + 1) / fps / timestep).astype(int)
+    return rows[rows <= steps]
