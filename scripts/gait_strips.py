@@ -17,7 +17,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from eigengait.control.binding import gait_system
+from eigengait.control.binding import gait_system  # noqa: E402
 from eigengait.control.controller import load_controller, to_parameters  # noqa: E402
 from eigengait.control.library import gait_names, resolve  # noqa: E402
 from eigengait.control.playback import play  # noqa: E402

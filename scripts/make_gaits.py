@@ -102,7 +102,8 @@ def hardened(controller, folder: Path, minutes: float, seed: int):
         system, start, figures, folder, settings, resume, controller.name, lookahead=planner, sketch=controller.sketch
     )
     out = load_controller(folder / "best_controller.json")
-    out.name, out.metrics = controller.name, {**controller.metrics, "hardening_minutes": minutes}
+    spent = controller.metrics.get("hardening_minutes", 0.0) + minutes  # earlier hardening of the start included
+    out.name, out.metrics = controller.name, {**controller.metrics, "hardening_minutes": spent}
     return out
 
 
