@@ -108,6 +108,7 @@ def test_soft_constraint_functions():
     assert terms.stance_rise_term(0.005) == pytest.approx(0.015**2 + 1.0)  # push-off rise below 2 cm
     assert terms.stance_rise_term(0.03) == 0.0
     assert terms.anti_stumble_term([0.9, 0.7, 0.8], [0.8, 0.8, 0.8]) == pytest.approx(0.1**2 + 1.0)  # one sample
+    assert terms.stance_slip_term(np.array([0.01, 0.05, 0.04]), 0.03) == pytest.approx(0.02**2 + 0.01**2 + 2.0)
 
 
 def test_push_off_rise_counts_only_the_thesis_conditions():

@@ -211,6 +211,29 @@ def test_a_falling_candidate_stops_early_and_still_ranks(problem):
     assert outcomes[0].cost == outcomes[1].cost  # same candidate, same result
 
 
+def test_the_slip_term_charges_the_stances_that_playback_measures(problem):
+    """With a stance-slip target the evaluator charges, per stance, what `play` reports as that stance's slip."""
+    from eigengait.control.gait_metrics import rollout_stance_slips
+    from eigengait.optimize import terms
+
+    x = problem.space.initial()
+    p = problem.space.decode(x)
+    targets = problem.sketch.targets.model_copy(update={"stance_slip": 0.001})
+    evaluator = BatchEvaluator(problem.system, problem.space, targets, threads=2, cycles=2)
+    run = evaluator.simulate([p])
+    end = int(run.ended[0])
+    slips = rollout_stance_slips(
+        problem.system.world.view, problem.system.initial_sensors(p), run.sensors[0, :end], evaluator.dt
+    )
+    charged = evaluator.evaluate(x[None])[0].soft["stance_slip"]
+    stances = np.concatenate(list(slips.values()))
+    assert stances.size >= 2 and (stances > 0.001).any()  # two cycles of a run: stances, some sliding a millimetre
+    assert charged == pytest.approx(terms.stance_slip_term(stances, 0.001))
+    assert charged >= (stances > 0.001).sum()  # each sliding stance adds at least the step h = 1
+    plain = BatchEvaluator(problem.system, problem.space, problem.sketch.targets, threads=2, cycles=2)
+    assert "stance_slip" not in plain.evaluate(x[None])[0].soft  # no target, no term
+
+
 def test_process_and_ray_evaluators_agree_with_threads(problem):
     X = population(problem, 4, seed=1)
     reference = BatchEvaluator(problem.system, problem.space, problem.sketch.targets, threads=2).evaluate(X)

@@ -15,8 +15,10 @@ import mujoco
 import numpy as np
 
 from eigengait.sim.contacts import foot_touching, spheres_touching
+from eigengait.sim.recording import RolloutView, frame_rows
 from eigengait.sim.root import root_layout
 
+PLAYBACK_FPS = 60.0  # frames/s at which playback records a gait, and the optimizers measure its slip
 DEBOUNCE_S = 0.02  # s
 SAME_STEP_S = 0.05  # s: touchdowns of different feet this close count as one step
 _ROTATION_DOFS = {
@@ -83,15 +85,21 @@ def _stance_slips(points: np.ndarray, radius: float, contact: np.ndarray) -> np.
     return slip
 
 
-def stance_slip(foot_points: dict[str, np.ndarray], foot_radius: dict[str, float], fps: float) -> dict:
-    """foot -> mean over its stances of `_stance_slips` (m), None for a foot that never stands; the feet's contact
-    spheres sampled at `fps` frames/s (foot -> F × k × 3 world centres, m). This is `stance_slip_m` of
-    `gait_metrics`, for any sampled motion (a played recording, an optimizer's rollout)."""
-    out = {}
-    for foot, points in foot_points.items():
-        slips = _stance_slips(points, foot_radius[foot], _foot_contact(points, foot_radius[foot], fps))
-        out[foot] = rounded(slips.mean()) if slips.size else None
-    return out
+def stance_slips(foot_points: dict[str, np.ndarray], foot_radius: dict[str, float], fps: float) -> dict:
+    """foot -> (stances,) `_stance_slips` in m: the feet's contact-sphere centres (foot -> F × k × 3, world, m)
+    sampled at `fps` frames/s. Their mean per foot is `stance_slip_m` of `gait_metrics`."""
+    return {
+        foot: _stance_slips(points, foot_radius[foot], _foot_contact(points, foot_radius[foot], fps))
+        for foot, points in foot_points.items()
+    }
+
+
+def rollout_stance_slips(view: RolloutView, first: np.ndarray, sensors: np.ndarray, timestep: float) -> dict:
+    """`stance_slips` of a rollout as playback records it: `first` the sensor row before its first step,
+    `sensors` one row per physics step of `timestep` s, sampled at `PLAYBACK_FPS` (`sim.recording.frame_rows`)."""
+    rows = np.vstack([first, sensors])[frame_rows(len(sensors), timestep, PLAYBACK_FPS)]
+    points = {f: view.foot_points(rows, f) for f in view.foot_radius}
+    return stance_slips(points, view.foot_radius, PLAYBACK_FPS)
 
 
 def _swing_clearances(points: np.ndarray, radius: float, contact: np.ndarray) -> np.ndarray:
@@ -187,7 +195,8 @@ def gait_metrics(model: mujoco.MjModel, rec: GaitRecording) -> dict:
     contacts = foot_contacts(rec)
     touchdowns = {f: touchdown_frames(c) for f, c in contacts.items()}
     in_contact = np.any(list(contacts.values()), axis=0) if contacts else np.zeros(frames, bool)
-    slip = stance_slip(rec.foot_points, rec.foot_radius, rec.fps)
+    slips = stance_slips(rec.foot_points, rec.foot_radius, rec.fps)
+    slip = {f: rounded(v.mean()) if v.size else None for f, v in slips.items()}
     clearances = {f: _swing_clearances(rec.foot_points[f], rec.foot_radius[f], c) for f, c in contacts.items()}
     pitch, roll = _root_tilt_series(model, rec.qpos)
     moved = frames > 1

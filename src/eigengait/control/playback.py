@@ -14,7 +14,7 @@ import numpy as np
 
 from eigengait.control.closed_loop import PUSH_SECONDS, BatchRun, ClosedLoopRunner, Push, cycle_errors
 from eigengait.control.gait import GaitParameters, GaitSystem
-from eigengait.control.gait_metrics import GaitRecording, gait_metrics
+from eigengait.control.gait_metrics import PLAYBACK_FPS, GaitRecording, gait_metrics
 from eigengait.control.gait_signatures import gait_signatures
 from eigengait.control.lookahead import LookaheadRunner, LookaheadSettings
 from eigengait.errors import UserInputError
@@ -88,7 +88,7 @@ def play(
     p: GaitParameters,
     cycles: int = 4,
     snap: bool = False,
-    fps: float = 60.0,
+    fps: float = PLAYBACK_FPS,
     pushes: tuple[Push, ...] = (),
     source: str | None = None,
     lookahead: LookaheadSettings | None = None,

@@ -87,6 +87,7 @@ class Targets(BaseModel):
     vertical_speed: float = 0.25  # m/s, |mean vertical COM speed|
     joint_speed: float = 20.0  # rad/s, every joint dof at every sample
     energy: float = 5e5  # (N·m)², mean squared active torque
+    stance_slip: float | None = Field(None, gt=0)  # m per stance (`play`'s stance_slip_m rule); None: not charged
     cycle_tolerance: float = Field(0.2, gt=0)  # max |φᵢ| accepted as cyclic (rad, m; velocities × 0.1 s)
 
 

@@ -20,6 +20,7 @@ from eigengait.control.activations import mode_indices
 from eigengait.control.closed_loop import BatchRun, ClosedLoopRunner, cycle_errors
 from eigengait.control.feedback import leg_root_joint
 from eigengait.control.gait import GaitParameters, GaitSystem
+from eigengait.control.gait_metrics import rollout_stance_slips
 from eigengait.control.sketch import Targets
 from eigengait.optimize import terms
 from eigengait.optimize.parameters import ParameterSpace
@@ -119,6 +120,9 @@ class BatchEvaluator:
             "upright": terms.upright_term(view.up_z(states[samples])),
             **self._stance_terms(p, states, sensors),
         }
+        if tg.stance_slip is not None:
+            slips = rollout_stance_slips(view, self.system.initial_sensors(p), sensors, self.dt).values()
+            soft["stance_slip"] = terms.stance_slip_term(np.concatenate(list(slips)), tg.stance_slip)
         if run.fell[i]:
             soft["fall"] = FALL_PENALTY * (2.0 - end / run.steps[i])
         if run.fell[i] or len(run.cycle_ends[i]) < self.cycles:  # fallen, or touchdowns too late to finish

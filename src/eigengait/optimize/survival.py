@@ -40,18 +40,16 @@ import numpy as np
 from eigengait.control.closed_loop import PUSH_SECONDS, ClosedLoopRunner, Push
 from eigengait.control.controller import save_controller, to_file
 from eigengait.control.feedback import FeedbackGains
-from eigengait.control.gait_metrics import stance_slip
+from eigengait.control.gait_metrics import rollout_stance_slips
 from eigengait.control.gait import GaitParameters, GaitSystem
 from eigengait.control.lookahead import LookaheadSettings
 from eigengait.errors import UserInputError
 from eigengait.outputs import write_atomically
-from eigengait.sim.recording import frame_rows
 from eigengait.sim.world import GRAVITY
 
 SPEED_WEIGHT = 0.5
 EFFORT_WEIGHT = 0.5
 SLIP_WEIGHT = 0.5
-SLIP_FPS = 60.0  # frames/s at which the slip is measured, as playback records
 HORIZON_STEP = 4  # cycles added when the median candidate survives the horizon
 CHECKPOINT = "survival.json"
 VALIDATION_GENERATION = -1  # the pushes of the final choice: a stream no generation uses
@@ -163,12 +161,10 @@ class SurvivalScorer:
         return cost, cycles.mean(axis=1)
 
     def _slip(self, p: GaitParameters, sensors: np.ndarray) -> float:
-        """`stance_slip_max_m` (m; 0 without a stance) of a rollout's sensor rows, its feet sampled at `SLIP_FPS`
-        as playback samples them (`sim.recording.frame_rows`)."""
-        view, dt = self.system.world.view, self.runner.model.opt.timestep
-        rows = np.vstack([self.system.initial_sensors(p), sensors])[frame_rows(len(sensors), dt, SLIP_FPS)]
-        points = {f: view.foot_points(rows, f) for f in view.foot_radius}
-        slips = [v for v in stance_slip(points, view.foot_radius, SLIP_FPS).values() if v is not None]
+        """`stance_slip_max_m` (m; 0 without a stance) of a rollout's sensor rows, as playback measures it."""
+        first, dt = self.system.initial_sensors(p), self.runner.model.opt.timestep
+        per_foot = rollout_stance_slips(self.system.world.view, first, sensors, dt).values()
+        slips = [float(v.mean()) for v in per_foot if v.size]
         return max(slips, default=0.0)
 
 

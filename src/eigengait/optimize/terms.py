@@ -97,3 +97,9 @@ def anti_stumble_term(stance_toe_to_hip: np.ndarray, other_toe_to_hip: np.ndarra
     """E_evit_trop = Σ_t Q_u(d_apoio − d_outro, 0) (Eq. 4.20) from touchdown to lift-off: the stance toe stays
     farther from its hip than the other toe from its own, so the swing foot is tucked and does not stumble."""
     return float(q_upper(np.asarray(stance_toe_to_hip) - np.asarray(other_toe_to_hip), 0.0).sum())
+
+
+def stance_slip_term(slips: np.ndarray, limit: float) -> float:
+    """E_deslize = Σ_stances Q_u(−s, −s_max): each stance whose foot slides more than s_max (m) is charged (not in
+    the thesis; the closed-loop gait target of ≤ 3 cm, measured as `play` measures `stance_slip_m`)."""
+    return float(q_upper(-np.asarray(slips, dtype=float), -limit).sum())
