@@ -9,7 +9,8 @@ import argparse
 import tempfile
 from pathlib import Path
 
-from eigengait.control.controller import load_controller, system_for, to_parameters
+from eigengait.control.binding import gait_system
+from eigengait.control.controller import load_controller, to_parameters
 from eigengait.control.library import resolve
 from eigengait.control.playback import play
 from eigengait.control.sketch import load_sketch
@@ -28,7 +29,7 @@ state = optimize_gait(sketch, folder, MomSettings(max_evaluations=args.evaluatio
 print(f"{state.evaluations} evaluations, best cost {state.best.cost:.4g}, cycle violation {state.best.violation:.3g}")
 
 controller = load_controller(folder / "best_controller.json")
-system = system_for(controller)
+system = gait_system(controller)
 result = play(system, to_parameters(controller, system), cycles=2)
 print(f"played {result.cycles_completed} of 2 cycles, fell: {result.fell}, speed {result.mean_speed_mps:.2f} m/s")
 print(f"run folder: {folder}")
