@@ -1,6 +1,6 @@
 """Track every clip of the shared motion-capture corpus at five robustness values and print one Markdown table.
 
-Per clip (walker, raw retargeted feet, start frame 1, as `eigengait track` does by default) and robustness
+Per clip (walker, cleaned feet, start frame 1, as `eigengait track` does by default) and robustness
 0, 0.25, 0.5, 0.75, 1: tracked time of the clip's duration, joint RMS error, COM error (RMS, m), simulated foot skate
 (m, mean per stance), mean artificial torque (N·m) and the largest sideways push survived.
 

@@ -5,7 +5,15 @@ import numpy as np
 import pytest
 
 from eigengait.character import load_character
-from eigengait.control.balance.controller import balance_torque, equilibrium_torque, pd_torque, stance_forces
+from eigengait.control.balance.controller import (
+    balance_torque,
+    equilibrium_torque,
+    foot_contacts,
+    pd_target,
+    pd_torque,
+    press_torque,
+    stance_forces,
+)
 from eigengait.control.balance.pd import pd_torques
 from eigengait.control.balance.standing import standing_reference
 from eigengait.control.balance.tracker import Tracker
@@ -42,9 +50,12 @@ def test_the_command_is_the_pd_plus_the_balance_on_the_stance_feet(standing):
     model, data, rig = tracker.model, tracker.data, tracker.rig
     forces = stance_forces(model, data, rig)
     assert all(n > 0 for n in forces.values())  # both feet on the floor
+    contacts = foot_contacts(model, data, rig)
     command = balance_torque(model, data, rig, target)
-    tau_eq, feet, magnitude = equilibrium_torque(model, data, rig, target, forces)
-    np.testing.assert_array_equal(command.torque, pd_torque(data, rig, target) + tau_eq)
+    tau_eq, feet, magnitude = equilibrium_torque(model, data, rig, target, contacts)
+    tau_pd = pd_torque(data, rig, {**target, "qpos": pd_target(model, data, rig, target, contacts)})
+    np.testing.assert_array_equal(command.torque, tau_pd + tau_eq + press_torque(model, data, rig, target, contacts))
+    assert not command.airborne
     assert magnitude == pytest.approx(sum(np.linalg.norm(t) for t in feet.values())) and magnitude > 0
     dof = rig.ball_dof
     expected = pd_torques(
@@ -54,7 +65,7 @@ def test_the_command_is_the_pd_plus_the_balance_on_the_stance_feet(standing):
     assert np.abs(expected).max() > 0
 
 
-def test_in_flight_there_is_no_balance_torque(standing):
+def test_in_flight_there_is_no_balance_torque_and_the_legs_reach_for_the_floor(standing):
     tracker, target = standing
     model, rig = tracker.model, tracker.rig
     data = mujoco.MjData(model)
@@ -62,5 +73,27 @@ def test_in_flight_there_is_no_balance_torque(standing):
     data.qpos[rig.root_qpos + 2] += 1.0  # a metre up
     mujoco.mj_forward(model, data)
     command = balance_torque(model, data, rig, target)
-    assert command.foot_torques == {} and command.artificial == 0.0
-    np.testing.assert_array_equal(command.torque, pd_torque(data, rig, target))
+    assert command.foot_torques == {} and command.artificial == 0.0 and command.airborne
+    # the PD toward the reference's own pose, and the feet that the reference has on the floor pressed down
+    press = press_torque(model, data, rig, target, foot_contacts(model, data, rig))
+    np.testing.assert_array_equal(command.torque, pd_torque(data, rig, target) + press)
+    assert np.abs(press[rig.leg_dofs["left"]]).max() > 0 and not press[rig.ball_dof[0]].any()  # legs only
+
+
+def test_the_tracker_gives_the_walker_soles():
+    # The box of each foot touches the floor, its bottom on the plane of the heel and toe spheres' bottoms (the
+    # walker's boxes sit 3 cm higher, so a flat foot stood on its two spheres only).
+    world = build_world(load_character("walker"))
+    tracker = Tracker(world, standing_reference(world, 0.2), robustness=0.5)
+    model = tracker.model
+    for spheres in world.foot_spheres.values():
+        body = model.geom_bodyid[spheres[0]]
+        boxes = [
+            g
+            for g in range(model.ngeom)
+            if model.geom_bodyid[g] == body and model.geom_type[g] == mujoco.mjtGeom.mjGEOM_BOX
+        ]
+        assert len(boxes) == 1 and model.geom_contype[boxes[0]] != 0
+        sole = model.geom_pos[boxes[0], 2] - model.geom_size[boxes[0], 2]
+        assert sole == pytest.approx(float(np.min(model.geom_pos[spheres, 2] - model.geom_size[spheres, 0])))
+    assert world.model.geom_pos[boxes[0], 2] > model.geom_pos[boxes[0], 2] + 0.02  # the world's own model: as it was

@@ -52,10 +52,12 @@ def test_kinematic_json_reports_the_reference_feet_and_the_source_conventions():
     assert out["kinematic"] is True and out["feet_cleaned"] is True
     assert out["first_frame"] == 4  # the T-pose and the blend out of it (frames 0-3) are skipped
     assert out["source"]["unit"] == "cm" and out["source"]["up_axis"] == "+y"
-    assert out["raw"]["foot_skate_m"] > 0.05 > out["foot_skate_m"]
+    assert out["foot_skate_m"] < 0.35 * out["raw"]["foot_skate_m"]
     assert out["stances"] >= 1 and out["floor_penetration_m"] < 0.005
-    raw = json.loads(CliRunner().invoke(_app(), ["track", DAZ_WALK, "--kinematic", "--json"]).output)
+    raw = json.loads(CliRunner().invoke(_app(), ["track", DAZ_WALK, "--kinematic", "--raw-feet", "--json"]).output)
     assert raw["feet_cleaned"] is False and raw["foot_skate_m"] == out["raw"]["foot_skate_m"]
+    # the root translation fitted to the legs: the Daz exports travel about 1.6 times too far (measured 0.62)
+    assert 0.5 < out["root_scale_factor"] < 0.75 and out["retarget_scale_m_per_unit"] < 0.01
 
 
 def _run(*args):

@@ -57,11 +57,10 @@ def register(app: typer.Typer) -> None:
             "floor penetration and ground clearance (--video/--bvh show it).",
         ),
         clean_feet: bool = typer.Option(
-            False,
+            True,
             "--clean-feet/--raw-feet",
-            help="Remove stance-foot skate from the reference by leg IK before use, or "
-            "keep the retargeted feet (default: measured, the cleanup does not "
-            "yet lengthen tracking; docs/balance.md).",
+            help="Put the reference's stance feet on the floor and remove their skate by leg IK (default), or "
+            "keep the retargeted feet.",
         ),
         video: Path = typer.Option(None, "--video", help="Write the simulated motion to this .mp4 or .gif."),
         bvh: Path = typer.Option(

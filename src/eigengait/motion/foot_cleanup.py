@@ -12,7 +12,11 @@
 3. After and before a hold the horizontal correction fades linearly to zero over BLEND_S (at most half the gap to
    the next hold). A swing foot lower than CLEARANCE_M is lifted to it, the lift growing over LIFT_S from the
    hold's edge, so a foot skimming the floor is not taken for a sliding stance.
-4. Each corrected frame: damped least-squares IK (`leg_ik`) moves the hip, knee and ankle so that the foot body
+4. Where two holds of a foot meet (less than 2 BLEND_S apart: a foot pivoting in place is found as stances back to
+   back), they may ask for different positions, and a jump between them would put a velocity spike of metres per
+   second into the reference: within BLEND_S of such a junction the horizontal correction changes by at most
+   MAX_CORRECTION_SPEED.
+5. Each corrected frame: damped least-squares IK (`leg_ik`) moves the hip, knee and ankle so that the foot body
    reaches its reference pose shifted by the correction, orientation kept; root and upper body are unchanged.
 """
 
@@ -37,6 +41,7 @@ EXTEND_S = 0.1
 BLEND_S = 0.1
 CLEARANCE_M = 0.05
 LIFT_S = 0.05
+MAX_CORRECTION_SPEED = 2.0  # m/s
 
 
 @dataclass(frozen=True)
@@ -108,7 +113,28 @@ def foot_corrections(points: np.ndarray, frame_time: float) -> tuple[np.ndarray,
         gap = np.minimum(gap, np.abs(np.arange(n) - np.clip(np.arange(n), start, end - 1)))
     swing = ~held & (low < CLEARANCE_M)
     correction[swing, 2] += (CLEARANCE_M - low[swing]) * np.minimum(gap[swing] / max(lift, 1), 1.0)
+    junctions = np.zeros(n, bool)
+    for (_, _, _, end), (start, _, _, _) in zip(holds, holds[1:]):
+        if start - end < 2 * blend:
+            junctions[max(end - blend, 0) : start + blend] = True
+    correction[:, :2] = _limit_rate(correction[:, :2], MAX_CORRECTION_SPEED * frame_time, junctions)
     return correction, [(start, end) for start, _, _, end in holds]
+
+
+def _limit_rate(values: np.ndarray, largest_step: float, free: np.ndarray) -> np.ndarray:
+    """Rows (F, k) of which the `free` ones (F,) change by at most `largest_step` (norm) from their neighbour: a
+    forward pass then a backward pass; the other rows are kept."""
+    out = values.copy()
+    for step_dir, order in ((1, range(1, len(out))), (-1, range(len(out) - 2, -1, -1))):
+        for i in order:
+            if not free[i]:
+                continue
+            prev = out[i - step_dir]
+            change = out[i] - prev
+            size = float(np.linalg.norm(change))
+            if size > largest_step:
+                out[i] = prev + change * (largest_step / size)
+    return out
 
 
 def clean_feet(world: World, qpos: np.ndarray, frame_time: float) -> CleanedFeet:

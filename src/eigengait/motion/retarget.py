@@ -16,26 +16,32 @@ root body takes the root joint's rotation with no offset. Joint quaternions foll
 orientations; unmapped joints stay at their relax rotation; hinges keep the component about their axis.
 
 Root position: the BVH root trajectory in world axes, scaled by the ratio of the character's standing root height
-to the BVH root height above its lowest point in the first frame (a leg-length scale), moved to start at x = y = 0
-and shifted vertically so that the feet touch the floor: per frame, minus the 1-second running minimum of the lowest
-foot point (smoothed), which also removes slow drift of the capture floor.
+to the BVH root height above its lowest point in the first frame (a leg-length scale) times the factor that keeps
+the stance feet still under the character's legs (`root_scale`), moved to start at x = y = 0 and shifted vertically
+so that the feet touch the floor (`grounding`: the capture floor's drift and hovering supporting feet removed).
+The feet are then levelled (`foot_level`: a constant correction per foot so that a foot standing still is flat),
+every joint is brought into its range and the path is grounded again.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import mujoco
 import numpy as np
 from pydantic import BaseModel, ConfigDict, field_validator
 
-from eigengait.geometry import mat_to_quat, min_arc, quat_log, quat_to_mat
+from eigengait.geometry import mat_to_quat, min_arc, quat_exp, quat_log, quat_to_mat
 from eigengait.errors import UserInputError
 from eigengait.files import load_model
 from eigengait.motion.bvh import BvhClip, end_site_positions, global_transforms
 from eigengait.motion.conventions import detect_conventions
+from eigengait.motion.foot_level import level_feet
+from eigengait.motion.grounding import floor_offset, lowest_foot_points
+from eigengait.motion.root_scale import leg_consistent_factor
 from eigengait.motion.skeleton_names import LEG_ROLES, find_roles
+from eigengait.motion.soles import sole_points
 from eigengait.sim.world import World
 
 # World axis ← file axis, as signed file axis names (CMU convention: up +Y, forward +Z, left +X).
@@ -138,11 +144,15 @@ def clip_axes(mapping: Mapping, clip: BvhClip, start_frame: int = 1) -> np.ndarr
 
 @dataclass
 class RetargetedClip:
-    """Character poses (F, nq) at the clip's frame times, the length scale (m per file unit) used."""
+    """Character poses (F, nq) at the clip's frame times, the root translation's scale (m per file unit), the
+    factor by which it differs from the hip-height scale (`root_scale`) and each foot's levelling (degrees,
+    `foot_level`)."""
 
     qpos: np.ndarray
     frame_time: float
     scale: float
+    root_factor: float = 1.0
+    foot_level_deg: dict[str, float] = field(default_factory=dict)
 
     @property
     def duration(self) -> float:
@@ -302,13 +312,37 @@ def retarget(clip: BvhClip, world: World, mapping: Mapping, start_frame: int = 1
             qpos[:, adr] = quat_log(quat) @ model.jnt_axis[jid]
 
     height_bvh = (axes @ pos[0, root])[2] - _lowest_bvh_point(clip, axes, start_frame)
-    scale = float(data.xpos[world.root_body][2] / height_bvh)
+    hip_scale = float(data.xpos[world.root_body][2] / height_bvh)
     root_adr = model.jnt_qposadr[pairs[root]]
-    root_path = scale * pos[:, root] @ axes.T
+    root_path = hip_scale * pos[:, root] @ axes.T
     root_path[:, :2] -= root_path[0, :2]
+    _place_root(world, qpos, root_adr, root_path, clip.frame_time)
+    factor = leg_consistent_factor(qpos[:, root_adr : root_adr + 3], sole_points(world, qpos), clip.frame_time)
+    _place_root(world, qpos, root_adr, factor * root_path, clip.frame_time)
+    qpos, levelled = level_feet(world, qpos, clip.frame_time)
+    _clamp_to_joint_ranges(model, qpos)
+    _place_root(world, qpos, root_adr, factor * root_path, clip.frame_time)
+    return RetargetedClip(qpos, clip.frame_time, hip_scale * factor, factor, levelled)
+
+
+def _clamp_to_joint_ranges(model: mujoco.MjModel, qpos: np.ndarray) -> None:
+    """Bring every limited joint of poses qpos (F, nq) into its range, in place: a ball joint's rotation is shortened
+    to its largest angle about the same axis, a hinge clipped. A pose past a limit cannot be reached in physics, and
+    its PD would only press the joint into the limit (the head of the Daz CMU walk 05_01 is turned 60–91°)."""
+    for j in np.flatnonzero(model.jnt_limited):
+        adr, low, high = model.jnt_qposadr[j], *model.jnt_range[j]
+        if model.jnt_type[j] == mujoco.mjtJoint.mjJNT_HINGE:
+            qpos[:, adr] = np.clip(qpos[:, adr], low, high)
+        elif model.jnt_type[j] == mujoco.mjtJoint.mjJNT_BALL:
+            rotvec = quat_log(qpos[:, adr : adr + 4])
+            angle = np.linalg.norm(rotvec, axis=1, keepdims=True)
+            qpos[:, adr : adr + 4] = quat_exp(rotvec * np.minimum(1.0, high / np.maximum(angle, 1e-12)))
+
+
+def _place_root(world: World, qpos: np.ndarray, root_adr: int, root_path: np.ndarray, frame_time: float) -> None:
+    """Write the root path (F, 3) into qpos, lowered so that the feet touch the floor (`grounding`)."""
     qpos[:, root_adr : root_adr + 3] = root_path
-    qpos[:, root_adr + 2] -= _foot_floor_offset(world, qpos, clip.frame_time)
-    return RetargetedClip(qpos=qpos, frame_time=clip.frame_time, scale=scale)
+    qpos[:, root_adr + 2] -= floor_offset(lowest_foot_points(world, qpos), frame_time)
 
 
 def _continuous(quat: np.ndarray) -> np.ndarray:
@@ -324,22 +358,3 @@ def _lowest_bvh_point(clip: BvhClip, axes: np.ndarray, frame: int) -> float:
     rot, pos = global_transforms(one)
     points = np.concatenate([pos[0], *[p for p in end_site_positions(one, rot, pos).values()]]).reshape(-1, 3)
     return float((points @ axes.T)[:, 2].min())
-
-
-def _foot_floor_offset(world: World, qpos: np.ndarray, frame_time: float) -> np.ndarray:
-    """Per-frame floor height (m): smoothed 1-s running minimum of the lowest foot point (all geoms if no feet)."""
-    model, data = world.model, mujoco.MjData(world.model)
-    geoms = [g for gs in world.foot_spheres.values() for g in gs] or [
-        g for g in range(model.ngeom) if model.geom_bodyid[g] != 0
-    ]
-    lows = np.empty(len(qpos))
-    for i, q in enumerate(qpos):
-        data.qpos[:] = q
-        mujoco.mj_kinematics(model, data)
-        lows[i] = np.min(data.geom_xpos[geoms, 2] - model.geom_rbound[geoms])
-    half = max(1, int(round(0.5 / frame_time)))
-    padded = np.concatenate([np.full(half, lows[0]), lows, np.full(half, lows[-1])])
-    running = np.array([padded[i : i + 2 * half + 1].min() for i in range(len(lows))])
-    kernel = np.ones(2 * half + 1) / (2 * half + 1)
-    padded = np.concatenate([np.full(half, running[0]), running, np.full(half, running[-1])])
-    return np.convolve(padded, kernel, mode="valid")

@@ -12,14 +12,14 @@ from eigengait.inputs import check_range
 
 
 def reference_poses(
-    clip_path: Path, character: str, mapping: Path | None, start_frame: int, clean: bool = False
+    clip_path: Path, character: str, mapping: Path | None, start_frame: int, clean: bool = True
 ) -> dict:
     """Load and retarget a clip from `start_frame`, its lead-in skipped (`lead_in.py`), then clean its feet (unless
     `clean` is False).
 
     Returns world, poses (F, nq), first_frame (the clip frame they start at), frame_time (s), scale (m per file
-    unit), conventions (or None when the skeleton's legs are not found by name), raw and final foot reports
-    (`foot_metrics`)."""
+    unit), root_factor (`root_scale`), foot_level_deg (`foot_level`), conventions (or None when the skeleton's
+    legs are not found by name), raw and final foot reports (`foot_metrics`)."""
     from eigengait.character import load_character
     from eigengait.motion.bvh import read_bvh
     from eigengait.motion.conventions import detect_conventions
@@ -48,6 +48,8 @@ def reference_poses(
         "first_frame": first,
         "frame_time": retargeted.frame_time,
         "scale": retargeted.scale,
+        "root_factor": retargeted.root_factor,
+        "foot_level_deg": retargeted.foot_level_deg,
         "conventions": conventions,
         "raw": raw,
         "final": final,
@@ -64,6 +66,8 @@ def kinematic_summary(ref: dict, clean: bool) -> dict:
         "duration_s": round((len(ref["qpos"]) - 1) * ref["frame_time"], 4),
         "frame_time_s": ref["frame_time"],
         "retarget_scale_m_per_unit": round(ref["scale"], 6),
+        "root_scale_factor": round(ref["root_factor"], 4),
+        "foot_level_deg": {foot: round(angle, 2) for foot, angle in ref["foot_level_deg"].items()},
         "source": conventions.summary() if conventions else None,
         "feet_cleaned": clean,
         **ref["final"].summary(),
@@ -79,7 +83,7 @@ def run_track(
     mapping: Path | None,
     start_frame: int,
     tolerance: float,
-    clean: bool = False,
+    clean: bool = True,
     foot: dict | None = None,
 ) -> tuple[object, object, object]:
     """Load, retarget, clean the feet (unless `clean` is False), replay and track; returns (world, reference,

@@ -9,12 +9,16 @@ simulation loop (`tracker.Tracker`) samples the reference, applies the result an
 
 1. joint PD: τ_pd = k_s e + k_d ω_d (`pd.pd_torques` for balls, `pd.hinge_pd_torques` for hinges, with ω_a = 0):
    the −k_d ω_a term is the joint damping, which MuJoCo integrates implicitly (the caller sets `dof_damping` = k_d
-   and switches the passive springs off);
+   and switches the passive springs off); a loaded foot's ankle targets the shin's world tilt (`stance_ankle`);
 2. stance feet = feet touching the floor; their normal forces weight the balance torques of each foot-rooted
    Jacobian (`momentum.momentum_jacobian`; double support blends the two roots; flight has no balance torque);
 3. virtual force/torque at the COM (`virtual.py`) → τ_eq = Jᵀ w;
-4. the balance torque that reaches each stance foot is partly cancelled by an external torque on that foot, the
-   artificial torque; if the cancelled fraction is below `tolerance` the balance torques are switched off.
+4. the balance torque that reaches each stance foot is split at its support polygon (`support.py`): the part its
+   contacts carry is left to them, the excess is partly cancelled by an external torque on that foot, the
+   artificial torque, and what remains of it is taken off the ankle (it would tip the foot); if the cancelled
+   fraction is below `tolerance` the balance torques are switched off;
+5. feet that the reference has on the floor but that carry less than their share are pressed down
+   (`double_support.py`).
 """
 
 from __future__ import annotations
@@ -24,11 +28,14 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
+from eigengait.control.balance.double_support import load_shares, pressing_force
 from eigengait.control.balance.foot import FootModel, compensation
 from eigengait.control.balance.momentum import centroidal_inertia, centroidal_momentum_matrix, momentum_jacobian
 from eigengait.control.balance.pd import hinge_pd_torques, pd_torques
-from eigengait.control.balance.virtual import VirtualGains, virtual_force, virtual_torque
-from eigengait.geometry import quat_to_mat
+from eigengait.control.balance.stance_ankle import heading_turn, levelled, stance_ankle_targets
+from eigengait.control.balance.support import carried_torque
+from eigengait.control.balance.virtual import VirtualGains, friction_bounded, virtual_force, virtual_torque
+from eigengait.geometry import quat_mul, quat_to_mat
 from eigengait.sim.world import FLOOR, GRAVITY, World
 
 
@@ -48,6 +55,9 @@ class BalanceRig:
     foot_bodies: dict[str, int]
     foot_spheres: dict[str, list[int]]
     foot_dofs: dict[str, list[int]]  # internal dofs of each foot's body
+    foot_ball_qpos: dict[str, int]  # qpos address of the ball joint turning each foot (feet on other joints: absent)
+    leg_dofs: dict[str, list[int]]  # internal dofs between the root body and each foot body (the foot's included)
+    foot_rest_up: dict[str, np.ndarray]  # world up in each foot body's frame in the relax pose (qpos0)
     floor: int  # floor geom id
     mass: float  # kg
     k_s: np.ndarray
@@ -60,11 +70,13 @@ class BalanceRig:
 @dataclass(frozen=True)
 class BalanceCommand:
     """One control step's output: torques (nv, N·m; the motors take `torque[rig.joint_dofs]`), the artificial
-    torque (world, N·m) to put on each stance foot's body (foot name → (3,)) and their total magnitude (N·m)."""
+    torque (world, N·m) to put on each stance foot's body (foot name → (3,)), their total magnitude (N·m) and
+    whether the character is in flight."""
 
     torque: np.ndarray
     foot_torques: dict[str, np.ndarray]
     artificial: float
+    airborne: bool  # no foot touches the floor
 
 
 def joint_layout(model: mujoco.MjModel, joints: list[int]) -> dict[str, np.ndarray]:
@@ -139,6 +151,8 @@ def balance_rig(
     joint_dofs = np.asarray(world.internal_qvel)
     foot_bodies = {f: int(model.geom_bodyid[g[0]]) for f, g in world.foot_spheres.items()}
     internal = set(joint_dofs)
+    relaxed = mujoco.MjData(model)
+    mujoco.mj_kinematics(model, relaxed)
     return BalanceRig(
         root_body=world.root_body,
         root_qpos=int(model.jnt_qposadr[root_joint]),
@@ -154,6 +168,16 @@ def balance_rig(
             f: [d for d in range(model.nv) if model.dof_bodyid[d] == b and d in internal]
             for f, b in foot_bodies.items()
         },
+        leg_dofs={
+            f: [d for d in joint_dofs if _is_descendant(model, b, int(model.dof_bodyid[d]))]
+            for f, b in foot_bodies.items()
+        },
+        foot_rest_up={f: relaxed.xmat[b].reshape(3, 3).T @ np.array([0.0, 0.0, 1.0]) for f, b in foot_bodies.items()},
+        foot_ball_qpos={
+            f: int(model.jnt_qposadr[model.body_jntadr[b]])
+            for f, b in foot_bodies.items()
+            if model.body_jntnum[b] == 1 and model.jnt_type[model.body_jntadr[b]] == mujoco.mjtJoint.mjJNT_BALL
+        },
         floor=mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_GEOM, FLOOR),
         mass=float(model.body_subtreemass[world.root_body]),
         k_s=k_s,
@@ -164,9 +188,9 @@ def balance_rig(
     )
 
 
-def stance_forces(model: mujoco.MjModel, data: mujoco.MjData, rig: BalanceRig) -> dict[str, float]:
-    """Normal contact force (N) between the floor and each foot body."""
-    forces = {f: 0.0 for f in rig.foot_bodies}
+def foot_contacts(model: mujoco.MjModel, data: mujoco.MjData, rig: BalanceRig) -> dict[str, np.ndarray]:
+    """Per foot, its floor contacts that push (k, 4): world position (m) and normal force (N)."""
+    found: dict[str, list] = {f: [] for f in rig.foot_bodies}
     wrench = np.zeros(6)
     body_to_foot = {b: f for f, b in rig.foot_bodies.items()}
     for i in range(data.ncon):
@@ -176,8 +200,14 @@ def stance_forces(model: mujoco.MjModel, data: mujoco.MjData, rig: BalanceRig) -
         other = int(model.geom_bodyid[c.geom2 if c.geom1 == rig.floor else c.geom1])
         if other in body_to_foot:
             mujoco.mj_contactForce(model, data, i, wrench)
-            forces[body_to_foot[other]] += wrench[0]
-    return forces
+            if wrench[0] > 0.0:
+                found[body_to_foot[other]].append([*c.pos, wrench[0]])
+    return {f: np.array(rows).reshape(-1, 4) for f, rows in found.items()}
+
+
+def stance_forces(model: mujoco.MjModel, data: mujoco.MjData, rig: BalanceRig) -> dict[str, float]:
+    """Normal contact force (N) between the floor and each foot body."""
+    return {f: float(c[:, 3].sum()) for f, c in foot_contacts(model, data, rig).items()}
 
 
 def pd_torque(data: mujoco.MjData, rig: BalanceRig, target: dict[str, np.ndarray]) -> np.ndarray:
@@ -202,13 +232,47 @@ def pd_torque(data: mujoco.MjData, rig: BalanceRig, target: dict[str, np.ndarray
     return tau
 
 
+def pd_target(
+    model: mujoco.MjModel,
+    data: mujoco.MjData,
+    rig: BalanceRig,
+    target: dict[str, np.ndarray],
+    contacts: dict[str, np.ndarray],
+) -> np.ndarray:
+    """The PD's target qpos: the reference's, with the loaded feet's ankles tracking the shins' world orientation
+    (`stance_ankle`; the reference's turned about the vertical to the character's heading); the reference's own
+    when it has no body orientations."""
+    qpos = target["qpos"]
+    if target.get("body_quat") is None or not rig.foot_ball_qpos:
+        return qpos
+    qpos = qpos.copy()
+    feet = rig.foot_ball_qpos
+    parents = {f: int(model.body_parentid[rig.foot_bodies[f]]) for f in feet}
+    turn = heading_turn(target["body_quat"][rig.root_body], data.xquat[rig.root_body])
+    ankles = stance_ankle_targets(
+        {f: model.body_quat[rig.foot_bodies[f]] for f in feet},
+        {f: quat_mul(turn, target["body_quat"][p]) for f, p in parents.items()},
+        {f: levelled(data.xquat[rig.foot_bodies[f]], rig.foot_rest_up[f]) for f in feet},
+        {f: qpos[a : a + 4] for f, a in feet.items()},
+        {f: float(contacts[f][:, 3].sum()) / (rig.mass * GRAVITY) for f in feet},
+    )
+    for f, adr in feet.items():
+        qpos[adr : adr + 4] = ankles[f]
+    return qpos
+
+
 def equilibrium_torque(
-    model: mujoco.MjModel, data: mujoco.MjData, rig: BalanceRig, target: dict[str, np.ndarray], forces: dict[str, float]
+    model: mujoco.MjModel,
+    data: mujoco.MjData,
+    rig: BalanceRig,
+    target: dict[str, np.ndarray],
+    contacts: dict[str, np.ndarray],
 ) -> tuple[np.ndarray, dict[str, np.ndarray], float]:
     """τ_eq (nv), the artificial torque (world, N·m) per stance foot and their total magnitude; all zero in
-    flight or when the cancelled fraction is below the tolerance."""
+    flight or when the cancelled fraction is below the tolerance. `contacts`: `foot_contacts`."""
     root = rig.root_body
     tau = np.zeros(model.nv)
+    forces = {f: float(c[:, 3].sum()) for f, c in contacts.items()}
     stance = {f: n for f, n in forces.items() if n > 1e-6}
     if not stance:
         return tau, {}, 0.0
@@ -228,7 +292,7 @@ def equilibrium_torque(
         rig.mass,
         GRAVITY,
         gains,
-        target["com_acc"],
+        friction_bounded(target["com_acc"], rig.foot.friction, GRAVITY),
     )
     quat = data.qpos[rig.root_qpos + 3 : rig.root_qpos + 7]
     quat_ref = target["qpos"][rig.root_qpos + 3 : rig.root_qpos + 7]
@@ -247,12 +311,18 @@ def equilibrium_torque(
         tau[rig.joint_dofs] += normal / total * (jac.T @ wrench)
     artificial, ratios = {}, []
     jacr = np.zeros((3, model.nv))
-    for f in stance:
-        mujoco.mj_jacBody(model, data, None, jacr, rig.foot_bodies[f])
+    for f, normal in stance.items():
+        body = rig.foot_bodies[f]
+        mujoco.mj_jacBody(model, data, None, jacr, body)
         dofs = rig.foot_dofs[f]
         foot_torque = jacr[:, dofs] @ tau[dofs]
-        artificial[f], ratio = compensation(foot_torque, rig.foot)
+        excess = foot_torque - carried_torque(foot_torque, normal, data.xpos[body], contacts[f][:, :3])
+        artificial[f], ratio = compensation(excess, rig.foot)
         ratios.append(ratio)
+        if dofs:  # the excess not cancelled would tip the foot: the ankle does not apply it
+            left = excess + artificial[f]
+            left[2] = 0.0
+            tau[dofs] -= np.linalg.lstsq(jacr[:, dofs], left, rcond=None)[0]
     if min(ratios) < rig.tolerance:
         return np.zeros(model.nv), {}, 0.0
     magnitude = 0.0
@@ -268,10 +338,39 @@ def balance_torque(
     `mj_forward`) and one reference frame `target` (qpos, qvel, com, com_vel, com_acc, angular_momentum,
     angular_momentum_rate, support; `reference.Reference` sampled at the current time). Writes only MuJoCo's
     derived quantities (subtree velocities) into `data`."""
-    forces = stance_forces(model, data, rig)
-    tau_pd = pd_torque(data, rig, target)
-    tau_eq, foot_torques, artificial = equilibrium_torque(model, data, rig, target, forces)
-    return BalanceCommand(tau_pd + tau_eq, foot_torques, artificial)
+    contacts = foot_contacts(model, data, rig)
+    tau_pd = pd_torque(data, rig, {**target, "qpos": pd_target(model, data, rig, target, contacts)})
+    tau_eq, foot_torques, artificial = equilibrium_torque(model, data, rig, target, contacts)
+    airborne = not any(len(c) for c in contacts.values())
+    return BalanceCommand(
+        tau_pd + tau_eq + press_torque(model, data, rig, target, contacts), foot_torques, artificial, airborne
+    )
+
+
+def press_torque(
+    model: mujoco.MjModel,
+    data: mujoco.MjData,
+    rig: BalanceRig,
+    target: dict[str, np.ndarray],
+    contacts: dict[str, np.ndarray],
+) -> np.ndarray:
+    """Leg torques (nv) pressing down the feet that carry less than their reference share (`double_support`);
+    zero when the target has no foot heights."""
+    tau = np.zeros(model.nv)
+    if target.get("foot_height") is None:
+        return tau
+    feet = list(rig.foot_bodies)
+    shares = load_shares(target["com"], target["foot_points"], target["foot_height"])
+    jacp = np.zeros((3, model.nv))
+    normals = {f: float(c[:, 3].sum()) for f, c in contacts.items()}
+    load = max(rig.mass * GRAVITY, sum(normals.values()))
+    for foot, share in zip(feet, shares):
+        force = pressing_force(share, load, normals[foot])
+        if force > 0.0:
+            mujoco.mj_jacBody(model, data, jacp, None, rig.foot_bodies[foot])
+            chain = rig.leg_dofs[foot]
+            tau[chain] += jacp[2, chain] * -force
+    return tau
 
 
 def apply_foot_torques(data: mujoco.MjData, rig: BalanceRig, command: BalanceCommand) -> None:
@@ -288,8 +387,11 @@ __all__ = [
     "balance_rig",
     "balance_torque",
     "equilibrium_torque",
+    "foot_contacts",
     "joint_gains",
     "joint_layout",
+    "pd_target",
+    "press_torque",
     "pd_torque",
     "stance_forces",
 ]

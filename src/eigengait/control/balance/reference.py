@@ -1,9 +1,10 @@
 """Reference quantities from a kinematic replay of a pose sequence on the simulated character's own model.
 
-For every frame: qpos is set, ``mj_forward`` gives the COM and foot points, qvel comes from central differences
-(``mj_differentiatePos``) smoothed by a 5-frame moving average (mocap is noisy), and ``mj_subtreeVel`` gives the
-COM velocity and the angular momentum about the COM; their rates (the COM acceleration and dL/dt, the momentum
-feed-forward) are central differences of those, smoothed the same way. All vectors are in world axes, SI units.
+For every frame: qpos is set, ``mj_forward`` gives the COM, every body's world orientation and each foot's sole
+centre and height, qvel comes from central differences (``mj_differentiatePos``) smoothed by a 5-frame moving
+average (mocap is noisy), and ``mj_subtreeVel`` gives the COM velocity and the angular momentum about the COM; their
+rates (the COM acceleration and dL/dt, the momentum feed-forward) are central differences of those, smoothed the
+same way. All vectors are in world axes, SI units.
 A foot is in reference contact when its lowest contact point is within ``CONTACT_HEIGHT`` of the floor; the
 support point is the mean of the contacting feet's toe/heel midpoints, held through flight phases.
 """
@@ -36,6 +37,9 @@ class Reference:
     mass: float
     com_acc: np.ndarray | None = None  # (F, 3) m/s²
     angular_momentum_rate: np.ndarray | None = None  # (F, 3) N·m
+    body_quat: np.ndarray | None = None  # (F, nbody, 4) world orientation of every body
+    foot_points: np.ndarray | None = None  # (F, n_feet, 2) m, horizontal centre of each foot's contact spheres
+    foot_height: np.ndarray | None = None  # (F, n_feet) m, height of each foot's lowest sole point
 
     def __post_init__(self):
         if self.com_acc is None:
@@ -92,6 +96,8 @@ def kinematic_replay(world: World, qpos: np.ndarray, frame_time: float) -> Refer
     root = world.root_body
     feet = list(world.foot_spheres)
     com, com_vel, ang = np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3))
+    body_quat = np.zeros((n, model.nbody, 4))
+    centres, heights = np.zeros((n, len(feet), 2)), np.zeros((n, len(feet)))
     contact = np.zeros((n, len(feet)), bool)
     support = np.full((n, 2), np.nan)
     for i in range(n):
@@ -99,8 +105,11 @@ def kinematic_replay(world: World, qpos: np.ndarray, frame_time: float) -> Refer
         mujoco.mj_forward(model, data)
         mujoco.mj_subtreeVel(model, data)
         com[i], com_vel[i], ang[i] = data.subtree_com[root], data.subtree_linvel[root], data.subtree_angmom[root]
+        body_quat[i] = data.xquat
         points = foot_points(world, data)
         low = [points[f][:, 2].min() - world.foot_radius(f) for f in feet]
+        centres[i] = [points[f][:, :2].mean(axis=0) for f in feet]
+        heights[i] = low
         contact[i] = np.array(low) < CONTACT_HEIGHT
         if contact[i].any():
             support[i] = np.mean([points[f][:, :2].mean(axis=0) for f, c in zip(feet, contact[i]) if c], axis=0)
@@ -115,6 +124,9 @@ def kinematic_replay(world: World, qpos: np.ndarray, frame_time: float) -> Refer
         support=support,
         foot_contact=contact,
         mass=float(model.body_subtreemass[root]),
+        body_quat=body_quat,
+        foot_points=centres,
+        foot_height=heights,
     )
 
 

@@ -2,10 +2,10 @@
 momentum Jacobian, the tunable stance-foot compensation).
 
 `Tracker` is the simulation loop around the stateless control law. On a private copy of the world's model (the
-passive springs switched off; the PD's −k_d ω_a term as implicit joint damping), every ``control_every`` physics
-steps it samples the reference at the current time, asks `controller.balance_torque` for the motor torques and the
-stance feet's artificial torques, applies them and the active pushes (torques held in between), steps the physics
-and checks for a fall.
+passive springs switched off; the PD's −k_d ω_a term as implicit joint damping; the feet given soles, `foot_sole`),
+every ``control_every`` physics steps it samples the reference at the current time (its COM target shifted after
+a flight, `landing`), asks `controller.balance_torque` for the motor torques and the stance feet's artificial
+torques, applies them and the active pushes (torques held in between), steps the physics and checks for a fall.
 """
 
 from __future__ import annotations
@@ -24,9 +24,11 @@ from eigengait.control.balance.controller import (
     joint_gains,
     joint_layout,
 )
+from eigengait.control.balance.foot_sole import add_soles
 from eigengait.control.balance.foot import FootModel, foot_model_for_robustness
+from eigengait.control.balance.landing import LandingShift
 from eigengait.control.balance.reference import Reference
-from eigengait.control.balance.virtual import VirtualGains
+from eigengait.control.balance.virtual import VirtualGains, mass_scaled_gains
 from eigengait.errors import UserInputError
 from eigengait.geometry import quat_angle
 from eigengait.sim.falls import has_fallen
@@ -63,18 +65,21 @@ class TrackerSettings:
     """Joint gains: a joint whose name ends with a key of ``joint_gains`` gets that k_s (N·m/rad) and
     k_d = damping_time × k_s; any other joint k_s = stiffness_scale × m g l and k_d = 2 ζ √(k_s m l²), with m the
     mass and l the COM distance of the joint's subtree in the relax pose. The controller runs every
-    ``control_every`` physics steps. Foot: radius and COM height (m), friction μ."""
+    ``control_every`` physics steps. ``virtual``: the virtual wrench's gains (None: `virtual.mass_scaled_gains`
+    for the character's mass). Foot: radius and COM height (m), friction μ (the compensation's model, E30);
+    ``soles``: the feet stand on their boxes, not only on their heel and toe spheres (`foot_sole`)."""
 
     joint_gains: dict = field(default_factory=lambda: dict(BIPED_GAINS))
     damping_time: float = 0.1
     stiffness_scale: float = 12.0
     damping_ratio: float = 1.0
-    virtual: VirtualGains = field(default_factory=VirtualGains)
+    virtual: VirtualGains | None = None
     control_every: int = 1
     tolerance: float = 0.0
     foot_radius_m: float = 0.1
     foot_com_height_m: float = 0.05
     foot_friction: float = 1.0
+    soles: bool = True
 
 
 @dataclass
@@ -117,6 +122,8 @@ class Tracker:
     ):
         self.world, self.reference, self.settings = world, reference, settings
         self.model = model = copy.deepcopy(world.model)
+        if settings.soles:
+            add_soles(model, world.foot_spheres)
         self.data = mujoco.MjData(model)
         mujoco.mj_forward(model, self.data)
         self.mass = float(model.body_subtreemass[world.root_body])
@@ -135,7 +142,8 @@ class Tracker:
             settings.stiffness_scale,
             settings.damping_ratio,
         )
-        self.rig = balance_rig(world, model, k_s, k_d, self.foot, settings.virtual, settings.tolerance)
+        virtual = settings.virtual or mass_scaled_gains(self.mass)
+        self.rig = balance_rig(world, model, k_s, k_d, self.foot, virtual, settings.tolerance)
         model.dof_damping[self.rig.joint_dofs] = k_d[self.rig.joint_dofs]  # the PD's −k_d ω_a, integrated implicitly
         self.foot_body_set = set(self.rig.foot_bodies.values())
 
@@ -157,9 +165,22 @@ class Tracker:
             qpos[adr : adr + 4] /= np.linalg.norm(qpos[adr : adr + 4])
         blend = {
             name: (1 - a) * getattr(ref, name)[i] + a * getattr(ref, name)[j]
-            for name in ("qvel", "com", "com_vel", "angular_momentum", "support", "com_acc", "angular_momentum_rate")
+            for name in (
+                "qvel",
+                "com",
+                "com_vel",
+                "angular_momentum",
+                "support",
+                "com_acc",
+                "angular_momentum_rate",
+                "foot_points",
+                "foot_height",
+            )
         }
-        return {"qpos": qpos, **blend}
+        quats = ref.body_quat[j] * np.where(np.sum(ref.body_quat[i] * ref.body_quat[j], axis=1) < 0, -1.0, 1.0)[:, None]
+        body_quat = (1 - a) * ref.body_quat[i] + a * quats
+        body_quat /= np.linalg.norm(body_quat, axis=1, keepdims=True)
+        return {"qpos": qpos, "body_quat": body_quat, **blend}
 
     # ------------------------------------------------------------------------------------------- stepping
 
@@ -204,22 +225,27 @@ class Tracker:
         joint_err, com_err, torques, qpos_log = [], [], [], [ref.qpos[0].copy()]
         next_record = ref.frame_time
         fell_at = None
+        landing = LandingShift(dt)
         for k in range(steps):
             t = data.time
             target = self._reference_at(t)
             mujoco.mj_forward(model, data)
+            reference_com = target["com"]
+            target["com"] = landing.shifted(reference_com)
             command = balance_torque(model, data, self.rig, target)
+            flight = command.airborne and not ref.foot_contact[ref.frame_at(t)[0]].any()
+            landing.update(flight, data.subtree_com[self.world.root_body], reference_com)
             apply_foot_torques(data, self.rig, command)
             data.ctrl[: self.world.nmotor] = command.torque[self.rig.joint_dofs]
             self._apply_pushes(pushes, push_bodies, t)
             ball = self.rig.ball_qpos
             joint_err.append(quat_angle(data.qpos[ball], target["qpos"][ball]))
-            com_err.append(np.linalg.norm(data.subtree_com[self.world.root_body] - target["com"]))
+            com_err.append(np.linalg.norm(data.subtree_com[self.world.root_body] - reference_com))
             torques.append(command.artificial)
             step(self.world, data, self.settings.control_every, model)  # a blow-up raises, naming time and body
             com_z = data.subtree_com[self.world.root_body][2]
             up_z = self.world.root.up_z(data.qpos)
-            if has_fallen(com_z, target["com"][2], up_z, self._touches_floor_off_feet()):
+            if has_fallen(com_z, reference_com[2], up_z, self._touches_floor_off_feet()):
                 fell_at = float(data.time)
                 break
             if data.time + 1e-9 >= next_record:

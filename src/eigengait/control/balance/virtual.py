@@ -13,13 +13,15 @@ L̇_ref).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 from eigengait.geometry import quat_conj, quat_log, quat_mul
 
 HORIZONTAL = np.array([1.0, 1.0, 0.0])
+COM_FREQUENCY = 6.0  # rad/s, natural frequency of the COM's position feedback
+COM_DAMPING = 0.8  # its damping ratio, counting E22's momentum term
 
 
 @dataclass(frozen=True)
@@ -35,6 +37,24 @@ class VirtualGains:
     feedforward: float = 1.0  # weight of the reference momentum rates Ṗ_ref, L̇_ref (0: the chapter's E23/E28)
     absolute: bool = True  # COM error in world coordinates (False: E20, offsets from the support points)
     gravity: float = 1.0  # weight of E21's gravity compensation (0 when other torques already carry the body)
+
+
+def mass_scaled_gains(mass: float, frequency: float = COM_FREQUENCY, damping: float = COM_DAMPING) -> VirtualGains:
+    """Gains whose COM feedback has the same dynamics on any body: k_fs = m ω² (N/m) and k_fd = 2 ζ m ω − k_P m
+    (N·s/m; E22's k_P (P_ref − P) already damps with k_P m) for mass m (kg); the other gains as `VirtualGains`."""
+    defaults = VirtualGains()
+    stiffness = mass * frequency**2
+    return replace(defaults, k_fs=stiffness, k_fd=max(2.0 * damping * mass * frequency - defaults.k_P * mass, 0.0))
+
+
+def friction_bounded(com_acc: np.ndarray, friction: float, gravity: float) -> np.ndarray:
+    """The reference COM acceleration (3,) m/s² with its horizontal part cut to what floor friction can give,
+    μ (g + a_z) (mocap glitches and the lead-in ask for tens of m/s²; fed forward, they kick the character)."""
+    reach = friction * max(gravity + float(com_acc[2]), 0.0)
+    size = float(np.linalg.norm(com_acc[:2]))
+    if size <= reach:
+        return com_acc
+    return np.array([*(com_acc[:2] * (reach / size)), com_acc[2]])
 
 
 def virtual_force(

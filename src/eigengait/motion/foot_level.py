@@ -1,0 +1,75 @@
+"""Level the retargeted feet: the foot stands flat when the clip's foot stands still on the floor.
+
+The retarget's rest offset assumes that the clip's rest pose (all rotations zero) holds the sole level. Skeletons
+disagree (a foot bone's rest direction says nothing of the sole, whose toe may point down or out), so a stance
+foot can stand on its toe or heel edge throughout the clip: measured on the CMU clips, a median stance pitch of
+−4° to −15° (heel raised). A physical foot then rests flat and tips the whole body by that angle.
+
+Per foot, the still frames are those in which the lowest sole point is within STILL_HEIGHT_M of the floor and the
+sole centre moves slower than STILL_SPEED horizontally; the world up direction seen in the foot's own frame is
+averaged over them (v̄) and compared with the rest pose's (v⁰, the foot level in the character's relax pose). The
+foot's orientation gets the constant correction C = min_arc(v⁰, v̄) in its own frame in every frame (W ← W C: then
+W C v⁰ = W v̄ ≈ up when still), i.e. its ball joint's rotation q ← q C. Heel-off and toe-off keep their motion
+relative to the levelled stance. Feet on hinge joints, or with fewer than MIN_STILL_S of still frames, are left as
+they are.
+"""
+
+from __future__ import annotations
+
+import mujoco
+import numpy as np
+
+from eigengait.geometry import mat_to_quat, min_arc, quat_mul
+from eigengait.motion.soles import sole_points
+from eigengait.sim.world import World
+
+STILL_HEIGHT_M = 0.02
+STILL_SPEED = 0.2  # m/s
+MIN_STILL_S = 0.1
+UP = np.array([0.0, 0.0, 1.0])
+
+
+def _foot_ball_joint(model: mujoco.MjModel, body: int) -> int | None:
+    """The ball joint that turns the foot body, if that is how the foot is attached."""
+    joint = int(model.body_jntadr[body])
+    if model.body_jntnum[body] == 1 and model.jnt_type[joint] == mujoco.mjtJoint.mjJNT_BALL:
+        return joint
+    return None
+
+
+def still_frames(soles: np.ndarray, frame_time: float) -> np.ndarray:
+    """Frames (F,) bool in which a foot with sole points (F, k, 3) stands still on the floor."""
+    low = soles[..., 2].min(axis=1)
+    speed = np.linalg.norm(np.gradient(soles.mean(axis=1)[:, :2], frame_time, axis=0), axis=1)
+    return (low <= STILL_HEIGHT_M) & (speed <= STILL_SPEED)
+
+
+def _foot_up(model: mujoco.MjModel, data: mujoco.MjData, qpos: np.ndarray, body: int) -> np.ndarray:
+    """World up seen in the frame of `body` (3,) for pose qpos (nq,)."""
+    data.qpos[:] = qpos
+    mujoco.mj_kinematics(model, data)
+    return data.xmat[body].reshape(3, 3).T @ UP
+
+
+def level_feet(world: World, qpos: np.ndarray, frame_time: float) -> tuple[np.ndarray, dict[str, float]]:
+    """Poses (F, nq) with levelled feet, and each levelled foot's correction angle (degrees)."""
+    model, data = world.model, mujoco.MjData(world.model)
+    soles = sole_points(world, qpos)
+    out, angles = qpos.copy(), {}
+    for foot, geoms in world.foot_spheres.items():
+        body = int(model.geom_bodyid[geoms[0]])
+        joint = _foot_ball_joint(model, body)
+        still = still_frames(soles[foot], frame_time)
+        if joint is None or still.sum() * frame_time < MIN_STILL_S:
+            continue
+        rest_up = _foot_up(model, data, model.qpos0, body)
+        mean_up = np.mean([_foot_up(model, data, qpos[i], body) for i in np.flatnonzero(still)], axis=0)
+        mean_up /= np.linalg.norm(mean_up)
+        correction = mat_to_quat(min_arc(rest_up, mean_up))
+        adr = model.jnt_qposadr[joint]
+        out[:, adr : adr + 4] = quat_mul(qpos[:, adr : adr + 4], correction)
+        angles[foot] = float(np.degrees(np.arccos(np.clip(rest_up @ mean_up, -1.0, 1.0))))
+    return out, angles
+
+
+__all__ = ["level_feet", "still_frames"]
