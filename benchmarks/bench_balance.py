@@ -2,7 +2,8 @@
 
 1. Trade-off: tracking error, fall time and mean artificial torque for robustness values 0 … 1
    (plot: docs/images/balance_tradeoff.png).
-2. Push recovery: a 0.1 s sideways push on the torso at t = 0.5 s; the largest force survived per robustness.
+2. Push recovery: a 0.1 s sideways push on the torso at t = 0.5 s; the largest force survived per
+   robustness.
 3. The ankleless humanoid with the same controller, for comparison.
 Character: the walker (the humanoid with ankles). Prints Markdown tables.
 Run: .venv/bin/python benchmarks/bench_balance.py
@@ -41,10 +42,11 @@ def load(character: str):
 
 
 def tradeoff(world, reference) -> None:
-    """Part 1: tracking error and artificial torque per robustness, as a table and docs/images/balance_tradeoff.png."""
+    """Part 1: tracking error and artificial torque per robustness, as a table and
+    docs/images/balance_tradeoff.png."""
     print(
-        "| robustness | tracked (s) | fell | joint RMS (deg) | COM error (m) | artificial torque mean (N·m) | "
-        "wall time (s) |\n|---:|---:|---|---:|---:|---:|---:|"
+        "| robustness | tracked (s) | fell | joint RMS (deg) | COM error (m) | "
+        "artificial torque mean (N·m) | wall time (s) |\n|---:|---:|---|---:|---:|---:|---:|"
     )
     rows = []
     for r in ROBUSTNESS:
@@ -53,15 +55,16 @@ def tradeoff(world, reference) -> None:
         wall = time.perf_counter() - start
         rows.append(res)
         print(
-            f"| {r} | {res.duration_s:.2f} | {res.fell} | {res.joint_rms_deg:.1f} | {res.com_error_m:.3f} | "
-            f"{res.artificial_torque:.1f} | {wall:.2f} |",
+            f"| {r} | {res.duration_s:.2f} | {res.fell} | {res.joint_rms_deg:.1f} | "
+            f"{res.com_error_m:.3f} | {res.artificial_torque:.1f} | {wall:.2f} |",
             flush=True,
         )
     plot_tradeoff(rows, reference.duration)
 
 
 def plot_tradeoff(rows, clip_s: float) -> None:
-    """Three panels against robustness: joint RMS error, COM error, mean artificial torque; falls marked."""
+    """Three panels against robustness: joint RMS error, COM error, mean artificial torque; falls
+    marked."""
     fig, axes = plt.subplots(1, 3, figsize=(11, 3.6))
     panels = (
         ("joint RMS error (deg)", [res.joint_rms_deg for res in rows], "{:.1f}"),
@@ -71,7 +74,8 @@ def plot_tradeoff(rows, clip_s: float) -> None:
     for ax, (label, values, fmt) in zip(axes, panels):
         ax.plot(ROBUSTNESS, values, "o-", color="#2a6fb0")
         for k, (r, v, res) in enumerate(zip(ROBUSTNESS, values, rows)):
-            crowded = k + 1 < len(ROBUSTNESS) and ROBUSTNESS[k + 1] - r < 0.2  # label the left of a close pair
+            # label the left of a close pair
+            crowded = k + 1 < len(ROBUSTNESS) and ROBUSTNESS[k + 1] - r < 0.2
             ax.annotate(
                 fmt.format(v),
                 (r, v),
@@ -89,7 +93,11 @@ def plot_tradeoff(rows, clip_s: float) -> None:
         ax.set_xticks(ROBUSTNESS, [f"{r:g}" for r in ROBUSTNESS], fontsize=8)
         ax.grid(alpha=0.3)
     fell = [f"{r:g}" for r, res in zip(ROBUSTNESS, rows) if res.fell]
-    note = f"fell at R = {', '.join(fell)} (×)" if fell else f"every setting tracks the whole {clip_s:.2f} s clip"
+    note = (
+        f"fell at R = {', '.join(fell)} (×)"
+        if fell
+        else f"every setting tracks the whole {clip_s:.2f} s clip"
+    )
     fig.suptitle(f"CMU 02_01 walk on the built-in walker: {note}", fontsize=11)
     fig.tight_layout()
     PLOT.parent.mkdir(parents=True, exist_ok=True)
@@ -108,7 +116,12 @@ def main() -> None:
     for r in ROBUSTNESS:
         survived = None
         for force in PUSHES:
-            res = track(world, reference, r, pushes=(BodyPush((0.0, float(force), 0.0), 0.5),) if force else ())
+            res = track(
+                world,
+                reference,
+                r,
+                pushes=(BodyPush((0.0, float(force), 0.0), 0.5),) if force else (),
+            )
             if res.fell:
                 break
             survived = force
@@ -116,15 +129,15 @@ def main() -> None:
 
     _, plain = load("humanoid")
     print(
-        "\n| humanoid (no ankle), robustness | tracked (s) | fell | joint RMS (deg) | COM error (m) | "
-        "artificial torque mean (N·m) |\n|---:|---:|---|---:|---:|---:|"
+        "\n| humanoid (no ankle), robustness | tracked (s) | fell | joint RMS (deg) | "
+        "COM error (m) | artificial torque mean (N·m) |\n|---:|---:|---|---:|---:|---:|"
     )
     humanoid_world = build_world(load_character("humanoid"))
     for r in (0.0, 0.5, 1.0):
         res = track(humanoid_world, plain, r)
         print(
-            f"| {r} | {res.duration_s:.2f} | {res.fell} | {res.joint_rms_deg:.1f} | {res.com_error_m:.3f} | "
-            f"{res.artificial_torque:.1f} |",
+            f"| {r} | {res.duration_s:.2f} | {res.fell} | {res.joint_rms_deg:.1f} | "
+            f"{res.com_error_m:.3f} | {res.artificial_torque:.1f} |",
             flush=True,
         )
 

@@ -1,7 +1,9 @@
-"""Do vibration modes make gaits better or faster to get than plain joint torques? The thesis's comparisons, measured.
+"""Do vibration modes make gaits better or faster to get than plain joint torques? The thesis's
+comparisons, measured.
 
-For each character's preset sketch (humanoid `basic-run`, `monster`, `dog-trot`) four search spaces are optimized
-by the same two-stage optimizer (`optimize/staged.py`), at the same evaluation budget and from the same seeds:
+For each character's preset sketch (humanoid `basic-run`, `monster`, `dog-trot`) four search spaces
+are optimized by the same two-stage optimizer (`optimize/staged.py`), at the same evaluation budget
+and from the same seeds:
 
 | variant | torque basis | priority modes (ψ kept ≥ the sketch's) | optimized |
 |---|---|---|---|
@@ -10,20 +12,22 @@ by the same two-stage optimizer (`optimize/staged.py`), at the same evaluation b
 | `trivial` | modes | the preset's ψ values moved onto the lowest modes (1, 2, …) | the lowest 12 modes |
 | `canonical` | one torque per joint dof | none | every dof |
 
-Timing, initial state, targets, feedback and horizon stay the preset's. Each run's best controller is then played
-20 cycles with no reset and no lookahead (cycles survived, speed, cost of transport) and, when it survives 3 cycles,
-pushed sideways with 0.5 N·s/kg at 5 phases of cycle 3 (`control/playback.push_robustness`); speed and cost of
-transport are given for the runs that survive the 5-cycle horizon. From each run's logs:
-evaluations and seconds until the best candidate first survives the whole horizon (stage 2's best cycle violation
-below the fall marker), and until that violation is below 0.5.
+Timing, initial state, targets, feedback and horizon stay the preset's. Each run's best controller
+is then played 20 cycles with no reset and no lookahead (cycles survived, speed, cost of transport)
+and, when it survives 3 cycles, pushed sideways with 0.5 N·s/kg at 5 phases of cycle 3
+(`control/playback.push_robustness`); speed and cost of transport are given for the runs that
+survive the 5-cycle horizon. From each run's logs:
+evaluations and seconds until the best candidate first survives the whole horizon (stage 2's best
+cycle violation below the fall marker), and until that violation is below 0.5.
 
 Usage: python benchmarks/bench_basis.py [--evaluations N] [--seeds K] [--characters …] [--out DIR]
-Runs are kept in DIR (default out/bench_basis) and skipped when done, so an interrupted benchmark resumes. It
-prints the table, writes DIR/table.md, the convergence figure docs/images/evidence_convergence.png and the measured
-part of docs/evidence.md; the wall time and the runs' summed optimization time are printed. The baseline (same
-process) is one population evaluation of the humanoid's modal sketch, so the seconds can be read as population
-units on another machine.
-"""
+Runs are kept in DIR (default out/bench_basis) and skipped when done, so an interrupted benchmark
+resumes. It prints the table, writes DIR/table.md, the convergence figure
+docs/images/evidence_convergence.png and the measured part of docs/evidence.md; the wall time and
+the runs' summed optimization time are printed. The baseline (same process) is one population
+evaluation of the humanoid's modal sketch, so the seconds can be read as population units on another
+machine.
+"""  # noqa: E501
 
 from __future__ import annotations
 
@@ -53,7 +57,8 @@ from population_unit import population_seconds  # noqa: E402
 CHARACTERS = {"humanoid": "basic-run", "monster": "monster", "dog": "dog-trot"}
 VARIANTS = ("modal", "priority-only", "trivial", "canonical")
 TRIVIAL_MODES = 12
-HORIZON = 5  # cycles: the presets' optimization horizon; a run "survives" when its gait plays this long
+# cycles: the presets' optimization horizon; a run "survives" when its gait plays this long
+HORIZON = 5
 NEAR_CYCLIC = 0.5  # cycle violation a run must reach for the second "time to" figure
 ROOT = Path(__file__).resolve().parents[1]
 FIGURE = ROOT / "docs" / "images" / "evidence_convergence.png"
@@ -65,7 +70,9 @@ def variant(sketch: Sketch, name: str) -> Sketch:
     if name == "modal":
         return sketch
     if name == "canonical":
-        return sketch.model_copy(update={"basis": "canonical", "air": PhaseSketch(), "ground": PhaseSketch()})
+        return sketch.model_copy(
+            update={"basis": "canonical", "air": PhaseSketch(), "ground": PhaseSketch()}
+        )
     phases = {}
     for phase in ("air", "ground"):
         chosen = sketch.phase(phase)
@@ -74,21 +81,31 @@ def variant(sketch: Sketch, name: str) -> Sketch:
         else:  # trivial
             values = [chosen.priority[m] for m in sorted(chosen.priority)]
             phases[phase] = PhaseSketch(
-                priority={k + 1: v for k, v in enumerate(values)}, allowed=list(range(1, TRIVIAL_MODES + 1))
+                priority={k + 1: v for k, v in enumerate(values)},
+                allowed=list(range(1, TRIVIAL_MODES + 1)),
             )
     return sketch.model_copy(update=phases)
 
 
 def curve(folder: Path) -> list[tuple[int, float, float, str]]:
-    """(evaluations from the start, seconds from the start, best cycle violation, stage) of every logged generation."""
+    """(evaluations from the start, seconds from the start, best cycle violation, stage) of every
+    logged generation."""
     points, evaluations, seconds = [], 0, 0.0
-    for stage, log in (("open loop", folder / STAGE_ONE / "log.csv"), ("closed loop", folder / "log.csv")):
+    for stage, log in (
+        ("open loop", folder / STAGE_ONE / "log.csv"),
+        ("closed loop", folder / "log.csv"),
+    ):
         if not log.exists():
             continue
         rows = list(csv.DictReader(log.open()))
         for r in rows:
             points.append(
-                (evaluations + int(r["evaluations"]), seconds + float(r["seconds"]), float(r["best_violation"]), stage)
+                (
+                    evaluations + int(r["evaluations"]),
+                    seconds + float(r["seconds"]),
+                    float(r["best_violation"]),
+                    stage,
+                )
             )
         if rows:
             evaluations += int(rows[-1]["evaluations"])
@@ -97,12 +114,14 @@ def curve(folder: Path) -> list[tuple[int, float, float, str]]:
 
 
 def first_below(points, threshold: float, stage: str = "closed loop"):
-    """(evaluations, seconds) of the first generation of `stage` whose best violation is below `threshold`."""
+    """(evaluations, seconds) of the first generation of `stage` whose best violation is below
+    `threshold`."""
     return next(((e, s) for e, s, v, st in points if st == stage and v < threshold), (None, None))
 
 
 def run_one(sketch: Sketch, folder: Path, evaluations: int, seed: int) -> dict:
-    """Optimize, play and push one run; the figures are saved in folder/result.json (reused when present)."""
+    """Optimize, play and push one run; the figures are saved in folder/result.json (reused when
+    present)."""
     done = folder / "result.json"
     if done.exists():
         return json.loads(done.read_text())
@@ -119,13 +138,16 @@ def run_one(sketch: Sketch, folder: Path, evaluations: int, seed: int) -> dict:
     points = curve(folder)
     survives = first_below(points, FALLEN_CYCLE_ERROR)
     near = first_below(points, NEAR_CYCLIC)
-    lasted = played.cycles_completed >= HORIZON  # speed and cost of a gait that falls early say little
+    # speed and cost of a gait that falls early say little
+    lasted = played.cycles_completed >= HORIZON
     result = {
         "seconds": round(seconds, 1),
         "cycles_survived": played.cycles_completed,
         "speed_mps": round(played.mean_speed_mps, 3) if lasted else None,
         "cost_of_transport": (
-            round(played.cost_of_transport, 3) if lasted and np.isfinite(played.cost_of_transport) else None
+            round(played.cost_of_transport, 3)
+            if lasted and np.isfinite(played.cost_of_transport)
+            else None
         ),
         "pushes_survived": int(sum(pushes)),
         "final_violation": points[-1][2] if points else None,
@@ -150,21 +172,23 @@ def spread(values) -> str:
 
 def table(results: dict) -> str:
     lines = [
-        "| character | variant | survives the 5-cycle horizon | cycles survived (of 20) | pushes survived (of 5) "
-        "| evaluations to survive the horizon | seconds to it | evaluations to violation < 0.5 | final violation "
-        "| speed (m/s) | cost of transport |",
+        "| character | variant | survives the 5-cycle horizon | cycles survived (of 20) | "
+        "pushes survived (of 5) | evaluations to survive the horizon | seconds to it | "
+        "evaluations to violation < 0.5 | final violation | speed (m/s) | cost of transport |",
         "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
     ]
     for (character, name), runs in results.items():
         ok = sum(r["cycles_survived"] >= HORIZON for r in runs)
         lines.append(
-            f"| {character} | {name} | {ok} of {len(runs)} | {spread([r['cycles_survived'] for r in runs])} "
-            f"| {spread([r['pushes_survived'] for r in runs])} "
+            f"| {character} | {name} | {ok} of {len(runs)} | "
+            f"{spread([r['cycles_survived'] for r in runs])} | "
+            f"{spread([r['pushes_survived'] for r in runs])} "
             f"| {spread([r['evaluations_to_survive_horizon'] for r in runs])} "
             f"| {spread([r['seconds_to_survive_horizon'] for r in runs])} "
             f"| {spread([r['evaluations_to_near_cyclic'] for r in runs])} "
-            f"| {spread([r['final_violation'] for r in runs])} | {spread([r['speed_mps'] for r in runs])} "
-            f"| {spread([r['cost_of_transport'] for r in runs])} |"
+            f"| {spread([r['final_violation'] for r in runs])} | "
+            f"{spread([r['speed_mps'] for r in runs])} | "
+            f"{spread([r['cost_of_transport'] for r in runs])} |"
         )
     return "\n".join(lines)
 
@@ -180,7 +204,11 @@ def figure(results: dict, evaluations: int) -> None:
                 continue
             rows = []
             for r in runs:
-                e, v = np.array(r["curve"], float).T if r["curve"] else (np.zeros(1), np.full(1, np.nan))
+                e, v = (
+                    np.array(r["curve"], float).T
+                    if r["curve"]
+                    else (np.zeros(1), np.full(1, np.nan))
+                )
                 index = np.searchsorted(e, grid, side="right") - 1
                 rows.append(np.where(index >= 0, v[np.clip(index, 0, None)], np.nan))
             rows = np.array(rows)
@@ -197,8 +225,8 @@ def figure(results: dict, evaluations: int) -> None:
     axes[0][0].set_ylabel("best cycle violation (median, min–max band)")
     axes[0][0].legend(fontsize=8)
     fig.suptitle(
-        "Best cycle violation against evaluations: open loop (1 cycle), then from the dashed line closed loop "
-        f"(5 cycles); {FALLEN_CYCLE_ERROR:g} marks a best candidate that falls"
+        "Best cycle violation against evaluations: open loop (1 cycle), then from the dashed line "
+        f"closed loop (5 cycles); {FALLEN_CYCLE_ERROR:g} marks a best candidate that falls"
     )
     fig.tight_layout()
     FIGURE.parent.mkdir(parents=True, exist_ok=True)
@@ -219,14 +247,16 @@ that point.
 {markdown_table}
 
 ![convergence](images/evidence_convergence.png)
-{END}"""
+{END}"""  # noqa: E501
     if PAGE.exists() and BEGIN in (text := PAGE.read_text()):
         return text[: text.index(BEGIN)] + measured + text[text.index(END) + len(END) :]
     return f"# Evidence: modes against plain joint torques\n\n{measured}\n"
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser = argparse.ArgumentParser(
+        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
     parser.add_argument("--evaluations", type=int, default=600)
     parser.add_argument("--seeds", type=int, default=5)
     parser.add_argument("--characters", nargs="*", default=list(CHARACTERS))
@@ -237,7 +267,8 @@ def main() -> None:
     unit, size = population_seconds(load_sketch(resolve("sketch", "basic-run")))
     print(f"baseline: one population of {size} humanoid candidates, 5 cycles: {unit:.2f} s")
     results: dict = {}
-    for seed in range(1, args.seeds + 1):  # seed-major, so a partial run still compares every variant
+    # seed-major, so a partial run still compares every variant
+    for seed in range(1, args.seeds + 1):
         for character in args.characters:
             preset = load_sketch(resolve("sketch", CHARACTERS[character]))
             for name in args.variants:
@@ -245,19 +276,24 @@ def main() -> None:
                 r = run_one(variant(preset, name), folder, args.evaluations, seed)
                 results.setdefault((character, name), []).append(r)
                 print(
-                    f"{character} {name} seed {seed}: {r['cycles_survived']} cycles, {r['pushes_survived']} pushes, "
-                    f"violation {r['final_violation']:.3g}, {r['seconds']:.0f} s",
+                    f"{character} {name} seed {seed}: {r['cycles_survived']} cycles, "
+                    f"{r['pushes_survived']} pushes, violation {r['final_violation']:.3g}, "
+                    f"{r['seconds']:.0f} s",
                     flush=True,
                 )
-    ordered = {(c, n): results[(c, n)] for c in args.characters for n in args.variants if (c, n) in results}
+    ordered = {
+        (c, n): results[(c, n)] for c in args.characters for n in args.variants if (c, n) in results
+    }
     markdown = table(ordered)
     print(markdown)
     (args.out / "table.md").write_text(markdown + "\n")
     figure(ordered, args.evaluations)
-    spent = sum(r["seconds"] for runs in ordered.values() for r in runs)  # also right when runs were reused
+    # also right when runs were reused
+    spent = sum(r["seconds"] for runs in ordered.values() for r in runs)
     PAGE.write_text(page(markdown, args.evaluations, args.seeds, spent, unit))
     print(
-        f"wall time: {(time.perf_counter() - wall) / 60:.1f} min; optimization time over the runs {spent / 60:.1f} min"
+        f"wall time: {(time.perf_counter() - wall) / 60:.1f} min; optimization time over the runs "
+        f"{spent / 60:.1f} min"
     )
 
 

@@ -1,23 +1,26 @@
 """Cloth throughput: steps per second for a hanging n×n sheet, with every ratio measured in the same run.
 
-The sheet: spacing 1.85 m, 0.1 kg per point, springs 10 N/m to the 8 neighbours, top row pinned, gravity, ATRITO
-0.5, h = 1 ms (the curtain's numbers). Measured in one process:
+The sheet: spacing 1.85 m, 0.1 kg per point, springs 10 N/m to the 8 neighbours, top row pinned,
+gravity, ATRITO 0.5, h = 1 ms (the curtain's numbers). Measured in one process:
 
-* ``run``: ``eigengait cloth run SHEET.PAR --no-render`` (forward Euler, as FLEX3D), in-process, wall time of the
-  whole command including the .OBT/.obj frames it writes, after a warm-up run that compiles the kernels; with the
-  default 10 % strain limit and with ``--strain-limit 0``.
-* ``implicit``: the same command with ``--integrator implicit --time-step 1/60`` (one step per 60 Hz frame).
-* ``numpy``: a plain vectorized NumPy loop over the same sheet's springs (forces, friction, forward Euler).
-* ``mujoco``: MuJoCo's own flex cloth (``<flexcomp type="grid" dim="2">``), same grid and pins, contacts off.
-* ``warp``: NVIDIA Warp's CPU backend (``pip install eigengait[bench]``) running the same springs and forward
-  Euler as two kernels per step (float32, as Warp's own cloth example).
+* ``run``: ``eigengait cloth run SHEET.PAR --no-render`` (forward Euler, as FLEX3D), in-process,
+  wall time of the whole command including the .OBT/.obj frames it writes, after a warm-up run that
+  compiles the kernels; with the default 10 % strain limit and with ``--strain-limit 0``.
+* ``implicit``: the same command with ``--integrator implicit --time-step 1/60`` (one step per 60 Hz
+  frame).
+* ``numpy``: a plain vectorized NumPy loop over the same sheet's springs (forces, friction, forward
+  Euler).
+* ``mujoco``: MuJoCo's own flex cloth (``<flexcomp type="grid" dim="2">``), same grid and pins,
+  contacts off.
+* ``warp``: NVIDIA Warp's CPU backend (``pip install eigengait[bench]``) running the same springs
+  and forward Euler as two kernels per step (float32, as Warp's own cloth example).
 
-Rates are steps per second of the process's CPU time (``time.process_time``; every contender runs on one thread),
-best of ``--rounds`` interleaved rounds, so that other jobs on a shared machine disturb the ratios as little as
-possible. On an idle machine CPU time and wall time agree.
+Rates are steps per second of the process's CPU time (``time.process_time``; every contender runs on
+one thread), best of ``--rounds`` interleaved rounds, so that other jobs on a shared machine disturb
+the ratios as little as possible. On an idle machine CPU time and wall time agree.
 
 Run: python benchmarks/bench_cloth.py [--sizes 20 100] [--seconds 2] [--rounds 3]
-"""
+"""  # noqa: E501
 
 from __future__ import annotations
 
@@ -45,7 +48,8 @@ def sheet_script(n: int, duration: float, time_step: float = H) -> str:
     return (
         f"DURACAO = {duration}\nQUADROS_SEG = 1\nDELTA_t = {time_step}\nATRITO = {FRICTION}\n"
         f"NUM_SUPERFICIES = 1\nSUPERFICIE sheet\n  MALHA ({n} {n})\n  DENSIDADE = {SPACING}\n"
-        f"  POSIC_NO_SRU (0 40 0)\n  VETOR_NORMAL (0 0 1)\n  MASSA = {MASS}\n  CONST_ELASTICIDADE = ({K} {K} {K})\n"
+        f"  POSIC_NO_SRU (0 40 0)\n  VETOR_NORMAL (0 0 1)\n  MASSA = {MASS}\n  CONST_ELASTICIDADE "
+        f"= ({K} {K} {K})\n"
         f"  RESTRICOES\n    PONTOS_FIXOS = {n}\n{fixed}\n  FIM_RESTRICOES\nFIM_SUPERFICIE\n"
     )
 
@@ -59,7 +63,16 @@ def run_rate(n: int, seconds: float, *options: str, time_step: float = H) -> flo
     app = build_app()
     with tempfile.TemporaryDirectory() as folder:
         script = Path(folder) / "sheet.PAR"
-        args = ["cloth", "run", str(script), "-o", str(Path(folder) / "out"), "--no-render", "--force", *options]
+        args = [
+            "cloth",
+            "run",
+            str(script),
+            "-o",
+            str(Path(folder) / "out"),
+            "--no-render",
+            "--force",
+            *options,
+        ]
         if time_step != H:
             args += ["--time-step", repr(time_step)]
         script.write_text(sheet_script(n, 1.0, time_step))
@@ -90,7 +103,8 @@ def hanging(n: int):
 
 
 def numpy_rate(n: int, budget: float = 1.0) -> float:
-    """A plain NumPy loop over the sheet's springs: forces, scatter by bincount, friction, forward Euler."""
+    """A plain NumPy loop over the sheet's springs: forces, scatter by bincount, friction, forward
+    Euler."""
     model = hanging(n)
     i, j, rest = model.springs[:, 0], model.springs[:, 1], model.spring_rest
     x, v = model.rest_positions.copy(), np.zeros((model.size, 3))
@@ -103,12 +117,18 @@ def numpy_rate(n: int, budget: float = 1.0) -> float:
         f = (K * (length - rest) / length)[:, None] * d
         force = (
             np.stack(
-                [np.bincount(i, f[:, c], model.size) - np.bincount(j, f[:, c], model.size) for c in range(3)], axis=1
+                [
+                    np.bincount(i, f[:, c], model.size) - np.bincount(j, f[:, c], model.size)
+                    for c in range(3)
+                ],
+                axis=1,
             )
             + gravity
         )
         speed = np.linalg.norm(v, axis=1)
-        drag = np.minimum(FRICTION * np.linalg.norm(force, axis=1), MASS * speed / H) / np.maximum(speed, 1e-300)
+        drag = np.minimum(FRICTION * np.linalg.norm(force, axis=1), MASS * speed / H) / np.maximum(
+            speed, 1e-300
+        )
         x = x + H * v * free
         v = v + H * (force - drag[:, None] * v) / MASS * free
         steps += 1
@@ -116,7 +136,8 @@ def numpy_rate(n: int, budget: float = 1.0) -> float:
 
 
 def mujoco_rate(n: int, budget: float = 1.0) -> float | None:
-    """MuJoCo flex grid of the same size, top row pinned, edge springs; None if the scene cannot be built."""
+    """MuJoCo flex grid of the same size, top row pinned, edge springs; None if the scene cannot be
+    built."""
     import mujoco
 
     pins = " ".join(str(i * n + (n - 1)) for i in range(n))
@@ -126,7 +147,7 @@ def mujoco_rate(n: int, budget: float = 1.0) -> float | None:
         <elasticity young="2000" poisson="0.2" thickness="0.1" damping="0.01"/>
         <contact selfcollide="none" conaffinity="0" contype="0"/>
         <pin id="{pins}"/>
-      </flexcomp></worldbody></mujoco>"""
+      </flexcomp></worldbody></mujoco>"""  # noqa: E501
     try:
         model = mujoco.MjModel.from_xml_string(xml)
     except ValueError as error:
@@ -184,7 +205,8 @@ if wp is not None:
 
 
 def warp_rate(n: int, budget: float = 1.0) -> float | None:
-    """Warp CPU backend on the same sheet (springs + forward Euler kernels); None without warp-lang."""
+    """Warp CPU backend on the same sheet (springs + forward Euler kernels); None without
+    warp-lang."""
     if wp is None:
         return None
     wp.config.quiet = True
@@ -200,8 +222,15 @@ def warp_rate(n: int, budget: float = 1.0) -> float | None:
     gravity = wp.vec3(0.0, 0.0, -9.81)
 
     def step():
-        wp.launch(_warp_springs, dim=len(model.springs), inputs=[x, pairs, rest, K, force], device=device)
-        wp.launch(_warp_euler, dim=model.size, inputs=[x, v, force, fixed, MASS, gravity, FRICTION, H], device=device)
+        wp.launch(
+            _warp_springs, dim=len(model.springs), inputs=[x, pairs, rest, K, force], device=device
+        )
+        wp.launch(
+            _warp_euler,
+            dim=model.size,
+            inputs=[x, v, force, fixed, MASS, gravity, FRICTION, H],
+            device=device,
+        )
 
     step()
     wp.synchronize()
@@ -221,24 +250,31 @@ def _cell(value: float | None, width: int = 9, digits: int = 0) -> str:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--sizes", type=int, nargs="+", default=[20, 100])
-    parser.add_argument("--seconds", type=float, default=2.0, help="simulated seconds per cloth run")
-    parser.add_argument("--rounds", type=int, default=3, help="interleaved rounds; the best rate of each is kept")
+    parser.add_argument(
+        "--seconds", type=float, default=2.0, help="simulated seconds per cloth run"
+    )
+    parser.add_argument(
+        "--rounds", type=int, default=3, help="interleaved rounds; the best rate of each is kept"
+    )
     args = parser.parse_args()
     import mujoco
 
     print(
-        f"mujoco {mujoco.__version__}, warp {wp.__version__ if wp else 'not installed'}; steps per CPU second, "
-        f"best of {args.rounds}"
+        f"mujoco {mujoco.__version__}, warp {wp.__version__ if wp else 'not installed'}; steps per "
+        f"CPU second, best of {args.rounds}"
     )
     print(
-        f"{'grid':>8} {'run':>9} {'run-noSL':>9} {'implicit':>9} {'numpy':>9} {'mujoco':>9} {'warp':>9} "
-        f"{'run/numpy':>10} {'run/mj':>7} {'run/warp':>9} {'noSL/numpy':>11} {'noSL/warp':>10}"
+        f"{'grid':>8} {'run':>9} {'run-noSL':>9} {'implicit':>9} {'numpy':>9} {'mujoco':>9} "
+        f"{'warp':>9} {'run/numpy':>10} {'run/mj':>7} {'run/warp':>9} {'noSL/numpy':>11} "
+        f"{'noSL/warp':>10}"
     )
     for n in args.sizes:
         contenders = {
             "run": lambda: run_rate(n, args.seconds),
             "run_free": lambda: run_rate(n, args.seconds, "--strain-limit", "0"),
-            "implicit": lambda: run_rate(n, 2 * args.seconds, "--integrator", "implicit", time_step=1 / 60),
+            "implicit": lambda: run_rate(
+                n, 2 * args.seconds, "--integrator", "implicit", time_step=1 / 60
+            ),
             "numpy": lambda: numpy_rate(n),
             "mujoco": lambda: mujoco_rate(n),
             "warp": lambda: warp_rate(n),
@@ -254,9 +290,9 @@ def main() -> None:
             return f"{a / b:{width}.2f}" if b else f"{'n/a':>{width}}"
 
         print(
-            f"{n:>4}x{n:<3} {run:9.0f} {run_free:9.0f} {implicit:9.1f} {numpy:9.0f} {_cell(mj)} {_cell(warp)} "
-            f"{ratio(run, numpy, 10)} {ratio(run, mj, 7)} {ratio(run, warp, 9)} {ratio(run_free, numpy, 11)} "
-            f"{ratio(run_free, warp, 10)}",
+            f"{n:>4}x{n:<3} {run:9.0f} {run_free:9.0f} {implicit:9.1f} {numpy:9.0f} {_cell(mj)} "
+            f"{_cell(warp)} {ratio(run, numpy, 10)} {ratio(run, mj, 7)} {ratio(run, warp, 9)} "
+            f"{ratio(run_free, numpy, 11)} {ratio(run_free, warp, 10)}",
             flush=True,
         )
 

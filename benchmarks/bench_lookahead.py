@@ -1,14 +1,17 @@
-"""Lookahead on the shipped gaits: survival, gait quality, pushes and its cost against playing without it.
+"""Lookahead on the shipped gaits: survival, gait quality, pushes and its cost against playing
+without it.
 
-Each shipped gait plays `--cycles` cycles with no reset, without its lookahead (the pulses and the reflex feedback
-as optimized) and with it, then with it under the issue's push test (0.5 N·s/kg sideways at five evenly spaced
-phases of cycle 3, ten cycles after). One row per gait and setting: cycles survived, speed, flight fraction,
-cadence, mean stance slip, largest frame jump, torso pitch and roll, pushes survived, and the wall time as a
-multiple of the played (simulated) time, the cost of the decisions. `--seeds N` plays the lookahead with N planner
-seeds to show how much survival hangs on one; `--feedback` plays each seed once more with the controller's balance
-feedback inside the plans and the played motion (`LookaheadSettings.feedback`), the ablation of docs/locomotion.md.
+Each shipped gait plays `--cycles` cycles with no reset, without its lookahead (the pulses and the
+reflex feedback as optimized) and with it, then with it under the issue's push test (0.5 N·s/kg
+sideways at five evenly spaced phases of cycle 3, ten cycles after). One row per gait and setting:
+cycles survived, speed, flight fraction, cadence, mean stance slip, largest frame jump, torso pitch
+and roll, pushes survived, and the wall time as a multiple of the played (simulated) time, the cost
+of the decisions. `--seeds N` plays the lookahead with N planner seeds to show how much survival
+hangs on one; `--feedback` plays each seed once more with the controller's balance feedback inside
+the plans and the played motion (`LookaheadSettings.feedback`), the ablation of docs/locomotion.md.
 
-Usage: python benchmarks/bench_lookahead.py [GAIT ...] [--cycles 20] [--seeds 1] [--feedback] [--no-pushes]
+Usage: python benchmarks/bench_lookahead.py [GAIT ...] [--cycles 20] [--seeds 1] [--feedback]
+[--no-pushes]
 """
 
 from __future__ import annotations
@@ -31,9 +34,11 @@ def row(name: str, setting: str, result, wall: float, pushes: list[bool] | None)
     played = len(result.qpos) / result.fps
     return (
         f"| {name} | {setting} | {result.cycles_completed} | {result.mean_speed_mps:.2f} | "
-        f"{q.get('flight_fraction', float('nan')):.2f} | {q.get('cadence_spm', float('nan')):.0f} | {slip:.3f} | "
-        f"{q.get('max_frame_jump_deg', float('nan')):.1f} | {q.get('torso_pitch_deg')} | {q.get('torso_roll_deg')} | "
-        f"{'-' if pushes is None else f'{sum(pushes)}/{len(pushes)}'} | {wall / max(played, 1e-9):.1f}× |"
+        f"{q.get('flight_fraction', float('nan')):.2f} | {q.get('cadence_spm', float('nan')):.0f} "
+        f"| {slip:.3f} | {q.get('max_frame_jump_deg', float('nan')):.1f} | "
+        f"{q.get('torso_pitch_deg')} | {q.get('torso_roll_deg')} | "
+        f"{'-' if pushes is None else f'{sum(pushes)}/{len(pushes)}'} | "
+        f"{wall / max(played, 1e-9):.1f}× |"
     )
 
 
@@ -42,12 +47,14 @@ def main() -> None:
     parser.add_argument("gaits", nargs="*", default=gait_names())
     parser.add_argument("--cycles", type=int, default=20)
     parser.add_argument("--seeds", type=int, default=1)
-    parser.add_argument("--feedback", action="store_true", help="also play with feedback inside the lookahead")
+    parser.add_argument(
+        "--feedback", action="store_true", help="also play with feedback inside the lookahead"
+    )
     parser.add_argument("--no-pushes", action="store_true")
     args = parser.parse_args()
     print(
-        "| gait | setting | cycles | speed m/s | flight | cadence /min | stance slip m | max frame jump ° | "
-        "torso pitch ° | torso roll ° | pushes | wall / played |"
+        "| gait | setting | cycles | speed m/s | flight | cadence /min | stance slip m | "
+        "max frame jump ° | torso pitch ° | torso roll ° | pushes | wall / played |"
     )
     print("|---|---|---:|---:|---:|---:|---:|---:|---|---|---:|---:|")
     for name in args.gaits:
@@ -65,7 +72,9 @@ def main() -> None:
                 t0 = time.perf_counter()
                 result = play(system, params, cycles=args.cycles, lookahead=planner)
                 wall = time.perf_counter() - t0
-                pushes = None if args.no_pushes else push_robustness(system, params, lookahead=planner)
+                pushes = (
+                    None if args.no_pushes else push_robustness(system, params, lookahead=planner)
+                )
                 label = f"lookahead{' + feedback' if feedback else ''} (seed {seed})"
                 print(row(name, label, result, wall, pushes), flush=True)
 

@@ -1,5 +1,5 @@
-"""Wall-clock of `eigengait modes CHARACTER --json` (the whole command, start-up included) per character,
-against the same process's `python -c pass` start-up as the baseline."""
+"""Wall-clock of `eigengait modes CHARACTER --json` (the whole command, start-up included) per
+character, against the same process's `python -c pass` start-up as the baseline."""
 
 from __future__ import annotations
 
@@ -22,9 +22,15 @@ def main() -> None:
     for name in builtin_names():
         for phase in ("air", "ground"):
             t = min(
-                timed([sys.executable, "-m", "eigengait", "modes", name, "--phase", phase, "--json"]) for _ in range(3)
+                timed(
+                    [sys.executable, "-m", "eigengait", "modes", name, "--phase", phase, "--json"]
+                )
+                for _ in range(3)
             )
-            print(f"eigengait modes {name:9s} --phase {phase:6s} --json: {t:.2f} s  ({t / python:.1f}× start-up)")
+            print(
+                f"eigengait modes {name:9s} --phase {phase:6s} --json: {t:.2f} s  "
+                f"({t / python:.1f}× start-up)"
+            )
 
 
 if __name__ == "__main__":

@@ -1,9 +1,10 @@
 """Wall-clock from the basic-run sketch to a closed-loop gait, on this machine's cores.
 
-Runs the two-stage optimization of `eigengait optimize basic-run` for at most `--minutes` (default 20) and reports,
-from each stage's log, when the best controller's cycle violation max|φᵢ| first fell below each tolerance, with the
-evaluations spent; then plays the result 20 cycles with no reset and prints its survival and gait quality. The
-same process first times one closed-loop population's evaluation as the unit cost (the baseline).
+Runs the two-stage optimization of `eigengait optimize basic-run` for at most `--minutes`
+(default 20) and reports, from each stage's log, when the best controller's cycle violation max|φᵢ|
+first fell below each tolerance, with the evaluations spent; then plays the result 20 cycles with no
+reset and prints its survival and gait quality. The same process first times one closed-loop
+population's evaluation as the unit cost (the baseline).
 """
 
 from __future__ import annotations
@@ -41,13 +42,18 @@ def main() -> None:
             sketch,
             folder,
             MomSettings(
-                seed=args.seed, max_seconds=args.minutes * 60, inner_generations=100, cycle_tolerance=args.tolerance
+                seed=args.seed,
+                max_seconds=args.minutes * 60,
+                inner_generations=100,
+                cycle_tolerance=args.tolerance,
             ),
             progress=False,
         )
         stages = {
             "open loop, 1 cycle": list(csv.DictReader(open(folder / STAGE_ONE / "log.csv"))),
-            f"closed loop, {sketch.feedback.horizon_cycles} cycles": list(csv.DictReader(open(folder / "log.csv"))),
+            f"closed loop, {sketch.feedback.horizon_cycles} cycles": list(
+                csv.DictReader(open(folder / "log.csv"))
+            ),
         }
         controller = load_controller(folder / "best_controller.json")
     print(
@@ -62,8 +68,8 @@ def main() -> None:
             if hit:
                 s = offset + float(hit["seconds"])
                 print(
-                    f"  violation < {tol:<4}: {s:6.0f} s from the sketch ({s / unit:6.0f} population units), "
-                    f"{hit['evaluations']} evaluations in the stage"
+                    f"  violation < {tol:<4}: {s:6.0f} s from the sketch ({s / unit:6.0f} "
+                    f"population units), {hit['evaluations']} evaluations in the stage"
                 )
             else:
                 print(f"  violation < {tol:<4}: not reached")

@@ -1,14 +1,17 @@
-"""Track every clip of the shared motion-capture corpus at five robustness values and print one Markdown table.
+"""Track every clip of the shared motion-capture corpus at five robustness values and print one
+Markdown table.
 
 Per clip (walker, cleaned feet, start frame 1, as `eigengait track` does by default) and robustness
-0, 0.25, 0.5, 0.75, 1: tracked time of the clip's duration, joint RMS error, COM error (RMS, m), simulated foot skate
-(m, mean per stance), mean artificial torque (N·m) and the largest sideways push survived.
+0, 0.25, 0.5, 0.75, 1: tracked time of the clip's duration, joint RMS error, COM error (RMS, m),
+simulated foot skate (m, mean per stance), mean artificial torque (N·m) and the largest sideways
+push survived.
 
-Push search (coarse): a 0.1 s push along +y on the torso (as `track --push`) at t = 0.5 s, forces 100, 200, 350,
-500, 700 N in turn until one fells the character; each pushed run lasts until 4.5 s after the push or the clip's
-end (the whole clip but for the 20 s laugh), and a push is survived when the character has not fallen by then.
-When the unpushed run already falls within that window the column says so instead. Prints the wall time at the end.
-Run: nice .venv/bin/python benchmarks/bench_tracking_corpus.py [CLIP.bvh ...]
+Push search (coarse): a 0.1 s push along +y on the torso (as `track --push`) at t = 0.5 s, forces
+100, 200, 350, 500, 700 N in turn until one fells the character; each pushed run lasts until 4.5 s
+after the push or the clip's end (the whole clip but for the 20 s laugh), and a push is survived
+when the character has not fallen by then. When the unpushed run already falls within that window
+the column says so instead. Prints the wall time at the end. Run: nice .venv/bin/python
+benchmarks/bench_tracking_corpus.py [CLIP.bvh ...]
 """
 
 from __future__ import annotations
@@ -31,8 +34,9 @@ SETTLE = 4.5  # s after the push: the whole clip for every clip of 5 s or less
 
 
 def largest_push(world, reference, robustness: float, unpushed) -> str:
-    """The push column: the largest of PUSH_FORCES survived, or why none was tried (`unpushed`: the clip's
-    tracking result without a push; the simulation is deterministic, so it also tells a shorter run's fate)."""
+    """The push column: the largest of PUSH_FORCES survived, or why none was tried (`unpushed`: the
+    clip's tracking result without a push; the simulation is deterministic, so it also tells a
+    shorter run's fate)."""
     window = min(reference.duration, PUSH_TIME + SETTLE)
     if unpushed.fell and unpushed.fall_time_s <= window:
         return f"— (falls at {unpushed.fall_time_s:.2f} s unpushed)"
@@ -49,8 +53,8 @@ def main() -> None:
     clips = [Path(a) for a in sys.argv[1:]] or sorted(CORPUS.glob("*.bvh"))
     start = time.perf_counter()
     print(
-        "| clip | robustness | tracked | joint RMS | COM error | foot skate (sim) | mean artificial torque | "
-        "largest push survived |\n|---|---:|---:|---:|---:|---:|---:|---|"
+        "| clip | robustness | tracked | joint RMS | COM error | foot skate (sim) | "
+        "mean artificial torque | largest push survived |\n|---|---:|---:|---:|---:|---:|---:|---|"
     )
     for clip in clips:
         ref = reference_poses(clip, "walker", None, 1)

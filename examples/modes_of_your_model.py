@@ -2,8 +2,9 @@
 
     python examples/modes_of_your_model.py [MODEL.xml] [--count N]
 
-Default model: dm_control's planar walker (no joint stiffness of its own, so it is chosen by `--stiffness auto`'s
-rule: each joint sags by a set angle under the weight it carries at the relax pose).
+Default model: dm_control's planar walker (no joint stiffness of its own, so it is chosen by
+`--stiffness auto`'s rule: each joint sags by a set angle under the weight it carries at the relax
+pose).
 """
 
 import argparse

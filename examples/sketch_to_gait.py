@@ -2,7 +2,8 @@
 
     python examples/sketch_to_gait.py [PRESET] [--evaluations N] [--output RUN_FOLDER]
 
-A real gait needs thousands of evaluations (README, "Shipped gaits"); the default budget only shows the calls.
+A real gait needs thousands of evaluations (README, "Shipped gaits"); the default budget only shows
+the calls.
 """
 
 import argparse
@@ -26,10 +27,16 @@ args = parser.parse_args()
 folder = args.output or Path(tempfile.mkdtemp(prefix="eigengait-")) / "run"
 sketch = load_sketch(resolve("sketch", args.preset))
 state = optimize_gait(sketch, folder, MomSettings(max_evaluations=args.evaluations), progress=False)
-print(f"{state.evaluations} evaluations, best cost {state.best.cost:.4g}, cycle violation {state.best.violation:.3g}")
+print(
+    f"{state.evaluations} evaluations, best cost {state.best.cost:.4g}, cycle violation "
+    f"{state.best.violation:.3g}"
+)
 
 controller = load_controller(folder / "best_controller.json")
 system = gait_system(controller)
 result = play(system, to_parameters(controller, system), cycles=2)
-print(f"played {result.cycles_completed} of 2 cycles, fell: {result.fell}, speed {result.mean_speed_mps:.2f} m/s")
+print(
+    f"played {result.cycles_completed} of 2 cycles, fell: {result.fell}, speed "
+    f"{result.mean_speed_mps:.2f} m/s"
+)
 print(f"run folder: {folder}")

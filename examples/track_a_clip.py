@@ -18,7 +18,13 @@ parser.add_argument("--robustness", type=float, default=0.5)
 args = parser.parse_args()
 
 world, reference, result = run_track(
-    Path(args.clip), "walker", args.robustness, push=None, mapping=None, start_frame=1, tolerance=0.0
+    Path(args.clip),
+    "walker",
+    args.robustness,
+    push=None,
+    mapping=None,
+    start_frame=1,
+    tolerance=0.0,
 )
 print(f"tracked {result.duration_s:.2f} of {reference.duration:.2f} s, fell: {result.fell}")
 print(

@@ -1,10 +1,11 @@
 """Picture strips and footfall diagrams of the shipped gaits for the README and the gallery: each gait played as
-shipped (with its lookahead, if it has one) for two cycles; the strip shows the second cycle from a fixed side
-camera (so travel shows), each tile stamped with its time, its phase in the cycle and the feet on the ground; below
-it, the contact diagram of both cycles, with the strip's frames marked.
+shipped (with its lookahead, if it has one) for two cycles; the strip shows the second cycle from a
+fixed side camera (so travel shows), each tile stamped with its time, its phase in the cycle and the
+feet on the ground; below it, the contact diagram of both cycles, with the strip's frames marked.
 
-Usage: python scripts/gait_strips.py [--output FOLDER] [GAIT ...]  ->  FOLDER/gait_<name>.png (default docs/images)
-"""
+Usage: python scripts/gait_strips.py [--output FOLDER] [GAIT ...] -> FOLDER/gait_<name>.png (default
+docs/images)
+"""  # noqa: E501
 
 from __future__ import annotations
 
@@ -34,7 +35,9 @@ OUT = Path(__file__).resolve().parents[1] / "docs" / "images"
 def strip(name: str, folder: Path) -> Path:
     controller = load_controller(resolve("gait", name))
     system = gait_system(controller)
-    result = play(system, to_parameters(controller, system), cycles=2, lookahead=controller.planner())
+    result = play(
+        system, to_parameters(controller, system), cycles=2, lookahead=controller.planner()
+    )
     world, period = system.world, controller.period
     times = np.arange(len(result.qpos)) / result.fps
     picks = period + np.arange(FRAMES) * period / FRAMES  # the second cycle
@@ -44,7 +47,11 @@ def strip(name: str, folder: Path) -> Path:
     width, title, chart = FRAMES * TILE[0], 34, 250  # pixels
     height = title + TILE[1] + chart
     fig = plt.figure(figsize=(width / 100, height / 100), dpi=100)
-    fell = f" — FELL at t = {times[-1]:.2f} s (tiles after it repeat the last pose)" if result.fell else ""
+    fell = (
+        f" — FELL at t = {times[-1]:.2f} s (tiles after it repeat the last pose)"
+        if result.fell
+        else ""
+    )
     fig.text(
         0.005,
         1 - 17 / height,
@@ -71,7 +78,9 @@ def strip(name: str, folder: Path) -> Path:
         if k:
             top.axvline(k * TILE[0] - 0.5, color="white", lw=2)
     diagram = fig.add_axes((0.07, 45 / height, 0.91, (chart - 120) / height))
-    contact_diagram(diagram, times, foot_contacts(world, result.qpos), list(world.foot_spheres), period, picks)
+    contact_diagram(
+        diagram, times, foot_contacts(world, result.qpos), list(world.foot_spheres), period, picks
+    )
     path = folder / f"gait_{name}.png"
     fig.savefig(path)
     plt.close(fig)
@@ -81,7 +90,9 @@ def strip(name: str, folder: Path) -> Path:
 if __name__ == "__main__":
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("gaits", nargs="*", help="shipped gait names (default: all)")
-    parser.add_argument("--output", type=Path, default=OUT, help="folder for the images (default: docs/images)")
+    parser.add_argument(
+        "--output", type=Path, default=OUT, help="folder for the images (default: docs/images)"
+    )
     args = parser.parse_args()
     args.output.mkdir(parents=True, exist_ok=True)
     for gait in args.gaits or gait_names():

@@ -1,12 +1,14 @@
-"""Play every shipped gait 20 cycles with physics only and print its quality against the locomotion targets.
+"""Play every shipped gait 20 cycles with physics only and print its quality against the locomotion
+targets.
 
-Usage: python scripts/gait_table.py [--recorded DIR]   (prints a Markdown table and, below it, each failed target;
-the swing clearance column is the lowest of the feet's mean swing clearances, "none" when a foot never lifts).
-Each gait is played with its lookahead and pushed, or, with --recorded, read from what `scripts/make_gaits.py
---measure-only` recorded in DIR (out/gait-measures).
-Targets (docs/locomotion.md): every gait 20 cycles without falling, no joint jump over 15° and no root jump over
-6 cm between 60 Hz frames, stance slip ≤ 3 cm, root pitch and roll within ±30°; per gait a speed, flight and
-cadence or footfall pattern; the run and the trot survive 4 of 5 sideways pushes of 0.5 N·s/kg in cycle 3.
+Usage: python scripts/gait_table.py [--recorded DIR] (prints a Markdown table and, below it, each
+failed target; the swing clearance column is the lowest of the feet's mean swing clearances, "none"
+when a foot never lifts). Each gait is played with its lookahead and pushed, or, with --recorded,
+read from what `scripts/make_gaits.py --measure-only` recorded in DIR (out/gait-measures).
+Targets (docs/locomotion.md): every gait 20 cycles without falling, no joint jump over 15° and no
+root jump over 6 cm between 60 Hz frames, stance slip ≤ 3 cm, root pitch and roll within ±30°; per
+gait a speed, flight and cadence or footfall pattern; the run and the trot survive 4 of 5 sideways
+pushes of 0.5 N·s/kg in cycle 3.
 """
 
 from __future__ import annotations
@@ -57,7 +59,8 @@ def targets(name: str, m: dict, pushes: list[bool]) -> dict[str, bool]:
                 "diagonal pairs together": known
                 and _phase_gap(f["front_left"], f["rear_right"]) <= 0.1
                 and _phase_gap(f["front_right"], f["rear_left"]) <= 0.1,
-                "pairs half a cycle apart": known and abs(_phase_gap(f["front_left"], f["front_right"]) - 0.5) <= 0.15,
+                "pairs half a cycle apart": known
+                and abs(_phase_gap(f["front_left"], f["front_right"]) - 0.5) <= 0.15,
             }
         )
     if name in ("humanoid-basic-run", "dog-trot"):
@@ -70,8 +73,9 @@ def main() -> None:
     parser.add_argument("--recorded", type=Path, default=None)
     args = parser.parse_args()
     print(
-        "| gait | played with | cycles | speed (m/s) | cadence (steps/min) | flight | swing clearance (m) | "
-        "stance slip (m) | pitch (°) | roll (°) | max jump (°) | mean τ² ((N·m)²) | pushes (of 5) | targets met |"
+        "| gait | played with | cycles | speed (m/s) | cadence (steps/min) | flight | "
+        "swing clearance (m) | stance slip (m) | pitch (°) | roll (°) | max jump (°) | "
+        "mean τ² ((N·m)²) | pushes (of 5) | targets met |"
     )
     print("|---|---|---:|---:|---:|---:|---:|---:|---|---|---:|---:|---:|---|")
     failures = []
@@ -93,13 +97,15 @@ def main() -> None:
         roll = "{:.0f} … {:.0f}".format(*m["torso_roll_deg"])
         lifts = list(m["swing_clearance_m"].values())
         clearance = "none" if None in lifts else f"{min(lifts):.3f}"
-        control = ("lookahead" if m["lookahead"] else "pulses") + (f", {lag * 1000:.0f} ms lag" if lag else "")
+        control = ("lookahead" if m["lookahead"] else "pulses") + (
+            f", {lag * 1000:.0f} ms lag" if lag else ""
+        )
         print(
             f"| `{name}` | {control} | {m['cycles_completed']}{' (fell)' if m['fell'] else ''} | "
             f"{m['mean_speed_mps']:.2f} | "
-            f"{m['cadence_spm']:.0f} | {m['flight_fraction']:.2f} | {clearance} | {m['stance_slip_max_m']} | "
-            f"{pitch} | {roll} | {m['max_frame_jump_deg']:.1f} | {m['mean_squared_torque']:.0f} | {pushed} | "
-            f"{sum(met.values())} of {len(met)} |"
+            f"{m['cadence_spm']:.0f} | {m['flight_fraction']:.2f} | {clearance} | "
+            f"{m['stance_slip_max_m']} | {pitch} | {roll} | {m['max_frame_jump_deg']:.1f} | "
+            f"{m['mean_squared_torque']:.0f} | {pushed} | {sum(met.values())} of {len(met)} |"
         )
     print()
     for f in failures:

@@ -1,9 +1,10 @@
-"""Write docs/gallery.md: every shipped gait with its sketch, a strip of one cycle, its quality and how much of it is
-still its sketch.
+"""Write docs/gallery.md: every shipped gait with its sketch, a strip of one cycle, its quality and
+how much of it is still its sketch.
 
 Usage: python scripts/gallery.py [--recorded DIR]
-Reads what `scripts/make_gaits.py --measure-only` recorded in DIR (default out/gait-measures: the 20-cycle plays
-with and without lookahead) and the strips `scripts/gait_strips.py` drew in docs/images; plays nothing itself.
+Reads what `scripts/make_gaits.py --measure-only` recorded in DIR (default out/gait-measures: the
+20-cycle plays with and without lookahead) and the strips `scripts/gait_strips.py` drew in
+docs/images; plays nothing itself.
 """
 
 from __future__ import annotations
@@ -24,16 +25,28 @@ REFERENCE = "humanoid-basic-run"  # the experiments' signatures are read against
 SIGNATURES = {  # experiment gait -> (figure, how to read it off the played summary, unit)
     "humanoid-lateral-sway": ("lateral COM amplitude", lambda m: m["lateral_com_amplitude_m"], "m"),
     "humanoid-vertical-rotation": ("root yaw amplitude", lambda m: m["yaw_amplitude_deg"], "°"),
-    "humanoid-skipping": ("touchdowns per foot per cycle", lambda m: min(m["touchdowns_per_cycle"].values()), ""),
+    "humanoid-skipping": (
+        "touchdowns per foot per cycle",
+        lambda m: min(m["touchdowns_per_cycle"].values()),
+        "",
+    ),
     "humanoid-crouched": ("mean root height", lambda m: m["mean_root_height_m"], "m"),
     "humanoid-legs-apart": ("stance width", lambda m: m["stance_width_m"], "m"),
-    "humanoid-one-foot-hop": ("right (raised) foot's lowest height", lambda m: m["min_foot_height_m"]["right"], "m"),
+    "humanoid-one-foot-hop": (
+        "right (raised) foot's lowest height",
+        lambda m: m["min_foot_height_m"]["right"],
+        "m",
+    ),
 }
 
 
 def _modes(phase) -> str:
     priority = ", ".join(f"{m}: {v:+.0f}" for m, v in sorted(phase.priority.items()))
-    allowed = "all not excluded" if phase.allowed is None else ", ".join(map(str, phase.allowed)) or "none"
+    allowed = (
+        "all not excluded"
+        if phase.allowed is None
+        else ", ".join(map(str, phase.allowed)) or "none"
+    )
     return f"priority {{{priority or 'none'}}} N·m; allowed {allowed}"
 
 
@@ -51,28 +64,35 @@ def section(name: str, record: dict, reference: dict | None) -> str:
     controller = load_controller(resolve("gait", name))
     sketch = load_sketch(resolve("sketch", GAITS[name]))
     m = record["played"]
-    planner = "with its lookahead" if m.get("lookahead") else "without lookahead (it lasts longer so)"
+    planner = (
+        "with its lookahead" if m.get("lookahead") else "without lookahead (it lasts longer so)"
+    )
     if record.get("activation_time"):
-        planner += f", its motors lagging {1000 * record['activation_time']:.0f} ms behind their commands"
+        planner += (
+            f", its motors lagging {1000 * record['activation_time']:.0f} ms behind their commands"
+        )
     survived = f"{m['cycles_completed']} of 20 cycles" + (" (fell)" if m["fell"] else "")
     lines = [
         f"## `{name}`",
         "",
-        f"*Sketch `{GAITS[name]}`* ({sketch.character}, {sketch.basis} basis): {sketch.description}",
-        f"air: {_modes(sketch.air)}; ground: {_modes(sketch.ground)}; sketched period {sketch.timing.period} s,"
-        f" optimized {controller.period:.3f} s.",
+        f"*Sketch `{GAITS[name]}`* ({sketch.character}, {sketch.basis} basis): "
+        f"{sketch.description}",
+        f"air: {_modes(sketch.air)}; ground: {_modes(sketch.ground)}; sketched period "
+        f"{sketch.timing.period} s, optimized {controller.period:.3f} s.",
         "",
         f"![{name}](images/gait_{name}.png)",
         "",
         f"Played 20 cycles {planner}, no reset: {survived}, {m['mean_speed_mps']:.2f} m/s, cadence "
         f"{m['cadence_spm']:.0f} steps/min, flight {m['flight_fraction']:.2f}, stance slip "
-        f"{_value(m['stance_slip_max_m'], 'm')}, pitch {m['torso_pitch_deg'][0]:.0f}…{m['torso_pitch_deg'][1]:.0f}°, "
-        f"roll {m['torso_roll_deg'][0]:.0f}…{m['torso_roll_deg'][1]:.0f}°, largest frame jump "
+        f"{_value(m['stance_slip_max_m'], 'm')}, pitch "
+        f"{m['torso_pitch_deg'][0]:.0f}…{m['torso_pitch_deg'][1]:.0f}°, roll "
+        f"{m['torso_roll_deg'][0]:.0f}…{m['torso_roll_deg'][1]:.0f}°, largest frame jump "
         f"{m['max_frame_jump_deg']:.0f}°, cost of transport {_value(m['cost_of_transport'], '')}.",
         "",
-        f"Torque energy in priority / allowed / excluded modes: played {_split(m.get('energy_split'))}, pulses alone "
-        f"{_split(m.get('pulse_energy_split'))}; ψ against the sketch's: cosine {_value(m.get('psi_cosine'), '')}, "
-        f"priority share of Σ|ψ| {_value(m.get('psi_priority_share'), '')}.",
+        "Torque energy in priority / allowed / excluded modes: played "
+        f"{_split(m.get('energy_split'))}, pulses alone {_split(m.get('pulse_energy_split'))}; ψ "
+        f"against the sketch's: cosine {_value(m.get('psi_cosine'), '')}, priority share of Σ|ψ| "
+        f"{_value(m.get('psi_priority_share'), '')}.",
     ]
     if name in SIGNATURES:
         label, read, unit = SIGNATURES[name]
@@ -84,9 +104,10 @@ def section(name: str, record: dict, reference: dict | None) -> str:
 def summary_table(records: dict) -> str:
     """One row per gait: the energy split, ψ against the sketch, and every signature figure."""
     rows = [
-        "| gait | played torque: priority / allowed / excluded | pulses alone | ψ cosine | priority share of Σ|ψ| "
-        "| lateral COM amplitude (m) | yaw amplitude (°) | fewest touchdowns per foot per cycle | mean root height (m) "
-        "| stance width (m) | highest foot's lowest height (m) |",
+        "| gait | played torque: priority / allowed / excluded | pulses alone | ψ cosine | "
+        "priority share of Σ|ψ| | lateral COM amplitude (m) | yaw amplitude (°) | "
+        "fewest touchdowns per foot per cycle | mean root height (m) | stance width (m) | "
+        "highest foot's lowest height (m) |",
         "|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|",
     ]
     for name, record in records.items():
@@ -97,14 +118,17 @@ def summary_table(records: dict) -> str:
             f"| `{name}` | {_split(m.get('energy_split'))} | {_split(m.get('pulse_energy_split'))} "
             f"| {_value(m.get('psi_cosine'), '')} | {_value(m.get('psi_priority_share'), '')} "
             f"| {_value(m['lateral_com_amplitude_m'], '')} | {_value(m['yaw_amplitude_deg'], '')} "
-            f"| {_value(min(touchdowns, default=None), '')} | {_value(m['mean_root_height_m'], '')} "
-            f"| {_value(m['stance_width_m'], '')} | {_value(max(lowest, default=None), '')} |"
+            f"| {_value(min(touchdowns, default=None), '')} | "
+            f"{_value(m['mean_root_height_m'], '')} | {_value(m['stance_width_m'], '')} | "
+            f"{_value(max(lowest, default=None), '')} |"
         )
     return "\n".join(rows)
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser = argparse.ArgumentParser(
+        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
     parser.add_argument("--recorded", type=Path, default=MEASURES)
     args = parser.parse_args()
     records = {n: json.loads((args.recorded / f"{n}.json").read_text()) for n in gait_names()}
@@ -112,18 +136,23 @@ def main() -> None:
     head = [
         "# Gallery of the shipped gaits",
         "",
-        "Written by `python scripts/gallery.py` from the figures `scripts/make_gaits.py --measure-only` recorded; the "
-        "strips are `scripts/gait_strips.py`'s (the second of two cycles played as shipped, from a fixed side camera, "
-        "with the feet on the ground below). The figures are defined in the README (Playback); the energy split "
-        "is `control/sketch_character.py`'s.",
+        "Written by `python scripts/gallery.py` from the figures `scripts/make_gaits.py "
+        "--measure-only` recorded; the strips are `scripts/gait_strips.py`'s (the second of two "
+        "cycles played as shipped, from a fixed side camera, with the feet on the ground below). "
+        "The figures are defined in the README (Playback); the energy split is "
+        "`control/sketch_character.py`'s.",
         "",
         "## Does each gait keep its sketch's character?",
         "",
-        "Each experiment's own figure is in its section below, against the basic run's. All of them, for every gait:",
+        "Each experiment's own figure is in its section below, against the basic run's. All of "
+        "them, for every gait:",
         "",
         summary_table(records),
     ]
-    PAGE.write_text("\n\n".join(["\n".join(head)] + [section(n, r, reference) for n, r in records.items()]) + "\n")
+    PAGE.write_text(
+        "\n\n".join(["\n".join(head)] + [section(n, r, reference) for n, r in records.items()])
+        + "\n"
+    )
     print(f"wrote {PAGE}")
 
 

@@ -1,8 +1,10 @@
-"""Regenerate the built-in character library (MJCF + sidecar YAML) in src/eigengait/data/characters/.
+"""Regenerate the built-in character library (MJCF + sidecar YAML) in
+src/eigengait/data/characters/.
 
-Every creature is a tree of boxes (water density, 1000 kg/m³) joined by ball joints at the child body's origin,
-in MuJoCo's z-up world, facing +x with its left side at +y. Feet carry `<site>`s named `<foot>_toe` and
-`<foot>_heel`; the world turns them into contact spheres. Run: `python scripts/make_characters.py`.
+Every creature is a tree of boxes (water density, 1000 kg/m³) joined by ball joints at the child
+body's origin, in MuJoCo's z-up world, facing +x with its left side at +y. Feet carry `<site>`s
+named `<foot>_toe` and `<foot>_heel`; the world turns them into contact spheres. Run:
+`python scripts/make_characters.py`.
 """
 
 from __future__ import annotations
@@ -81,7 +83,9 @@ def write(name: str, root: Limb, meta: dict, comment: str) -> None:
     lines += ["  </worldbody>", "</mujoco>", ""]
     OUT.mkdir(parents=True, exist_ok=True)
     (OUT / f"{name}.xml").write_text("\n".join(lines))
-    (OUT / f"{name}.eigengait.yaml").write_text(yaml.safe_dump({"eigengait": 1, **meta}, sort_keys=False))
+    (OUT / f"{name}.eigengait.yaml").write_text(
+        yaml.safe_dump({"eigengait": 1, **meta}, sort_keys=False)
+    )
 
 
 # ---------------------------------------------------------------- shared limbs
@@ -119,7 +123,10 @@ def leg(side: str, y: float, k_hip: float, k_knee: float) -> Limb:
             Limb(
                 f"{side}_shin",
                 (0, 0, -0.42),
-                [Box((0.05, 0.05, 0.20), (0, 0, -0.20)), Box((0.11, 0.05, 0.03), (0.06, 0, -0.44), SKIN)],
+                [
+                    Box((0.05, 0.05, 0.20), (0, 0, -0.20)),
+                    Box((0.11, 0.05, 0.03), (0.06, 0, -0.44), SKIN),
+                ],
                 k_knee,
                 110,
                 sites={f"{side}_toe": (0.15, 0, -0.48), f"{side}_heel": (-0.03, 0, -0.48)},
@@ -134,20 +141,29 @@ LR_PAIRS = {
     "left_upper_arm": "right_upper_arm",
     "left_forearm": "right_forearm",
 }
-BIPED_FEET = {"left": {"toe": "left_toe", "heel": "left_heel"}, "right": {"toe": "right_toe", "heel": "right_heel"}}
+BIPED_FEET = {
+    "left": {"toe": "left_toe", "heel": "left_heel"},
+    "right": {"toe": "right_toe", "heel": "right_heel"},
+}
 
 
 def humanoid_torso(extra_arms: bool) -> Limb:
     arms = [arm("left", 0.16, 0.32, 60, 40), arm("right", 0.16, 0.32, 60, 40)]
     if extra_arms:
-        arms += [arm("left", 0.16, 0.14, 60, 40, "_second"), arm("right", 0.16, 0.14, 60, 40, "_second")]
+        arms += [
+            arm("left", 0.16, 0.14, 60, 40, "_second"),
+            arm("right", 0.16, 0.14, 60, 40, "_second"),
+        ]
     return Limb(
         "torso",
         (0, 0, 0.08),
         [Box((0.10, 0.16, 0.18), (0, 0, 0.18))],
         500,
         60,
-        children=[Limb("head", (0, 0, 0.36), [Box((0.09, 0.08, 0.11), (0, 0, 0.12), SKIN)], 60, 60), *arms],
+        children=[
+            Limb("head", (0, 0, 0.36), [Box((0.09, 0.08, 0.11), (0, 0, 0.12), SKIN)], 60, 60),
+            *arms,
+        ],
     )
 
 
@@ -156,7 +172,11 @@ def biped(extra_arms: bool) -> Limb:
         "pelvis",
         (0, 0, 1.0),
         [Box((0.10, 0.15, 0.08), (0, 0, 0))],
-        children=[humanoid_torso(extra_arms), leg("left", 0.09, 400, 300), leg("right", 0.09, 400, 300)],
+        children=[
+            humanoid_torso(extra_arms),
+            leg("left", 0.09, 400, 300),
+            leg("right", 0.09, 400, 300),
+        ],
     )
 
 
@@ -186,7 +206,11 @@ def humanoid() -> None:
 
 
 def monster() -> None:
-    pairs = dict(LR_PAIRS, left_second_upper_arm="right_second_upper_arm", left_second_forearm="right_second_forearm")
+    pairs = dict(
+        LR_PAIRS,
+        left_second_upper_arm="right_second_upper_arm",
+        left_second_forearm="right_second_forearm",
+    )
     write(
         "monster",
         biped(True),
@@ -208,12 +232,30 @@ def kangaroo() -> None:
         80,
         sites={"foot_toe": (0.20, 0, -0.035), "foot_heel": (-0.02, 0, -0.035)},
     )
-    shin = Limb("shin", (0, 0, -0.38), [Box((0.06, 0.10, 0.18), (0, 0, -0.18))], 350, 110, children=[foot])
-    thigh = Limb("thigh", (0.02, 0, -0.06), [Box((0.08, 0.12, 0.19), (0, 0, -0.19))], 450, 100, children=[shin])
+    shin = Limb(
+        "shin", (0, 0, -0.38), [Box((0.06, 0.10, 0.18), (0, 0, -0.18))], 350, 110, children=[foot]
+    )
+    thigh = Limb(
+        "thigh",
+        (0.02, 0, -0.06),
+        [Box((0.08, 0.12, 0.19), (0, 0, -0.19))],
+        450,
+        100,
+        children=[shin],
+    )
     tail2 = Limb("tail_tip", (-0.30, 0, 0), [Box((0.15, 0.03, 0.03), (-0.15, 0, 0))], 40, 60)
-    tail1 = Limb("tail", (-0.10, 0, -0.02), [Box((0.15, 0.05, 0.05), (-0.15, 0, 0))], 120, 60, children=[tail2])
+    tail1 = Limb(
+        "tail",
+        (-0.10, 0, -0.02),
+        [Box((0.15, 0.05, 0.05), (-0.15, 0, 0))],
+        120,
+        60,
+        children=[tail2],
+    )
     head = Limb("head", (0, 0, 0.12), [Box((0.10, 0.06, 0.06), (0.05, 0, 0.04), SKIN)], 30, 60)
-    neck = Limb("neck", (0.06, 0, 0.34), [Box((0.04, 0.04, 0.06), (0, 0, 0.06))], 60, 50, children=[head])
+    neck = Limb(
+        "neck", (0.06, 0, 0.34), [Box((0.04, 0.04, 0.06), (0, 0, 0.06))], 60, 50, children=[head]
+    )
     torso = Limb(
         "torso",
         (0, 0, 0.07),
@@ -226,14 +268,19 @@ def kangaroo() -> None:
         limb.boxes = [Box((0.03, 0.03, 0.09), (0, limb.boxes[0].centre[1], -0.09))]
         limb.children[0].pos = (0, limb.children[0].pos[1], -0.18)
         limb.children[0].boxes = [Box((0.025, 0.025, 0.08), (0, 0, -0.08), SKIN)]
-    root = Limb("pelvis", (0, 0, 0.92), [Box((0.10, 0.13, 0.07), (0, 0, 0))], children=[torso, tail1, thigh])
+    root = Limb(
+        "pelvis", (0, 0, 0.92), [Box((0.10, 0.13, 0.07), (0, 0, 0))], children=[torso, tail1, thigh]
+    )
     write(
         "kangaroo",
         root,
         {
             "feet": {"foot": {"toe": "foot_toe", "heel": "foot_heel"}},
             "gait_order": ["foot"],
-            "mirror": {"axis": "y", "pairs": {"left_upper_arm": "right_upper_arm", "left_forearm": "right_forearm"}},
+            "mirror": {
+                "axis": "y",
+                "pairs": {"left_upper_arm": "right_upper_arm", "left_forearm": "right_forearm"},
+            },
         },
         "a one-legged hopper, 12 ball joints, 36 internal DOF",
     )
@@ -250,14 +297,26 @@ def dog() -> None:
             sites={f"{name}_toe": (0.06, 0, -0.02), f"{name}_heel": (-0.02, 0, -0.02)},
         )
         lower = Limb(
-            f"{name}_lower", (0, 0, -0.20), [Box((0.025, 0.025, 0.10), (0, 0, -0.10))], 60, 110, children=[paw]
+            f"{name}_lower",
+            (0, 0, -0.20),
+            [Box((0.025, 0.025, 0.10), (0, 0, -0.10))],
+            60,
+            110,
+            children=[paw],
         )
         return Limb(
-            f"{name}_upper", (x, y, -0.06), [Box((0.035, 0.035, 0.10), (0, 0, -0.10))], 90, 100, children=[lower]
+            f"{name}_upper",
+            (x, y, -0.06),
+            [Box((0.035, 0.035, 0.10), (0, 0, -0.10))],
+            90,
+            100,
+            children=[lower],
         )
 
     head = Limb("head", (0.10, 0, 0.06), [Box((0.09, 0.05, 0.05), (0.07, 0, 0), SKIN)], 15, 60)
-    neck = Limb("neck", (0.16, 0, 0.03), [Box((0.06, 0.04, 0.04), (0.05, 0, 0.03))], 40, 60, children=[head])
+    neck = Limb(
+        "neck", (0.16, 0, 0.03), [Box((0.06, 0.04, 0.04), (0.05, 0, 0.03))], 40, 60, children=[head]
+    )
     tail = Limb("tail", (-0.16, 0, 0.03), [Box((0.10, 0.015, 0.015), (-0.10, 0, 0))], 3, 70)
     chest = Limb(
         "chest",
@@ -271,10 +330,16 @@ def dog() -> None:
         "hips",
         (0, 0, 0.52),
         [Box((0.16, 0.08, 0.07), (0, 0, 0))],
-        children=[chest, tail, dog_leg("rear_left", -0.08, 0.06), dog_leg("rear_right", -0.08, -0.06)],
+        children=[
+            chest,
+            tail,
+            dog_leg("rear_left", -0.08, 0.06),
+            dog_leg("rear_right", -0.08, -0.06),
+        ],
     )
     feet = {
-        n: {"toe": f"{n}_toe", "heel": f"{n}_heel"} for n in ("front_left", "front_right", "rear_left", "rear_right")
+        n: {"toe": f"{n}_toe", "heel": f"{n}_heel"}
+        for n in ("front_left", "front_right", "rear_left", "rear_right")
     }
     pairs = {f"front_left_{p}": f"front_right_{p}" for p in ("upper", "lower", "paw")}
     pairs |= {f"rear_left_{p}": f"rear_right_{p}" for p in ("upper", "lower", "paw")}
@@ -295,7 +360,11 @@ def snake() -> None:
     body = None
     for i in reversed(range(1, segment_count)):
         children = [] if body is None else [body]
-        sites = {"tail_toe": (-0.36, 0, -0.02), "tail_heel": (-0.30, 0, -0.02)} if i == segment_count - 1 else {}
+        sites = (
+            {"tail_toe": (-0.36, 0, -0.02), "tail_heel": (-0.30, 0, -0.02)}
+            if i == segment_count - 1
+            else {}
+        )
         body = Limb(
             f"segment_{i}",
             (-0.20 if i > 1 else -0.10, 0, 0),
@@ -327,7 +396,8 @@ def snake() -> None:
 
 
 def walker_leg(side: str, y: float) -> Limb:
-    """Thigh, shin and a foot body on a ball-joint ankle (the humanoid's leg with the foot split off the shin)."""
+    """Thigh, shin and a foot body on a ball-joint ankle (the humanoid's leg with the foot split off
+    the shin)."""
     s = 1 if side == "left" else -1
     foot = Limb(
         f"{side}_foot",
@@ -337,14 +407,27 @@ def walker_leg(side: str, y: float) -> Limb:
         60,
         sites={f"{side}_toe": (0.15, 0, -0.08), f"{side}_heel": (-0.03, 0, -0.08)},
     )
-    shin = Limb(f"{side}_shin", (0, 0, -0.42), [Box((0.05, 0.05, 0.20), (0, 0, -0.20))], 300, 110, children=[foot])
+    shin = Limb(
+        f"{side}_shin",
+        (0, 0, -0.42),
+        [Box((0.05, 0.05, 0.20), (0, 0, -0.20))],
+        300,
+        110,
+        children=[foot],
+    )
     return Limb(
-        f"{side}_thigh", (0, s * y, -0.08), [Box((0.065, 0.065, 0.21), (0, 0, -0.21))], 400, 100, children=[shin]
+        f"{side}_thigh",
+        (0, s * y, -0.08),
+        [Box((0.065, 0.065, 0.21), (0, 0, -0.21))],
+        400,
+        100,
+        children=[shin],
     )
 
 
 def walker() -> None:
-    """A humanoid with ankles, for tracking motion capture (stance feet flat while the shin rolls over them)."""
+    """A humanoid with ankles, for tracking motion capture (stance feet flat while the shin rolls
+    over them)."""
     root = Limb(
         "pelvis",
         (0, 0, 1.0),

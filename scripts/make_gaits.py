@@ -1,10 +1,12 @@
-"""Regenerate the shipped optimized gaits in src/eigengait/data/gaits/ with eigengait's own optimizer.
+"""Regenerate the shipped optimized gaits in src/eigengait/data/gaits/ with eigengait's own
+optimizer.
 
-Usage: python scripts/make_gaits.py [GAIT ...] [--evaluations N] [--max-outer N] [--runs DIR] [--harden-minutes M]
-Each gait is a sketch preset optimized from a fixed seed, then (with --harden-minutes) hardened against falls
-under sampled pushes (`eigengait harden`, optimize/survival.py); the best controller is copied into the package
-with its playback metrics. `--harden-only` hardens the shipped gaits as they are. Runs are kept in DIR (default
-out/gait-runs) and resume if interrupted.
+Usage: python scripts/make_gaits.py [GAIT ...] [--evaluations N] [--max-outer N] [--runs DIR]
+[--harden-minutes M] Each gait is a sketch preset optimized from a fixed seed, then (with
+--harden-minutes) hardened against falls under sampled pushes (`eigengait harden`,
+optimize/survival.py); the best controller is copied into the package with its playback metrics.
+`--harden-only` hardens the shipped gaits as they are. Runs are kept in DIR (default out/gait-runs)
+and resume if interrupted.
 """
 
 from __future__ import annotations
@@ -49,14 +51,23 @@ GAITS = {
     "humanoid-trivial-selection": "trivial-selection",
 }
 PUSHED = ("humanoid-basic-run", "dog-trot")  # the gaits with a push target (docs/locomotion.md)
-WITHOUT = "without_lookahead_"  # prefix of the figures of the same gait played without its lookahead
+# prefix of the figures of the same gait played without its lookahead
+WITHOUT = "without_lookahead_"
 PACKAGE = Path(__file__).resolve().parents[1] / "src" / "eigengait" / "data" / "gaits"
-ACTIVATION_TIME = 0.04  # s: the motor lag every gait is also measured with (docs/locomotion.md, "Motor activation")
-MEASURES = Path("out/gait-measures")  # each gait's full playback summaries, read by scripts/gait_table.py
+# s: the motor lag every gait is also measured with (docs/locomotion.md, "Motor activation")
+ACTIVATION_TIME = 0.04
+# each gait's full playback summaries, read by scripts/gait_table.py
+MEASURES = Path("out/gait-measures")
 
 
 def make(
-    gait: str, evaluations: int, runs: Path, seed: int, max_outer: int, minutes: float | None, horizon: int | None
+    gait: str,
+    evaluations: int,
+    runs: Path,
+    seed: int,
+    max_outer: int,
+    minutes: float | None,
+    horizon: int | None,
 ):
     sketch_path = resolve("sketch", GAITS[gait])
     folder = runs / gait
@@ -90,7 +101,8 @@ def make(
 
 
 def hardened(controller, folder: Path, minutes: float, seed: int):
-    """The controller after `minutes` of survival optimization in `folder` (resumed if interrupted)."""
+    """The controller after `minutes` of survival optimization in `folder` (resumed if
+    interrupted)."""
     system = gait_system(controller)
     start = to_parameters(controller, system)
     before = play(system, start, cycles=20)
@@ -99,17 +111,27 @@ def hardened(controller, folder: Path, minutes: float, seed: int):
     planner = controller.planner()
     resume = (folder / CHECKPOINT).exists()
     harden(
-        system, start, figures, folder, settings, resume, controller.name, lookahead=planner, sketch=controller.sketch
+        system,
+        start,
+        figures,
+        folder,
+        settings,
+        resume,
+        controller.name,
+        lookahead=planner,
+        sketch=controller.sketch,
     )
     out = load_controller(folder / "best_controller.json")
-    spent = controller.metrics.get("hardening_minutes", 0.0) + minutes  # earlier hardening of the start included
+    # earlier hardening of the start included
+    spent = controller.metrics.get("hardening_minutes", 0.0) + minutes
     out.name, out.metrics = controller.name, {**controller.metrics, "hardening_minutes": spent}
     return out
 
 
 def played(controller) -> dict:
-    """The controller played 20 cycles with physics only, without and with its lookahead; the lookahead is kept
-    (`lookahead` None otherwise) only if it survives at least as long. Returns the figures and what was kept."""
+    """The controller played 20 cycles with physics only, without and with its lookahead; the
+    lookahead is kept (`lookahead` None otherwise) only if it survives at least as long. Returns the
+    figures and what was kept."""
     system = gait_system(controller)
     params = to_parameters(controller, system)
     described = lambda result: {  # noqa: E731
@@ -121,7 +143,13 @@ def played(controller) -> dict:
     lookahead = controller.lookahead
     if free["cycles_completed"] < alone["cycles_completed"]:
         lookahead, free = None, alone
-    return {"system": system, "params": params, "alone": alone, "free": free, "lookahead": lookahead}
+    return {
+        "system": system,
+        "params": params,
+        "alone": alone,
+        "free": free,
+        "lookahead": lookahead,
+    }
 
 
 def rank(play: dict) -> tuple:
@@ -130,17 +158,19 @@ def rank(play: dict) -> tuple:
 
 
 def measure(controller) -> None:
-    """Play the controller as it is and with its motors' activation time switched (`ACTIVATION_TIME` when it has
-    none, none when it has one), each with its lookahead (given the sketch's mean speed as its target if it has
-    none) and without; ship the variant that survives longest (then: the smaller frame jumps), with its lookahead
-    only if that survives at least as long; push the gaits that have a push target; record the figures."""
+    """Play the controller as it is and with its motors' activation time switched (`ACTIVATION_TIME`
+    when it has none, none when it has one), each with its lookahead (given the sketch's mean speed
+    as its target if it has none) and without; ship the variant that survives longest (then: the
+    smaller frame jumps), with its lookahead only if that survives at least as long; push the gaits
+    that have a push target; record the figures."""
     sketch = load_sketch(resolve("sketch", GAITS[controller.name]))
     controller.sketch = sketch_modes(sketch)
     if controller.lookahead is None:
         controller.lookahead = LookaheadFile(speed=sketch.targets.mean_speed)
     switched = None if controller.activation_time is not None else ACTIVATION_TIME
     variants = {
-        tau: controller.model_copy(update={"activation_time": tau}) for tau in (controller.activation_time, switched)
+        tau: controller.model_copy(update={"activation_time": tau})
+        for tau in (controller.activation_time, switched)
     }
     plays = {tau: played(c) for tau, c in variants.items()}
     for tau, run in plays.items():
@@ -153,15 +183,27 @@ def measure(controller) -> None:
     controller.lookahead = best["lookahead"]
     planner = controller.planner()
     system, params, alone, free = best["system"], best["params"], best["alone"], best["free"]
-    pushes = push_robustness(system, params, lookahead=planner) if controller.name in PUSHED else None
+    pushes = (
+        push_robustness(system, params, lookahead=planner) if controller.name in PUSHED else None
+    )
     kept = {
         k: controller.metrics[k]
-        for k in ("cycle_tolerance", "evaluations", "optimizer_seconds", "horizon_cycles", "hardening_minutes")
+        for k in (
+            "cycle_tolerance",
+            "evaluations",
+            "optimizer_seconds",
+            "horizon_cycles",
+            "hardening_minutes",
+        )
         if k in controller.metrics
     }
-    numbers = lambda summary: {k: v for k, v in summary.items() if isinstance(v, (int, float, bool)) and v is not None}  # noqa: E731
+    numbers = lambda summary: {  # noqa: E731
+        k: v for k, v in summary.items() if isinstance(v, (int, float, bool)) and v is not None
+    }
     controller.metrics = numbers(free)
-    controller.metrics.update({f"{WITHOUT}{k}": v for k, v in numbers(alone).items() if k != "lookahead"})
+    controller.metrics.update(
+        {f"{WITHOUT}{k}": v for k, v in numbers(alone).items() if k != "lookahead"}
+    )
     controller.metrics.update(kept)
     controller.measured_on = build_fingerprint()
     if pushes is not None:
@@ -174,9 +216,13 @@ def measure(controller) -> None:
         "without_lookahead": alone,
         "pushes": pushes,
         "activation_time": tau,
-        "other_activation": {"activation_time": others[0], "played": plays[others[0]]["free"]} if others else None,
+        "other_activation": {"activation_time": others[0], "played": plays[others[0]]["free"]}
+        if others
+        else None,
     }
-    (MEASURES / f"{controller.name}.json").write_text(json.dumps(record, indent=1), encoding="utf-8")
+    (MEASURES / f"{controller.name}.json").write_text(
+        json.dumps(record, indent=1), encoding="utf-8"
+    )
     print(json.dumps({"gait": controller.name, **controller.metrics}))
 
 
@@ -188,10 +234,18 @@ def main() -> None:
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument("--max-outer", type=int, default=20, help="multiplier iterations at most")
     parser.add_argument("--minutes", type=float, default=None, help="wall-clock budget per gait")
-    parser.add_argument("--horizon", type=int, default=None, help="cycles per candidate (default: the sketch's)")
-    parser.add_argument("--harden-minutes", type=float, default=0.0, help="survival optimization after (min)")
-    parser.add_argument("--harden-only", action="store_true", help="harden the shipped gaits (no optimization)")
-    parser.add_argument("--measure-only", action="store_true", help="re-measure the shipped gaits (no optimization)")
+    parser.add_argument(
+        "--horizon", type=int, default=None, help="cycles per candidate (default: the sketch's)"
+    )
+    parser.add_argument(
+        "--harden-minutes", type=float, default=0.0, help="survival optimization after (min)"
+    )
+    parser.add_argument(
+        "--harden-only", action="store_true", help="harden the shipped gaits (no optimization)"
+    )
+    parser.add_argument(
+        "--measure-only", action="store_true", help="re-measure the shipped gaits (no optimization)"
+    )
     args = parser.parse_args()
     for gait in args.gaits:
         if args.measure_only:
@@ -200,9 +254,19 @@ def main() -> None:
         if args.harden_only:
             controller = load_controller(PACKAGE / f"{gait}.json")
         else:
-            controller = make(gait, args.evaluations, args.runs, args.seed, args.max_outer, args.minutes, args.horizon)
+            controller = make(
+                gait,
+                args.evaluations,
+                args.runs,
+                args.seed,
+                args.max_outer,
+                args.minutes,
+                args.horizon,
+            )
         if args.harden_minutes:
-            controller = hardened(controller, args.runs / gait / "hardened", args.harden_minutes, args.seed)
+            controller = hardened(
+                controller, args.runs / gait / "hardened", args.harden_minutes, args.seed
+            )
         measure(controller)
 
 

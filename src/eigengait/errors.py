@@ -1,8 +1,8 @@
 """The errors users see: each names the file, the field and the fix.
 
-Every module raises :class:`UserInputError` for bad input (a malformed file, an unknown name, an impossible
-parameter) and :class:`SimulationBlowUp` when the physics diverges. Both are :class:`EigengaitError`, which the CLI
-prints as one message before exiting with status 2.
+Every module raises :class:`UserInputError` for bad input (a malformed file, an unknown name, an
+impossible parameter) and :class:`SimulationBlowUp` when the physics diverges. Both are
+:class:`EigengaitError`, which the CLI prints as one message before exiting with status 2.
 """
 
 from __future__ import annotations
@@ -18,7 +18,14 @@ class EigengaitError(Exception):
         fix: what the user should do about it, if known.
     """
 
-    def __init__(self, message: str, *, file: str | None = None, field: str | None = None, fix: str | None = None):
+    def __init__(
+        self,
+        message: str,
+        *,
+        file: str | None = None,
+        field: str | None = None,
+        fix: str | None = None,
+    ):
         self.message = message
         self.file = None if file is None else str(file)
         self.field = field
@@ -26,7 +33,11 @@ class EigengaitError(Exception):
         super().__init__(self.__str__())
 
     def __str__(self) -> str:
-        where = ", ".join(p for p in (self.file and f"file '{self.file}'", self.field and f"field '{self.field}'") if p)
+        where = ", ".join(
+            p
+            for p in (self.file and f"file '{self.file}'", self.field and f"field '{self.field}'")
+            if p
+        )
         text = f"{where}: {self.message}" if where else self.message
         if self.fix:
             text += f" Fix: {self.fix}"

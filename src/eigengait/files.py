@@ -1,4 +1,5 @@
-"""Versioned, validated files: JSON or YAML by extension, one clear error naming the file and field."""
+"""Versioned, validated files: JSON or YAML by extension, one clear error naming the file and
+field."""
 
 from __future__ import annotations
 
@@ -18,7 +19,8 @@ M = TypeVar("M", bound=BaseModel)
 
 
 def read_mapping(path: Path, allow_empty: bool = False) -> dict:
-    """Parse a JSON or YAML file into a dict, or raise UserInputError; with `allow_empty` an empty file reads as {}."""
+    """Parse a JSON or YAML file into a dict, or raise UserInputError; with `allow_empty` an empty
+    file reads as {}."""
     if not path.is_file():
         raise UserInputError("file not found", file=path)
     text = read_text(path)
@@ -42,7 +44,8 @@ def read_mapping(path: Path, allow_empty: bool = False) -> dict:
 
 
 def validate(model: type[M], data: dict, path: Path | str, fix: str) -> M:
-    """`data` as a `model`, or one UserInputError naming the file, the first invalid field and `fix`."""
+    """`data` as a `model`, or one UserInputError naming the file, the first invalid field and
+    `fix`."""
     try:
         return model.model_validate(data)
     except ValidationError as err:
@@ -58,5 +61,9 @@ def load_model(model: type[M], path: Path | str, fix: str, allow_empty: bool = F
 
 def dump(model: BaseModel, path: Path) -> None:
     data = model.model_dump(mode="json")
-    text = json_text.dumps(data, indent=2) if path.suffix.lower() == ".json" else yaml.safe_dump(data, sort_keys=False)
+    text = (
+        json_text.dumps(data, indent=2)
+        if path.suffix.lower() == ".json"
+        else yaml.safe_dump(data, sort_keys=False)
+    )
     write_atomically(path, text)

@@ -1,5 +1,5 @@
-"""Vectorized rotation helpers: quaternions (MuJoCo's w, x, y, z, unit norm) and skew matrices; arrays broadcast on
-leading axes."""
+"""Vectorized rotation helpers: quaternions (MuJoCo's w, x, y, z, unit norm) and skew matrices;
+arrays broadcast on leading axes."""
 
 from __future__ import annotations
 
@@ -27,7 +27,8 @@ def quat_conj(q: np.ndarray) -> np.ndarray:
 
 
 def quat_log(q: np.ndarray) -> np.ndarray:
-    """Rotation vector (rad) of the shortest arc represented by q (q and -q give the same result)."""
+    """Rotation vector (rad) of the shortest arc represented by q (q and -q give the same
+    result)."""
     q = np.asarray(q, float)
     q = np.where(q[..., :1] < 0, -q, q)
     vec = q[..., 1:]
@@ -65,24 +66,35 @@ def quat_to_mat(q: np.ndarray) -> np.ndarray:
 
 
 def quat_pitch_roll(quat: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Pitch and roll (rad) of body-to-world quaternions (…, 4; w, x, y, z; normalised here), independent of yaw.
+    """Pitch and roll (rad) of body-to-world quaternions (…, 4; w, x, y, z; normalised here),
+    independent of yaw.
 
-    The intrinsic z-y-x (yaw, pitch, roll) Euler angles of the rotation R: pitch = asin(−R[2,0]) (about y, positive
-    nose down: the body x axis tilts toward −z), roll = atan2(R[2,1], R[2,2]) (about x, positive right side down:
-    the body y axis tilts toward +z). Both use only R's third row, so neither depends on the yaw.
+    The intrinsic z-y-x (yaw, pitch, roll) Euler angles of the rotation R: pitch = asin(−R[2,0])
+    (about y, positive nose down: the body x axis tilts toward −z), roll = atan2(R[2,1], R[2,2])
+    (about x, positive right side down: the body y axis tilts toward +z). Both use only R's third
+    row, so neither depends on the yaw.
     """
-    r20, r21, r22 = np.moveaxis(quat_to_mat(quat / np.linalg.norm(quat, axis=-1, keepdims=True))[..., 2, :], -1, 0)
+    r20, r21, r22 = np.moveaxis(
+        quat_to_mat(quat / np.linalg.norm(quat, axis=-1, keepdims=True))[..., 2, :], -1, 0
+    )
     return np.arcsin(np.clip(-r20, -1.0, 1.0)), np.arctan2(r21, r22)
 
 
 def mat_to_quat(m: np.ndarray) -> np.ndarray:
-    """Unit quaternions (w ≥ 0) of rotation matrices (..., 3, 3), numerically safe for all angles."""
+    """Unit quaternions (w ≥ 0) of rotation matrices (..., 3, 3), numerically safe for all
+    angles."""
     m = np.asarray(m, float)
     trace = m[..., 0, 0] + m[..., 1, 1] + m[..., 2, 2]
     candidates = np.stack(
         [
             np.stack(
-                [1 + trace, m[..., 2, 1] - m[..., 1, 2], m[..., 0, 2] - m[..., 2, 0], m[..., 1, 0] - m[..., 0, 1]], -1
+                [
+                    1 + trace,
+                    m[..., 2, 1] - m[..., 1, 2],
+                    m[..., 0, 2] - m[..., 2, 0],
+                    m[..., 1, 0] - m[..., 0, 1],
+                ],
+                -1,
             ),
             np.stack(
                 [
@@ -138,4 +150,6 @@ def skew(v: np.ndarray) -> np.ndarray:
     """Skew matrices (..., 3, 3) of vectors (..., 3): skew(a) @ b = a × b."""
     x, y, z = np.moveaxis(np.asarray(v, dtype=float), -1, 0)
     zero = np.zeros_like(x)
-    return np.stack([np.stack([zero, -z, y], -1), np.stack([z, zero, -x], -1), np.stack([-y, x, zero], -1)], -2)
+    return np.stack(
+        [np.stack([zero, -z, y], -1), np.stack([z, zero, -x], -1), np.stack([-y, x, zero], -1)], -2
+    )

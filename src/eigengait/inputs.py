@@ -1,4 +1,5 @@
-"""Text files the user gives: read as UTF-8, else Latin-1; an unreadable file is a `UserInputError`."""
+"""Text files the user gives: read as UTF-8, else Latin-1; an unreadable file is a
+`UserInputError`."""
 
 from __future__ import annotations
 
@@ -13,7 +14,9 @@ def read_text(path: Path) -> str:
     try:
         data = Path(path).read_bytes()
     except OSError as exc:
-        raise UserInputError(f"cannot read the file ({exc.strerror or exc.__class__.__name__})", file=path) from None
+        raise UserInputError(
+            f"cannot read the file ({exc.strerror or exc.__class__.__name__})", file=path
+        ) from None
     try:
         return data.decode("utf-8")
     except UnicodeDecodeError:
@@ -21,10 +24,15 @@ def read_text(path: Path) -> str:
 
 
 def check_range(
-    value: float | None, option: str, low: float, high: float = math.inf, unit: str = "", fix: str | None = None
+    value: float | None,
+    option: str,
+    low: float,
+    high: float = math.inf,
+    unit: str = "",
+    fix: str | None = None,
 ) -> None:
-    """One clear error unless `value` (None: not given) is finite and within [low, high]; `fix` replaces the
-    generic advice when the range has a meaning worth stating."""
+    """One clear error unless `value` (None: not given) is finite and within [low, high]; `fix`
+    replaces the generic advice when the range has a meaning worth stating."""
     if value is None:
         return
     if not (math.isfinite(value) and low <= value <= high):

@@ -1,4 +1,5 @@
-"""JSON text that every parser accepts: NaN and infinities become null, NumPy numbers plain numbers."""
+"""JSON text that every parser accepts: NaN and infinities become null, NumPy numbers plain
+numbers."""
 
 from __future__ import annotations
 
@@ -9,7 +10,8 @@ import numpy as np
 
 
 def finite(value):
-    """`value` with every non-finite float replaced by None, recursively (dicts, lists, tuples, NumPy)."""
+    """`value` with every non-finite float replaced by None, recursively (dicts, lists, tuples,
+    NumPy)."""
     if isinstance(value, dict):
         return {k: finite(v) for k, v in value.items()}
     if isinstance(value, (list, tuple)):

@@ -1,7 +1,9 @@
-"""Output files the user asked for: checked before any work starts, never overwritten silently, written atomically.
+"""Output files the user asked for: checked before any work starts, never overwritten silently,
+written atomically.
 
-Every file is written under a temporary name in its own folder (`.NAME.XXXXXXXX.part.SUFFIX`) and renamed onto its
-final name only when complete, so an interrupted or failed write never leaves a half file under the final name.
+Every file is written under a temporary name in its own folder (`.NAME.XXXXXXXX.part.SUFFIX`) and
+renamed onto its final name only when complete, so an interrupted or failed write never leaves a
+half file under the final name.
 """
 
 from __future__ import annotations
@@ -18,15 +20,19 @@ from eigengait.errors import UserInputError
 
 
 def check_output(path: Path, force: bool) -> None:
-    """Raise unless `path` can be written: not a folder, not existing (unless `force`), its folder created and
-    writable."""
+    """Raise unless `path` can be written: not a folder, not existing (unless `force`), its folder
+    created and writable."""
     if "\0" in str(path):
-        raise UserInputError("the output path contains a NUL byte", file=repr(str(path)), fix="choose another name")
+        raise UserInputError(
+            "the output path contains a NUL byte", file=repr(str(path)), fix="choose another name"
+        )
     try:
         _check_target(path, force)
     except OSError as exc:
         raise UserInputError(
-            f"unusable output path ({exc.strerror or exc.__class__.__name__})", file=path, fix="choose another name"
+            f"unusable output path ({exc.strerror or exc.__class__.__name__})",
+            file=path,
+            fix="choose another name",
         ) from None
     _check_writable(path.parent)
 
@@ -87,14 +93,16 @@ def refuse_existing(paths: list[Path | None], force: bool) -> None:
 def check_folder(folder: Path) -> None:
     """Raise unless `folder` is, or can be created as, a writable folder."""
     if folder.exists() and not folder.is_dir():
-        raise UserInputError("the output is a file, not a folder", file=folder, fix="choose a folder name")
+        raise UserInputError(
+            "the output is a file, not a folder", file=folder, fix="choose a folder name"
+        )
     _check_writable(folder)
 
 
 @contextmanager
 def replacing(path: Path | str) -> Iterator[Path]:
-    """A temporary path beside `path`, with the same suffix, to write the whole file to; renamed onto `path` when
-    the block completes, removed if it fails."""
+    """A temporary path beside `path`, with the same suffix, to write the whole file to; renamed
+    onto `path` when the block completes, removed if it fails."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     temporary = path.with_name(f".{path.name}.{secrets.token_hex(4)}.part{path.suffix}")
@@ -113,7 +121,8 @@ def write_atomically(path: Path | str, text: str) -> None:
 
 
 def keep_mujoco_log_out_of_the_folder() -> None:
-    """Print MuJoCo's warnings on standard error instead of appending them to MUJOCO_LOG.TXT in the current folder."""
+    """Print MuJoCo's warnings on standard error instead of appending them to MUJOCO_LOG.TXT in the
+    current folder."""
     import mujoco
 
     mujoco.set_mju_user_warning(_print_mujoco_warning)

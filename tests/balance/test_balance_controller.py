@@ -1,4 +1,5 @@
-"""The stateless balance controller: `balance_torque` reads the state and one reference frame, keeps nothing."""
+"""The stateless balance controller: `balance_torque` reads the state and one reference frame, keeps
+nothing."""
 
 import mujoco
 import numpy as np
@@ -22,7 +23,8 @@ from eigengait.sim.world import build_world
 
 @pytest.fixture(scope="module")
 def standing():
-    """A walker tracker that has stood for 0.1 s in its pose (feet loaded), forwarded, and the reference frame."""
+    """A walker tracker that has stood for 0.1 s in its pose (feet loaded), forwarded, and the
+    reference frame."""
     world = build_world(load_character("walker"))
     tracker = Tracker(world, standing_reference(world, 0.5), robustness=0.5)
     tracker.run(duration_s=0.1)
@@ -31,7 +33,9 @@ def standing():
 
 
 def _state(data):
-    return [a.copy() for a in (data.qpos, data.qvel, data.ctrl, data.xfrc_applied, data.qfrc_applied)]
+    return [
+        a.copy() for a in (data.qpos, data.qvel, data.ctrl, data.xfrc_applied, data.qfrc_applied)
+    ]
 
 
 def test_the_same_state_and_frame_give_the_same_command_and_leave_the_state(standing):
@@ -40,7 +44,8 @@ def test_the_same_state_and_frame_give_the_same_command_and_leave_the_state(stan
     first = balance_torque(tracker.model, tracker.data, tracker.rig, target)
     second = balance_torque(tracker.model, tracker.data, tracker.rig, target)
     assert np.array_equal(first.torque, second.torque) and first.artificial == second.artificial
-    assert first.foot_torques.keys() == second.foot_torques.keys() and first.foot_torques  # standing: feet loaded
+    # standing: feet loaded
+    assert first.foot_torques.keys() == second.foot_torques.keys() and first.foot_torques
     for a, b in zip(before, _state(tracker.data)):
         assert np.array_equal(a, b)
 
@@ -54,12 +59,21 @@ def test_the_command_is_the_pd_plus_the_balance_on_the_stance_feet(standing):
     command = balance_torque(model, data, rig, target)
     tau_eq, feet, magnitude = equilibrium_torque(model, data, rig, target, contacts)
     tau_pd = pd_torque(data, rig, {**target, "qpos": pd_target(model, data, rig, target, contacts)})
-    np.testing.assert_array_equal(command.torque, tau_pd + tau_eq + press_torque(model, data, rig, target, contacts))
+    np.testing.assert_array_equal(
+        command.torque, tau_pd + tau_eq + press_torque(model, data, rig, target, contacts)
+    )
     assert not command.airborne
-    assert magnitude == pytest.approx(sum(np.linalg.norm(t) for t in feet.values())) and magnitude > 0
+    assert (
+        magnitude == pytest.approx(sum(np.linalg.norm(t) for t in feet.values())) and magnitude > 0
+    )
     dof = rig.ball_dof
     expected = pd_torques(
-        data.qpos[rig.ball_qpos], target["qpos"][rig.ball_qpos], 0.0, target["qvel"][dof], rig.k_s[dof], rig.k_d[dof]
+        data.qpos[rig.ball_qpos],
+        target["qpos"][rig.ball_qpos],
+        0.0,
+        target["qvel"][dof],
+        rig.k_s[dof],
+        rig.k_d[dof],
     )
     np.testing.assert_array_equal(pd_torque(data, rig, target)[dof], expected)
     assert np.abs(expected).max() > 0
@@ -74,15 +88,17 @@ def test_in_flight_there_is_no_balance_torque_and_the_legs_reach_for_the_floor(s
     mujoco.mj_forward(model, data)
     command = balance_torque(model, data, rig, target)
     assert command.foot_torques == {} and command.artificial == 0.0 and command.airborne
-    # the PD toward the reference's own pose, and the feet that the reference has on the floor pressed down
+    # the PD toward the reference's own pose, and the feet that the reference has on the floor
+    # pressed down
     press = press_torque(model, data, rig, target, foot_contacts(model, data, rig))
     np.testing.assert_array_equal(command.torque, pd_torque(data, rig, target) + press)
-    assert np.abs(press[rig.leg_dofs["left"]]).max() > 0 and not press[rig.ball_dof[0]].any()  # legs only
+    # legs only
+    assert np.abs(press[rig.leg_dofs["left"]]).max() > 0 and not press[rig.ball_dof[0]].any()
 
 
 def test_the_tracker_gives_the_walker_soles():
-    # The box of each foot touches the floor, its bottom on the plane of the heel and toe spheres' bottoms (the
-    # walker's boxes sit 3 cm higher, so a flat foot stood on its two spheres only).
+    # The box of each foot touches the floor, its bottom on the plane of the heel and toe spheres'
+    # bottoms (the walker's boxes sit 3 cm higher, so a flat foot stood on its two spheres only).
     world = build_world(load_character("walker"))
     tracker = Tracker(world, standing_reference(world, 0.2), robustness=0.5)
     model = tracker.model
@@ -95,5 +111,8 @@ def test_the_tracker_gives_the_walker_soles():
         ]
         assert len(boxes) == 1 and model.geom_contype[boxes[0]] != 0
         sole = model.geom_pos[boxes[0], 2] - model.geom_size[boxes[0], 2]
-        assert sole == pytest.approx(float(np.min(model.geom_pos[spheres, 2] - model.geom_size[spheres, 0])))
-    assert world.model.geom_pos[boxes[0], 2] > model.geom_pos[boxes[0], 2] + 0.02  # the world's own model: as it was
+        assert sole == pytest.approx(
+            float(np.min(model.geom_pos[spheres, 2] - model.geom_size[spheres, 0]))
+        )
+    # the world's own model: as it was
+    assert world.model.geom_pos[boxes[0], 2] > model.geom_pos[boxes[0], 2] + 0.02

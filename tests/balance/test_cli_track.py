@@ -11,9 +11,12 @@ from typer.testing import CliRunner
 from eigengait.cli.track import register
 
 WALK = str(Path(__file__).resolve().parents[3] / "shared" / "data" / "mocap" / "cmu_02_01_walk.bvh")
-DAZ_WALK = str(Path(__file__).resolve().parents[3] / "shared" / "data" / "mocap" / "cmu_07_06_walk_daz.bvh")
+DAZ_WALK = str(
+    Path(__file__).resolve().parents[3] / "shared" / "data" / "mocap" / "cmu_07_06_walk_daz.bvh"
+)
 MAIN = (
-    "import sys, typer; from eigengait.cli.track import register; from eigengait.errors import UserInputError\n"
+    "import sys, typer; from eigengait.cli.track import register; from eigengait.errors import "
+    "UserInputError\n"
     "app = typer.Typer(); register(app); app.command('noop')(lambda: None)\n"
     "try:\n    app(standalone_mode=False)\n"
     "except UserInputError as err:\n    print('error:', err, file=sys.stderr); sys.exit(2)\n"
@@ -32,10 +35,23 @@ def test_json_reports_the_required_fields(tmp_path):
     header = lines.index("MOTION")
     short = tmp_path / "short.bvh"
     frames = lines[header + 3 : header + 3 + 40]
-    short.write_text("\n".join(lines[: header + 1] + ["Frames: 40", "Frame Time: .0083333"] + frames) + "\n")
+    short.write_text(
+        "\n".join(lines[: header + 1] + ["Frames: 40", "Frame Time: .0083333"] + frames) + "\n"
+    )
     out_bvh = tmp_path / "out.bvh"
     result = CliRunner().invoke(
-        _app(), ["track", str(short), "--robustness", "1", "--json", "--bvh", str(out_bvh), "--bvh-units", "cm"]
+        _app(),
+        [
+            "track",
+            str(short),
+            "--robustness",
+            "1",
+            "--json",
+            "--bvh",
+            str(out_bvh),
+            "--bvh-units",
+            "cm",
+        ],
     )
     assert result.exit_code == 0, result.output
     out = json.loads(result.stdout)  # status lines ("BVH: …") go to standard error
@@ -46,7 +62,9 @@ def test_json_reports_the_required_fields(tmp_path):
 
 
 def test_kinematic_json_reports_the_reference_feet_and_the_source_conventions():
-    result = CliRunner().invoke(_app(), ["track", DAZ_WALK, "--kinematic", "--clean-feet", "--json"])
+    result = CliRunner().invoke(
+        _app(), ["track", DAZ_WALK, "--kinematic", "--clean-feet", "--json"]
+    )
     assert result.exit_code == 0, result.output
     out = json.loads(result.output)
     assert out["kinematic"] is True and out["feet_cleaned"] is True
@@ -54,14 +72,21 @@ def test_kinematic_json_reports_the_reference_feet_and_the_source_conventions():
     assert out["source"]["unit"] == "cm" and out["source"]["up_axis"] == "+y"
     assert out["foot_skate_m"] < 0.35 * out["raw"]["foot_skate_m"]
     assert out["stances"] >= 1 and out["floor_penetration_m"] < 0.005
-    raw = json.loads(CliRunner().invoke(_app(), ["track", DAZ_WALK, "--kinematic", "--raw-feet", "--json"]).output)
+    raw = json.loads(
+        CliRunner()
+        .invoke(_app(), ["track", DAZ_WALK, "--kinematic", "--raw-feet", "--json"])
+        .output
+    )
     assert raw["feet_cleaned"] is False and raw["foot_skate_m"] == out["raw"]["foot_skate_m"]
-    # the root translation fitted to the legs: the Daz exports travel about 1.6 times too far (measured 0.62)
+    # the root translation fitted to the legs: the Daz exports travel about 1.6 times too far
+    # (measured 0.62)
     assert 0.5 < out["root_scale_factor"] < 0.75 and out["retarget_scale_m_per_unit"] < 0.01
 
 
 def _run(*args):
-    return subprocess.run([sys.executable, "-c", MAIN, "track", *args], capture_output=True, text=True, timeout=120)
+    return subprocess.run(
+        [sys.executable, "-c", MAIN, "track", *args], capture_output=True, text=True, timeout=120
+    )
 
 
 def test_bad_inputs_exit_with_status_2(tmp_path):

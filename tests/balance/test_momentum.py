@@ -27,7 +27,9 @@ def _random_state(world, seed):
     data.qpos[:3] = rng.normal(size=3)
     for j in range(model.njnt):
         if model.jnt_type[j] in (mujoco.mjtJoint.mjJNT_BALL, mujoco.mjtJoint.mjJNT_FREE):
-            adr = model.jnt_qposadr[j] + (3 if model.jnt_type[j] == mujoco.mjtJoint.mjJNT_FREE else 0)
+            adr = model.jnt_qposadr[j] + (
+                3 if model.jnt_type[j] == mujoco.mjtJoint.mjJNT_FREE else 0
+            )
             q = rng.normal(size=4)
             data.qpos[adr : adr + 4] = q / np.linalg.norm(q)
     data.qvel[:] = rng.normal(size=model.nv)
@@ -45,8 +47,12 @@ def test_centroidal_momentum_matches_engine(world, seed):
     jac_com = np.zeros((3, model.nv))
     mujoco.mj_jacSubtreeCom(model, data, jac_com, root)
     np.testing.assert_allclose(momentum[3:] / mass, jac_com, atol=1e-10)
-    np.testing.assert_allclose(momentum[:3] @ data.qvel, data.subtree_angmom[root], rtol=1e-9, atol=1e-9)
-    np.testing.assert_allclose(momentum[3:] @ data.qvel, mass * data.subtree_linvel[root], rtol=1e-9, atol=1e-9)
+    np.testing.assert_allclose(
+        momentum[:3] @ data.qvel, data.subtree_angmom[root], rtol=1e-9, atol=1e-9
+    )
+    np.testing.assert_allclose(
+        momentum[3:] @ data.qvel, mass * data.subtree_linvel[root], rtol=1e-9, atol=1e-9
+    )
 
 
 def test_centroidal_inertia_gives_momentum_of_rigid_rotation(world):
@@ -62,7 +68,9 @@ def test_centroidal_inertia_gives_momentum_of_rigid_rotation(world):
     qvel[:3] = np.cross(omega, data.xpos[root] - data.subtree_com[root])
     inertia = centroidal_inertia(model, data, root)
     momentum = centroidal_momentum_matrix(model, data, root)
-    np.testing.assert_allclose(momentum @ qvel, inertia @ np.concatenate([omega, np.zeros(3)]), atol=1e-9)
+    np.testing.assert_allclose(
+        momentum @ qvel, inertia @ np.concatenate([omega, np.zeros(3)]), atol=1e-9
+    )
 
 
 @pytest.mark.parametrize("seed", range(3))
@@ -86,10 +94,14 @@ def test_foot_rooted_jacobian_keeps_the_foot_still(world, seed):
     data.qvel[:] = qvel
     mujoco.mj_forward(model, data)
     mujoco.mj_subtreeVel(model, data)
-    expected = np.concatenate([data.subtree_angmom[root], model.body_subtreemass[root] * data.subtree_linvel[root]])
+    expected = np.concatenate(
+        [data.subtree_angmom[root], model.body_subtreemass[root] * data.subtree_linvel[root]]
+    )
     np.testing.assert_allclose(rooted @ theta_dot, expected, rtol=1e-8, atol=1e-8)
     full = momentum_jacobian(model, data, root, foot, root_dofs, joints)
-    np.testing.assert_allclose(centroidal_inertia(model, data, root) @ full @ theta_dot, expected, atol=1e-8)
+    np.testing.assert_allclose(
+        centroidal_inertia(model, data, root) @ full @ theta_dot, expected, atol=1e-8
+    )
 
 
 def test_shared_momentum_and_inertia_give_the_same_jacobian(world):
@@ -106,4 +118,6 @@ def test_shared_momentum_and_inertia_give_the_same_jacobian(world):
         momentum=centroidal_momentum_matrix(model, data, root),
         inertia=centroidal_inertia(model, data, root),
     )
-    np.testing.assert_array_equal(shared, momentum_jacobian(model, data, root, foot, np.arange(6), joints))
+    np.testing.assert_array_equal(
+        shared, momentum_jacobian(model, data, root, foot, np.arange(6), joints)
+    )

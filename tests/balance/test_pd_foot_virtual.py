@@ -29,7 +29,12 @@ def test_pd_torque_combines_gains_per_axis():
     actual = np.array([[1.0, 0, 0, 0]])
     desired = quat_exp(np.array([[0.1, 0.0, 0.0]]))
     tau = pd_torques(
-        actual, desired, np.zeros((1, 3)), np.array([[0, 2.0, 0]]), np.array([10.0, 20, 30]), np.array([1.0, 2, 3])
+        actual,
+        desired,
+        np.zeros((1, 3)),
+        np.array([[0, 2.0, 0]]),
+        np.array([10.0, 20, 30]),
+        np.array([1.0, 2, 3]),
     )
     np.testing.assert_allclose(tau, [[1.0, 4.0, 0.0]], atol=1e-12)
 
@@ -50,7 +55,8 @@ def test_hinge_pd_is_the_ball_pd_about_the_hinge_axis():
     )
     np.testing.assert_allclose(ball, tau[:, None] * axis, atol=1e-9)
     np.testing.assert_array_equal(
-        hinge_pd_torques(actual, desired, 0.0, w_desired, k_s, k_d), k_s * (desired - actual) + k_d * w_desired
+        hinge_pd_torques(actual, desired, 0.0, w_desired, k_s, k_d),
+        k_s * (desired - actual) + k_d * w_desired,
     )
 
 
@@ -73,7 +79,8 @@ def test_virtual_force_compensates_gravity_and_pulls_toward_reference():
         9.81,
         gains,
     )
-    np.testing.assert_allclose(f, [10.0, 0.0, 70 * 9.81])  # horizontal only: the 0.2 m height error is ignored
+    # horizontal only: the 0.2 m height error is ignored
+    np.testing.assert_allclose(f, [10.0, 0.0, 70 * 9.81])
     # E20 (absolute=False): offsets are measured from each character's own support point.
     relative = VirtualGains(k_fs=100, k_fd=10, k_P=0, k_ts=0, k_td=0, k_ma=0, absolute=False)
     f = virtual_force(
@@ -103,15 +110,43 @@ def test_virtual_force_compensates_gravity_and_pulls_toward_reference():
     np.testing.assert_allclose(f[:2], [-100.0, 0.0])
     # Feed-forward: the reference's momentum rate m·a_ref is added (scaled by `feedforward`).
     acc = np.array([2.0, 0.0, -1.0])
-    f0 = virtual_force(np.zeros(3), np.zeros(3), np.zeros(2), np.zeros(3), np.zeros(3), np.zeros(2), 70.0, 9.81, gains)
+    f0 = virtual_force(
+        np.zeros(3),
+        np.zeros(3),
+        np.zeros(2),
+        np.zeros(3),
+        np.zeros(3),
+        np.zeros(2),
+        70.0,
+        9.81,
+        gains,
+    )
     f1 = virtual_force(
-        np.zeros(3), np.zeros(3), np.zeros(2), np.zeros(3), np.zeros(3), np.zeros(2), 70.0, 9.81, gains, acc
+        np.zeros(3),
+        np.zeros(3),
+        np.zeros(2),
+        np.zeros(3),
+        np.zeros(3),
+        np.zeros(2),
+        70.0,
+        9.81,
+        gains,
+        acc,
     )
     np.testing.assert_allclose(f1 - f0, 70.0 * acc)
     off = VirtualGains(k_fs=100, k_fd=10, k_P=0, k_ts=0, k_td=0, k_ma=0, feedforward=0.0)
     np.testing.assert_allclose(
         virtual_force(
-            np.zeros(3), np.zeros(3), np.zeros(2), np.zeros(3), np.zeros(3), np.zeros(2), 70.0, 9.81, off, acc
+            np.zeros(3),
+            np.zeros(3),
+            np.zeros(2),
+            np.zeros(3),
+            np.zeros(3),
+            np.zeros(2),
+            70.0,
+            9.81,
+            off,
+            acc,
         ),
         f0,
     )
@@ -123,14 +158,24 @@ def test_virtual_torque_uses_momentum_with_the_safe_sign():
     tau = virtual_torque(q, q, np.zeros(3), np.zeros(3), np.array([0, 0, 2.0]), np.zeros(3), gains)
     np.testing.assert_allclose(tau, [0, 0, -6.0])  # opposes excess angular momentum
     gains = VirtualGains(k_ts=10, k_td=0, k_ma=0)
-    tau = virtual_torque(q, quat_exp(np.array([0.2, 0, 0])), np.zeros(3), np.zeros(3), np.zeros(3), np.zeros(3), gains)
+    tau = virtual_torque(
+        q,
+        quat_exp(np.array([0.2, 0, 0])),
+        np.zeros(3),
+        np.zeros(3),
+        np.zeros(3),
+        np.zeros(3),
+        gains,
+    )
     np.testing.assert_allclose(tau, [2.0, 0, 0], atol=1e-12)
 
 
 def test_foot_model_matches_cylinder_formula_and_robustness_ends():
     foot = foot_model_for_robustness(0.5, 700.0, 0.1, 0.05, friction=1.0)
     theta = np.arctan(1.0)
-    assert foot.compensable_torque() == pytest.approx(0.05 * 700 * np.cos(theta) + 0.1 * 700 * np.sin(theta))
+    assert foot.compensable_torque() == pytest.approx(
+        0.05 * 700 * np.cos(theta) + 0.1 * 700 * np.sin(theta)
+    )
     torque = np.array([300.0, 0.0, 10.0])
     artificial, ratio = compensation(torque, foot)
     assert ratio == pytest.approx(foot.compensable_torque() / 300.0)

@@ -1,4 +1,5 @@
-"""Stance ankles, the landing shift, mass-scaled gains and the friction bound, against worked cases."""
+"""Stance ankles, the landing shift, mass-scaled gains and the friction bound, against worked
+cases."""
 
 import numpy as np
 import pytest
@@ -27,20 +28,27 @@ def test_heading_turn_is_the_yaw_between_two_orientations():
 
 
 def test_a_loaded_ankle_puts_the_shin_at_the_reference_tilt():
-    # Reference: shin upright, ankle straight. The foot actually stands pitched 8° (on a heel, say): a loaded
-    # ankle's target is then the rotation that keeps the shin upright over it, Q* = R_shinᵀ R_foot (B = identity).
+    # Reference: shin upright, ankle straight. The foot actually stands pitched 8° (on a heel, say):
+    # a loaded ankle's target is then the rotation that keeps the shin upright over it, Q* = R_shinᵀ
+    # R_foot (B = identity).
     foot = _rot([0, 1, 0], 8)
-    targets = stance_ankle_targets({"f": IDENTITY}, {"f": IDENTITY}, {"f": foot}, {"f": IDENTITY}, {"f": FULL_LOAD})
+    targets = stance_ankle_targets(
+        {"f": IDENTITY}, {"f": IDENTITY}, {"f": foot}, {"f": IDENTITY}, {"f": FULL_LOAD}
+    )
     assert np.degrees(quat_angle(targets["f"], foot)) == pytest.approx(0.0, abs=1e-6)
-    half = stance_ankle_targets({"f": IDENTITY}, {"f": IDENTITY}, {"f": foot}, {"f": IDENTITY}, {"f": 0.0})
+    half = stance_ankle_targets(
+        {"f": IDENTITY}, {"f": IDENTITY}, {"f": foot}, {"f": IDENTITY}, {"f": 0.0}
+    )
     np.testing.assert_array_equal(half["f"], IDENTITY)  # unloaded: the reference's own ankle
 
 
 def test_the_ankle_keeps_the_reference_turn_and_a_bounded_tilt():
-    # The foot turned 30° about the vertical (toe-out) and tipped 40° onto an edge: the target keeps the
-    # reference's ankle turn and departs from it by MAX_CORRECTION only.
+    # The foot turned 30° about the vertical (toe-out) and tipped 40° onto an edge: the target keeps
+    # the reference's ankle turn and departs from it by MAX_CORRECTION only.
     foot = quat_mul(_rot([0, 0, 1], 30), _rot([1, 0, 0], 40))
-    targets = stance_ankle_targets({"f": IDENTITY}, {"f": IDENTITY}, {"f": foot}, {"f": IDENTITY}, {"f": 1.0})
+    targets = stance_ankle_targets(
+        {"f": IDENTITY}, {"f": IDENTITY}, {"f": foot}, {"f": IDENTITY}, {"f": 1.0}
+    )
     assert quat_angle(targets["f"], IDENTITY) == pytest.approx(MAX_CORRECTION, abs=1e-6)
     twist = quat_mul(quat_conj(IDENTITY), targets["f"])
     assert abs(twist[3]) < 1e-9  # no turn about the foot's own up axis
@@ -55,7 +63,9 @@ def test_the_landing_shift_is_the_touch_down_error_and_decays():
     np.testing.assert_allclose(landing.shifted(ref), [0.2, -0.1, 0.0])
     for _ in range(int(EASE_S / dt)):
         landing.update(False, np.zeros(3), ref)
-    np.testing.assert_allclose(landing.shifted(ref), [0.2 * np.exp(-1), -0.1 * np.exp(-1), 0.0], rtol=1e-9)
+    np.testing.assert_allclose(
+        landing.shifted(ref), [0.2 * np.exp(-1), -0.1 * np.exp(-1), 0.0], rtol=1e-9
+    )
 
 
 def test_mass_scaled_gains_give_every_body_the_same_com_dynamics():
@@ -68,7 +78,9 @@ def test_mass_scaled_gains_give_every_body_the_same_com_dynamics():
 
 
 def test_fed_forward_acceleration_is_bounded_by_friction():
-    np.testing.assert_array_equal(friction_bounded(np.array([3.0, 0.0, 0.0]), 1.0, 9.81), [3.0, 0.0, 0.0])
+    np.testing.assert_array_equal(
+        friction_bounded(np.array([3.0, 0.0, 0.0]), 1.0, 9.81), [3.0, 0.0, 0.0]
+    )
     glitch = friction_bounded(np.array([30.0, 40.0, 0.19]), 0.5, 9.81)
     assert np.linalg.norm(glitch[:2]) == pytest.approx(5.0) and glitch[2] == 0.19
     np.testing.assert_allclose(glitch[:2] / 5.0, [0.6, 0.8])

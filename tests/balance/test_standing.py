@@ -1,4 +1,5 @@
-"""The reference-free mode: `eigengait balance` through the CLI, its push syntax and push counting."""
+"""The reference-free mode: `eigengait balance` through the CLI, its push syntax and push
+counting."""
 
 import json
 
@@ -24,7 +25,11 @@ def _balance(*args):
 def test_a_half_newton_second_per_kg_push_is_survived_at_robustness_half():
     out = _balance("--robustness", "0.5", "--push", "350@0.2", "--duration", "2.2")
     assert out["character"] == "walker" and out["pose"] == "default" and out["robustness"] == 0.5
-    assert out["fell"] is False and out["fall_time_s"] is None and out["duration_s"] == pytest.approx(2.2, abs=1e-3)
+    assert (
+        out["fell"] is False
+        and out["fall_time_s"] is None
+        and out["duration_s"] == pytest.approx(2.2, abs=1e-3)
+    )
     assert out["at_rest"] is True and out["end_speed_mps"] < 0.05
     assert out["pushes_given"] == 1 and out["pushes_survived"] == 1
     push = out["pushes"][0]
@@ -33,13 +38,20 @@ def test_a_half_newton_second_per_kg_push_is_survived_at_robustness_half():
     assert push["impulse_n_s_per_kg"] >= 0.5  # the issue's target: 0.5 N·s/kg at robustness 0.5
     assert out["com_error_m"] < 0.05 and out["joint_rms_deg"] < 2.0
     assert out["artificial_torque"] > 0.0 and out["foot_skate_m"] < 0.05
-    assert (out["foot_radius_m"], out["foot_com_height_m"], out["foot_friction"]) == (0.1, 0.05, 1.0)
+    assert (out["foot_radius_m"], out["foot_com_height_m"], out["foot_friction"]) == (
+        0.1,
+        0.05,
+        1.0,
+    )
 
 
 def test_a_foot_model_of_no_size_cancels_no_horizontal_torque():
-    out = _balance("--robustness", "0.5", "--foot-radius", "0", "--foot-height", "0", "--duration", "0.3")
+    out = _balance(
+        "--robustness", "0.5", "--foot-radius", "0", "--foot-height", "0", "--duration", "0.3"
+    )
     assert out["foot_radius_m"] == 0 and out["foot_com_height_m"] == 0
-    # ‖τ_comp‖ = GRF_max (h cos θ + r sin θ) = 0: only R × the small vertical (yaw) torque is still cancelled
+    # ‖τ_comp‖ = GRF_max (h cos θ + r sin θ) = 0: only R × the small vertical (yaw) torque is still
+    # cancelled
     assert out["artificial_torque_max"] < 1.0
     assert _balance("--robustness", "0.5", "--duration", "0.3")["artificial_torque_max"] > 10.0
 
@@ -58,7 +70,9 @@ def test_pushes_use_the_play_syntax_and_come_out_in_time_order_along_y():
     assert {p.body for p in pushes} == {"pelvis"}
 
 
-@pytest.mark.parametrize("text", ["lots", "100", "100@", "@1", "100@-1", "100@nan", "1e9@1", "100@1,"])
+@pytest.mark.parametrize(
+    "text", ["lots", "100", "100@", "@1", "100@-1", "100@nan", "1e9@1", "100@1,"]
+)
 def test_malformed_pushes_name_the_parameter_and_the_syntax(text):
     with pytest.raises(UserInputError) as err:
         sideways_pushes([text], "pelvis")
@@ -68,6 +82,7 @@ def test_malformed_pushes_name_the_parameter_and_the_syntax(text):
 
 def test_a_push_is_survived_when_the_fall_comes_after_the_next_one():
     assert pushes_survived([1.0, 2.0], None) == 2
-    assert pushes_survived([2.0, 1.0], 2.5) == 1  # fell after the second push: the first was survived
+    # fell after the second push: the first was survived
+    assert pushes_survived([2.0, 1.0], 2.5) == 1
     assert pushes_survived([1.0, 2.0], 1.05) == 0  # fell during the first push
     assert pushes_survived([], 0.3) == 0

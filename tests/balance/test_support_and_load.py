@@ -1,4 +1,5 @@
-"""The support polygon's share of an ankle torque and the double-support load shares, against hand-worked cases."""
+"""The support polygon's share of an ankle torque and the double-support load shares, against
+hand-worked cases."""
 
 import numpy as np
 import pytest
@@ -19,14 +20,15 @@ def test_hull_of_a_rectangle_with_an_inner_point_is_its_corners():
 
 
 def test_a_torque_within_the_sole_is_carried_whole():
-    # 700 N on the sole: a pitch torque of 35 N·m needs the centre of pressure 5 cm from the ankle (inside).
+    # 700 N on the sole: a pitch torque of 35 N·m needs the centre of pressure 5 cm from the ankle
+    # (inside).
     torque = np.array([0.0, 35.0, 0.0])
     np.testing.assert_allclose(carried_torque(torque, 700.0, ANKLE, SOLE), torque, atol=1e-9)
 
 
 def test_a_torque_past_the_edge_is_carried_up_to_the_edge():
-    # 100 N·m of pitch needs 0.143 m (outside: the toe is at 0.1 m) -> 70 N·m carried; roll 20 N·m needs 2.9 cm
-    # sideways (inside) -> carried whole.
+    # 100 N·m of pitch needs 0.143 m (outside: the toe is at 0.1 m) -> 70 N·m carried; roll 20 N·m
+    # needs 2.9 cm sideways (inside) -> carried whole.
     carried = carried_torque(np.array([-20.0, 100.0, 5.0]), 700.0, ANKLE, SOLE)
     np.testing.assert_allclose(carried, [-20.0, 70.0, 0.0], atol=1e-9)
 
@@ -45,4 +47,7 @@ def test_load_shares_follow_the_lever_rule():
     np.testing.assert_allclose(load_shares(np.array([0.0, 0.3, 0.9]), feet, down), [1.0, 0.0])
     one_up = np.array([0.0, 2 * CONTACT_M])
     np.testing.assert_allclose(load_shares(np.array([0.0, -0.1, 0.9]), feet, one_up), [1.0, 0.0])
-    assert pressing_force(0.5, 700.0, 100.0) == pytest.approx(250.0) and pressing_force(0.5, 700.0, 400.0) == 0.0
+    assert (
+        pressing_force(0.5, 700.0, 100.0) == pytest.approx(250.0)
+        and pressing_force(0.5, 700.0, 400.0) == 0.0
+    )

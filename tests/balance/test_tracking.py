@@ -1,4 +1,5 @@
-"""Retargeting the CMU clips onto the humanoid, the kinematic reference, and a short closed-loop tracking run."""
+"""Retargeting the CMU clips onto the humanoid, the kinematic reference, and a short closed-loop
+tracking run."""
 
 from pathlib import Path
 
@@ -37,7 +38,8 @@ def test_walk_is_upright_forward_and_on_the_floor(walk):
     speed = np.linalg.norm(ref.com_vel[:, :2], axis=1).mean()
     assert 1.0 < speed < 1.4  # 1.1–1.2 m/s per the data notes
     assert 0.45 < ref.foot_contact.mean() < 0.85  # each foot stands most of the time, not always
-    assert ref.foot_contact.any(axis=1).mean() > 0.95  # walking: (almost) never both feet in the air
+    # walking: (almost) never both feet in the air
+    assert ref.foot_contact.any(axis=1).mean() > 0.95
 
 
 def test_daz_run_maps_and_has_flight(world):
@@ -65,7 +67,9 @@ def test_unmappable_skeleton_and_bad_mapping_files(world, tmp_path):
 
 def test_mapping_file_drives_the_same_pose_as_the_builtin(world, tmp_path, walk):
     clip = read_bvh(MOCAP / "cmu_02_01_walk.bvh")
-    text = "joints:\n" + "".join(f"  {b}: {m}\n" for b, m in builtin_mapping("humanoid", clip).joints.items())
+    text = "joints:\n" + "".join(
+        f"  {b}: {m}\n" for b, m in builtin_mapping("humanoid", clip).joints.items()
+    )
     (tmp_path / "map.yaml").write_text(text)
     poses = retarget(clip, world, load_mapping(tmp_path / "map.yaml"))
     np.testing.assert_allclose(poses.qpos, walk[0].qpos)
@@ -96,13 +100,16 @@ def test_walker_has_ankles_and_its_reference_walks(walker_walk):
     assert ref.foot_contact.any(axis=1).mean() > 0.95
     # the momentum rates are derivatives of the momenta
     np.testing.assert_allclose(
-        ref.com_acc[100:200].mean(0) * ref.frame_time * 100, ref.com_vel[200] - ref.com_vel[100], atol=0.2
+        ref.com_acc[100:200].mean(0) * ref.frame_time * 100,
+        ref.com_vel[200] - ref.com_vel[100],
+        atol=0.2,
     )
 
 
 def test_walker_tracks_the_first_second_of_the_cmu_walk_at_moderate_robustness(walker_walk):
-    # Measured: COM error 0.010 m, joint RMS 2.2°, mean artificial torque 57 N·m (robustness 0.5, 1 s; before the
-    # feet got soles, support-limited ankle torques, stance ankles, load sharing and mass-scaled gains: 0.084 m).
+    # Measured: COM error 0.010 m, joint RMS 2.2°, mean artificial torque 57 N·m (robustness 0.5,
+    # 1 s; before the feet got soles, support-limited ankle torques, stance ankles, load sharing and
+    # mass-scaled gains: 0.084 m).
     world, ref = walker_walk
     res = track(world, ref, 0.5, duration_s=1.0)
     assert not res.fell and res.duration_s == pytest.approx(1.0, abs=0.01)

@@ -21,7 +21,9 @@ def test_examples_lists_all_six():
 
 @pytest.mark.parametrize("name", ["curtain", "paper", "wind", "theatre", "cardboard", "tablecloth"])
 def test_every_example_runs_briefly(name, tmp_path):
-    result = runner.invoke(app, ["cloth", "run", name, "-o", str(tmp_path), "--duration", "1", "--no-render"])
+    result = runner.invoke(
+        app, ["cloth", "run", name, "-o", str(tmp_path), "--duration", "1", "--no-render"]
+    )
     assert result.exit_code == 0, result.output
     assert not (tmp_path / ".incomplete").exists()
     frames = sorted(p.name for p in tmp_path.glob("*_1.OBT"))
@@ -61,7 +63,8 @@ def write(tmp_path, text):
 
 GOOD = (
     "DURACAO = 1\nQUADROS_SEG = 1\nDELTA_t = 0.01\nNUM_SUPERFICIES = 1\nSUPERFICIE s\n"
-    "MALHA (3 3)\nDENSIDADE = 1\nMASSA = 1\nCONST_ELASTICIDADE (10 10 10)\nRESTRICOES\nPONTOS_FIXOS = 1\n0 0\n"
+    "MALHA (3 3)\nDENSIDADE = 1\nMASSA = 1\nCONST_ELASTICIDADE (10 10 "
+    "10)\nRESTRICOES\nPONTOS_FIXOS = 1\n0 0\n"
     "FIM_RESTRICOES\nFIM_SUPERFICIE\n"
 )
 
@@ -72,7 +75,9 @@ GOOD = (
         (GOOD.replace("MASSA", "MASA"), "line 8"),
         (GOOD.replace("0 0\n", "5 0\n"), "line 12"),
         (
-            GOOD.replace("NUM_SUPERFICIES = 1\n", "OBJETOS_NA_CENA = 1\nmissing.obt\nNUM_SUPERFICIES = 1\n"),
+            GOOD.replace(
+                "NUM_SUPERFICIES = 1\n", "OBJETOS_NA_CENA = 1\nmissing.obt\nNUM_SUPERFICIES = 1\n"
+            ),
             "missing.obt",
         ),
         (
@@ -86,7 +91,16 @@ GOOD = (
 def test_bad_input_exits_2_with_one_line(tmp_path, text, needle):
     out = tmp_path / "out"
     result = runner.invoke(
-        app, ["cloth", "run", str(write(tmp_path, text)), "-o", str(out), "--no-render", "--dissertation"]
+        app,
+        [
+            "cloth",
+            "run",
+            str(write(tmp_path, text)),
+            "-o",
+            str(out),
+            "--no-render",
+            "--dissertation",
+        ],
     )
     assert result.exit_code == 2
     assert "Traceback" not in result.output
@@ -101,7 +115,16 @@ def test_blow_up_warns_first_and_leaves_no_frames(tmp_path):
         .replace("(10 10 10)", "(1e5 1e5 1e5)")
     )
     result = runner.invoke(
-        app, ["cloth", "run", str(write(tmp_path, text)), "-o", str(tmp_path / "o"), "--no-render", "--dissertation"]
+        app,
+        [
+            "cloth",
+            "run",
+            str(write(tmp_path, text)),
+            "-o",
+            str(tmp_path / "o"),
+            "--no-render",
+            "--dissertation",
+        ],
     )
     assert result.exit_code == 2
     assert "warning:" in result.output and "stable step" in result.output
@@ -111,13 +134,17 @@ def test_blow_up_warns_first_and_leaves_no_frames(tmp_path):
 
 
 def test_modes_command_writes_palette(tmp_path):
-    result = runner.invoke(app, ["cloth", "modes", "12x12", "--palette", str(tmp_path / "m.png"), "--count", "4"])
+    result = runner.invoke(
+        app, ["cloth", "modes", "12x12", "--palette", str(tmp_path / "m.png"), "--count", "4"]
+    )
     assert result.exit_code == 0, result.output
     assert (tmp_path / "m.png").exists() and "Hz" in result.output
 
 
 def test_unknown_integrator_and_example(tmp_path):
-    result = runner.invoke(app, ["cloth", "run", "curtain", "-o", str(tmp_path), "--integrator", "verlet"])
+    result = runner.invoke(
+        app, ["cloth", "run", "curtain", "-o", str(tmp_path), "--integrator", "verlet"]
+    )
     assert result.exit_code == 2 and "verlet" in result.output
     result = runner.invoke(app, ["cloth", "run", "curtian", "-o", str(tmp_path)])
     assert result.exit_code == 2 and "curtain" in result.output
@@ -125,6 +152,9 @@ def test_unknown_integrator_and_example(tmp_path):
 
 def test_module_is_runnable():
     done = subprocess.run(
-        [sys.executable, "-m", "eigengait", "cloth", "examples"], capture_output=True, text=True, timeout=60
+        [sys.executable, "-m", "eigengait", "cloth", "examples"],
+        capture_output=True,
+        text=True,
+        timeout=60,
     )
     assert done.returncode == 0 and "tablecloth" in done.stdout

@@ -1,4 +1,5 @@
-"""Fabric behaviour: strain limiting, resting contact, floor, the tablecloth drape, and the added constraints."""
+"""Fabric behaviour: strain limiting, resting contact, floor, the tablecloth drape, and the added
+constraints."""
 
 import numpy as np
 import pytest
@@ -35,7 +36,15 @@ def test_dissertation_mode_curtain_stretches_like_rubber():
 
 def test_floor_holds_a_falling_sheet_at_the_contact_gap():
     spec = SurfaceSpec(
-        "s", 5, 5, 0.5, np.array([0.0, 0.0, 1.0]), np.array([0.0, 0.0, 1.0]), 0.05, (30.0,) * 3, (0, 0, 0)
+        "s",
+        5,
+        5,
+        0.5,
+        np.array([0.0, 0.0, 1.0]),
+        np.array([0.0, 0.0, 1.0]),
+        0.05,
+        (30.0,) * 3,
+        (0, 0, 0),
     )
     model = surface_model([spec], gravity=(0, 0, -9.81), friction=0.3)
     sim = Simulation(model, 0.002, "symplectic", floor=-0.5)
@@ -70,7 +79,8 @@ def test_tablecloth_rests_on_the_table_and_covers_its_top():
             if hit and s > 0
         ]
         assert hits, f"table corner {vertex} is not under the cloth"
-        assert min(hits) > 0.5 * sim.thickness  # pushed out along the corner's bisector, so less than straight up
+        # pushed out along the corner's bisector, so less than straight up
+        assert min(hits) > 0.5 * sim.thickness
 
 
 def hanging_pair(**surface):
@@ -87,7 +97,16 @@ def hanging_pair(**surface):
         fixed=[(0, 0), (0, 1), (0, 2)],
     )
     low = SurfaceSpec(
-        "low", 3, 3, 1.0, np.array([0.0, 0.0, -3.0]), np.array([0.0, -1.0, 0.0]), 0.1, (50.0,) * 3, (0, 0, 0), **surface
+        "low",
+        3,
+        3,
+        1.0,
+        np.array([0.0, 0.0, -3.0]),
+        np.array([0.0, -1.0, 0.0]),
+        0.1,
+        (50.0,) * 3,
+        (0, 0, 0),
+        **surface,
     )
     return [top, low]
 
@@ -96,7 +115,9 @@ def test_target_point_is_fixed_where_it_arrives():
     from eigengait.cloth.par import Target
 
     goal = np.array([1.0, 0.0, -6.0])
-    model = surface_model(hanging_pair(targets=[Target(2, 2, goal)]), gravity=(0, 0, -9.81), friction=0.5)
+    model = surface_model(
+        hanging_pair(targets=[Target(2, 2, goal)]), gravity=(0, 0, -9.81), friction=0.5
+    )
     sim = Simulation(model, 0.001, "symplectic", strain_limit=None)
     sim.advance(3000)
     point = model.surfaces[1].start + 8
@@ -114,7 +135,8 @@ def test_attached_surface_hangs_from_the_other():
     sim.advance(4000)
     a, b = model.links[:, 0], model.links[:, 1]
     np.testing.assert_allclose(sim.x[a], sim.x[b], atol=1e-12)
-    assert np.abs(sim.v).max() < 0.05 and sim.x[:, 2].min() > -4 * 1.1 - 1e-6  # 4 rows of springs, ≤ 10 %
+    # 4 rows of springs, ≤ 10 %
+    assert np.abs(sim.v).max() < 0.05 and sim.x[:, 2].min() > -4 * 1.1 - 1e-6
 
 
 PAR = """DURACAO = 1
@@ -148,7 +170,8 @@ def test_par_target_attachment_and_floor():
     surface = script.surfaces[0]
     assert script.floor == -3.0
     assert (surface.targets[0].i, surface.targets[0].j) == (2, 2)
-    np.testing.assert_allclose(surface.targets[0].position, [4.0, 0.0, -2.0])  # y-up (4, -2, 0) -> z-up
+    # y-up (4, -2, 0) -> z-up
+    np.testing.assert_allclose(surface.targets[0].position, [4.0, 0.0, -2.0])
     attached = surface.attachments[0]
     assert (attached.i, attached.j, attached.body, attached.point) == (0, 0, "b", (1, 1))
     model = script_model(script)
@@ -223,10 +246,23 @@ def test_run_options_for_fabric(tmp_path):
     assert (
         runner.invoke(
             app,
-            ["cloth", "run", "curtain", "-o", str(tmp_path / "b"), "--duration", "1", "--no-render", "--dissertation"],
+            [
+                "cloth",
+                "run",
+                "curtain",
+                "-o",
+                str(tmp_path / "b"),
+                "--duration",
+                "1",
+                "--no-render",
+                "--dissertation",
+            ],
         ).exit_code
         == 0
     )
     for option, value in (("--strain-limit", "-0.1"), ("--thickness", "0")):
-        bad = runner.invoke(app, ["cloth", "run", "curtain", "-o", str(tmp_path / "c"), "--no-render", option, value])
+        bad = runner.invoke(
+            app,
+            ["cloth", "run", "curtain", "-o", str(tmp_path / "c"), "--no-render", option, value],
+        )
         assert bad.exit_code == 2 and option in bad.output and "Traceback" not in bad.output

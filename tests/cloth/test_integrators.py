@@ -39,9 +39,19 @@ def test_forward_euler_reproduces_table_4_1(h):
 
 
 def spring_pair(k=1.0, mass=1.0, friction=0.0, stretch=2.0):
-    """Two points 2 m apart at rest; point 0 fixed, point 1 pulled out to ``2·stretch`` m along x."""
+    """Two points 2 m apart at rest; point 0 fixed, point 1 pulled out to ``2·stretch`` m along
+    x."""
     spec = SurfaceSpec(
-        "s", 1, 2, 2.0, np.zeros(3), np.array([0.0, -1.0, 0.0]), mass, (k, k, k), (0, 0, 0), fixed=[(0, 0)]
+        "s",
+        1,
+        2,
+        2.0,
+        np.zeros(3),
+        np.array([0.0, -1.0, 0.0]),
+        mass,
+        (k, k, k),
+        (0, 0, 0),
+        fixed=[(0, 0)],
     )
     model = surface_model([spec], friction=friction)
     model.rest_positions[1, 0] = model.rest_positions[0, 0] + 2.0 * stretch
@@ -49,7 +59,8 @@ def spring_pair(k=1.0, mass=1.0, friction=0.0, stretch=2.0):
 
 
 def test_cloth_model_with_forward_euler_gives_the_h005_column_while_the_spring_is_1d():
-    # In 3D the spring's length is |x|, so the 1-D linear spring of the table holds only while x > 0 (t <= 2).
+    # In 3D the spring's length is |x|, so the 1-D linear spring of the table holds only while x > 0
+    # (t <= 2).
     model = spring_pair()
     sim = Simulation(model, 0.05, "euler", dissertation=True)
     origin = model.rest_positions[0, 0]
@@ -130,7 +141,8 @@ def test_step_size_warning_before_an_explicit_blow_up():
 
 
 def test_stable_step_matches_the_euler_blow_up_of_table_4_1():
-    # Table 4.1 diverges at h = 1 (×16) and is usable at h = 0.05; the Gershgorin bound (ω² ≤ 2k/m) is safe.
+    # Table 4.1 diverges at h = 1 (×16) and is usable at h = 0.05; the Gershgorin bound (ω² ≤ 2k/m)
+    # is safe.
     model = spring_pair()
     limit = stable_step(model, "euler", 10.0)
     assert 0.05 < limit < 1.0

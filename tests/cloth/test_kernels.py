@@ -25,7 +25,9 @@ def sheet(compiled=True, n=7, bending=(0.3, 0.2, 0.1)):
         bending,
         fixed=[(0, 0), (0, n)],
     )
-    model = surface_model([spec], gravity=(0, 0, -9.81), external_force=(0.1, 0.0, 0.0), friction=0.4)
+    model = surface_model(
+        [spec], gravity=(0, 0, -9.81), external_force=(0.1, 0.0, 0.0), friction=0.4
+    )
     return dataclasses.replace(model, compiled=compiled)
 
 
@@ -37,7 +39,9 @@ def shaken(model, seed=0):
 def test_internal_forces_match_the_numpy_reference():
     model = sheet()
     x = shaken(model)
-    np.testing.assert_allclose(model.internal_forces(x), model.internal_forces_reference(x), rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(
+        model.internal_forces(x), model.internal_forces_reference(x), rtol=1e-12, atol=1e-12
+    )
 
 
 @pytest.mark.parametrize("clamp", [True, False])
@@ -73,15 +77,26 @@ def test_compiled_self_collision_matches_the_numpy_pass():
     from eigengait.cloth.collision import collide_self as numpy_self
     from eigengait.cloth.simulate import TriangleGrid
 
-    floor = SurfaceSpec("floor", 3, 3, 1.0, np.zeros(3), np.array([0.0, 0.0, 1.0]), 1.0, (10.0,) * 3, (0, 0, 0))
+    floor = SurfaceSpec(
+        "floor", 3, 3, 1.0, np.zeros(3), np.array([0.0, 0.0, 1.0]), 1.0, (10.0,) * 3, (0, 0, 0)
+    )
     dot = SurfaceSpec(
-        "dot", 1, 2, 3.0, np.array([1.7, 0.3, 0.05]), np.array([0.0, 0.0, 1.0]), 0.5, (0.0,) * 3, (0, 0, 0)
+        "dot",
+        1,
+        2,
+        3.0,
+        np.array([1.7, 0.3, 0.05]),
+        np.array([0.0, 0.0, 1.0]),
+        0.5,
+        (0.0,) * 3,
+        (0, 0, 0),
     )
     model = surface_model([floor, dot])
     x0 = model.rest_positions.copy()
     x0[9:, 2] = 0.05
     x1 = x0.copy()
-    x1[9:, 2] = 0.01  # one dot over the floor's interior comes within the 0.04 m gap, the other is off the sheet
+    # one dot over the floor's interior comes within the 0.04 m gap, the other is off the sheet
+    x1[9:, 2] = 0.01
     v = np.zeros_like(x0)
     v[9:, 2] = -2.0
     results = []
@@ -89,9 +104,13 @@ def test_compiled_self_collision_matches_the_numpy_pass():
         x, vel = x1.copy(), v.copy()
         if collide == "compiled":
             grid = TriangleGrid(model.triangles, 1.0).build(x, 0.04)
-            count = compiled_self(x0, x, vel, model.mass, model.free, model.triangles, *grid, 0.04, 1.0)
+            count = compiled_self(
+                x0, x, vel, model.mass, model.free, model.triangles, *grid, 0.04, 1.0
+            )
         else:
-            count = numpy_self(x0, x, vel, model.mass, model.triangles, model.free, thickness=0.04, restitution=1.0)
+            count = numpy_self(
+                x0, x, vel, model.mass, model.triangles, model.free, thickness=0.04, restitution=1.0
+            )
         results.append((count, x, vel))
     assert results[0][0] == results[1][0] == 1
     np.testing.assert_allclose(results[0][1], results[1][1], atol=1e-12)
@@ -102,7 +121,8 @@ def test_compiled_self_collision_matches_the_numpy_pass():
 @pytest.mark.parametrize("integrator", ["euler", "symplectic"])
 @pytest.mark.parametrize("pinned", [True, False])
 def test_fused_steps_with_strain_limiting_match_the_reference_steps(integrator, pinned):
-    """The compiled multi-step loop (SIMD spring runs, flagged strain sweep) against the NumPy step and sweep."""
+    """The compiled multi-step loop (SIMD spring runs, flagged strain sweep) against the NumPy step
+    and sweep."""
     runs = []
     for compiled, bound in ((True, 0.02), (False, 0.02), (True, None)):
         model = sheet(compiled)
@@ -122,7 +142,9 @@ def test_spring_runs_cover_every_spring_once():
     model = sheet()
     springs = model.springs[np.random.default_rng(3).permutation(len(model.springs))]
     runs = kernels.SpringRuns(springs, model.size)
-    rebuilt = np.concatenate([np.stack([a + np.arange(n), b + np.arange(n)], axis=1) for _, a, b, n in runs.runs])
+    rebuilt = np.concatenate(
+        [np.stack([a + np.arange(n), b + np.arange(n)], axis=1) for _, a, b, n in runs.runs]
+    )
     np.testing.assert_array_equal(rebuilt, springs)
     for p in range(model.size):
         at = runs.touching[runs.touch_start[p] : runs.touch_start[p + 1]]

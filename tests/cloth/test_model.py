@@ -79,7 +79,9 @@ def test_stiffness_matrix_matches_finite_differences():
 def test_translation_moves_fixed_points_per_frame():
     from eigengait.cloth.par import Translation
 
-    moving = spec(2, 2, fixed=[(0, 0), (0, 1)], translations=[Translation(np.array([0.5, 0, 0]), 1.0, 3.0)])
+    moving = spec(
+        2, 2, fixed=[(0, 0), (0, 1)], translations=[Translation(np.array([0.5, 0, 0]), 1.0, 3.0)]
+    )
     model = surface_model([moving], frames_per_second=2.0)
     sim = Simulation(model, 0.01, "symplectic")
     sim.advance(400)  # 4 s: moved 0.5 m per frame × 2 frames/s × 2 s
@@ -113,10 +115,12 @@ def test_collisions_keep_every_point_above_the_table_top():
     for _ in range(150):
         sim.advance(10)
         inside = (np.abs(sim.x[:, 0]) < 1.99) & (np.abs(sim.x[:, 1]) < 1.99) & (sim.x[:, 2] > -0.99)
-        assert (sim.x[inside, 2] >= 0.0).all()  # nothing inside the table: over its footprint, above its top
+        # nothing inside the table: over its footprint, above its top
+        assert (sim.x[inside, 2] >= 0.0).all()
     assert sim.contacts > 0
     on_top = (np.abs(sim.x[:, 0]) < 1.9) & (np.abs(sim.x[:, 1]) < 1.9)
-    resting = np.abs(sim.x[on_top, 2] - sim.thickness) < 1e-6  # lying on the top at exactly the contact gap
+    # lying on the top at exactly the contact gap
+    resting = np.abs(sim.x[on_top, 2] - sim.thickness) < 1e-6
     assert resting.sum() >= 4 and (sim.x[on_top, 2] >= sim.thickness - 1e-9).all()
 
 

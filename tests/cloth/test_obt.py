@@ -10,7 +10,11 @@ from eigengait.errors import UserInputError
 
 def test_round_trip(tmp_path):
     mesh = Mesh(
-        "tri", np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 2.5]]), [[0, 1, 2]], [3], {3: (0.1, 0.2, 0.3, 0.5, 0.25, 0.125)}
+        "tri",
+        np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 2.5]]),
+        [[0, 1, 2]],
+        [3],
+        {3: (0.1, 0.2, 0.3, 0.5, 0.25, 0.125)},
     )
     write_obt(mesh, tmp_path / "t.OBT")
     back = read_obt(tmp_path / "t.OBT")
@@ -22,7 +26,8 @@ def test_round_trip(tmp_path):
 def test_table_is_a_box_in_zup():
     mesa = read_obt(example_path("tablecloth").parent / "mesa.obt")
     assert len(mesa.faces) == 6 and mesa.triangles.shape == (12, 3)
-    assert mesa.vertices[:, 2].min() == 0 and mesa.vertices[:, 2].max() == 10  # FLEX3D y is the world's z
+    # FLEX3D y is the world's z
+    assert mesa.vertices[:, 2].min() == 0 and mesa.vertices[:, 2].max() == 10
 
 
 def test_bad_face_index_names_the_line(tmp_path):

@@ -1,4 +1,5 @@
-"""The .PAR parser: every lenient variant the dissertation's scripts use, and line-numbered errors."""
+"""The .PAR parser: every lenient variant the dissertation's scripts use, and line-numbered
+errors."""
 
 import numpy as np
 import pytest
@@ -62,7 +63,8 @@ def test_accents_equals_before_tuples_and_spelling_variants():
 
 def test_repeated_translation_blocks():
     text = MINIMAL.replace(
-        "    FIM_TRANSL = 1\n", "    FIM_TRANSL = 1\n    TRANSLACAO (-2 0 0)\n    INI_TRANSL = 3\n    FIM_TRANSL = 4\n"
+        "    FIM_TRANSL = 1\n",
+        "    FIM_TRANSL = 1\n    TRANSLACAO (-2 0 0)\n    INI_TRANSL = 3\n    FIM_TRANSL = 4\n",
     )
     moves = parse_par(text).surfaces[0].translations
     assert [(m.start, m.end) for m in moves] == [(0, 1), (3, 4)]

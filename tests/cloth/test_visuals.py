@@ -1,4 +1,5 @@
-"""Run outputs and pictures: real-time video, the floor, smooth shading, whole-set replacement of frames."""
+"""Run outputs and pictures: real-time video, the floor, smooth shading, whole-set replacement of
+frames."""
 
 import json
 
@@ -16,7 +17,8 @@ runner, app = CliRunner(), build_app()
 
 SHEET = (
     "DURACAO = 2\nQUADROS_SEG = 2\nDELTA_t = 0.01\nNUM_SUPERFICIES = 1\nSUPERFICIE s\nMALHA (4 4)\n"
-    "DENSIDADE = 1\nMASSA = 0.1\nCONST_ELASTICIDADE (10 10 10)\nRESTRICOES\nPONTOS_FIXOS = 2\n0 0\n0 3\n"
+    "DENSIDADE = 1\nMASSA = 0.1\nCONST_ELASTICIDADE (10 10 10)\nRESTRICOES\nPONTOS_FIXOS = 2\n0 "
+    "0\n0 3\n"
     "FIM_RESTRICOES\nFIM_SUPERFICIE\n"
 )
 
@@ -24,7 +26,9 @@ SHEET = (
 def run(tmp_path, out, *args):
     script = tmp_path / "sheet.PAR"
     script.write_text(SHEET)
-    return runner.invoke(app, ["cloth", "run", str(script), "-o", str(out), "--integrator", "symplectic", *args])
+    return runner.invoke(
+        app, ["cloth", "run", str(script), "-o", str(out), "--integrator", "symplectic", *args]
+    )
 
 
 def test_video_plays_in_real_time(tmp_path):
@@ -33,7 +37,11 @@ def test_video_plays_in_real_time(tmp_path):
     frames, _ = imageio_ffmpeg.count_frames_and_secs(str(tmp_path / "o" / "sheet.mp4"))
     assert frames == 0.5 * 20 + 1  # t = 0, 1/20, …, 0.5 s; the script itself writes only 2 frames
     video = json.loads((tmp_path / "o" / "run.json").read_text())["video"]
-    assert video["fps"] == 20 and video["frames"] == frames and video["duration_s"] == pytest.approx(11 / 20)
+    assert (
+        video["fps"] == 20
+        and video["frames"] == frames
+        and video["duration_s"] == pytest.approx(11 / 20)
+    )
     assert len(list((tmp_path / "o" / "png").glob("*.png"))) == 2
 
 
@@ -51,7 +59,9 @@ def test_tablecloth_floor_holds_the_corners_above_it():
     steps = np.arange(0, 3001, 250)  # 6 s at h = 2 ms
     lowest = {}
     for floor in (script.floor, None):
-        frames = run_samples(model, steps, time_step=0.002, integrator="symplectic", floor=floor, warn=False)
+        frames = run_samples(
+            model, steps, time_step=0.002, integrator="symplectic", floor=floor, warn=False
+        )
         lowest[floor] = [f.positions[:, 2].min() for f in frames]
     assert min(lowest[None]) < -1.0  # without it the corners hang below the base
     assert min(lowest[0.0]) >= -1e-9
@@ -72,13 +82,17 @@ def test_vertex_normals_of_a_flat_sheet_are_the_plane_normal():
     a = np.array([2.0, -1.0, 0.0]) / np.sqrt(5)
     b = np.cross(normal, a)
     jitter = np.random.default_rng(0).uniform(-0.02, 0.02, (2, 36))
-    points, _, triangles = grid(6, 6, lambda u, v: np.outer(u + jitter[0], a) + np.outer(v + jitter[1], b))
+    points, _, triangles = grid(
+        6, 6, lambda u, v: np.outer(u + jitter[0], a) + np.outer(v + jitter[1], b)
+    )
     np.testing.assert_allclose(np.abs(vertex_normals(points, triangles) @ normal), 1.0, atol=1e-12)
 
 
 def test_vertex_normals_of_a_cylinder_are_radial():
     rows, cols = 9, 13
-    points, quads, triangles = grid(rows, cols, lambda u, v: np.c_[2 * u, np.cos(2 * v), np.sin(2 * v)])
+    points, quads, triangles = grid(
+        rows, cols, lambda u, v: np.c_[2 * u, np.cos(2 * v), np.sin(2 * v)]
+    )
     normals = vertex_normals(points, triangles).reshape(rows, cols, 3)[1:-1, 1:-1]
     radial = points.reshape(rows, cols, 3)[1:-1, 1:-1] * [0, 1, 1]
     cosine = np.abs((normals * radial).sum(axis=2)) / np.linalg.norm(radial, axis=2)
@@ -87,13 +101,25 @@ def test_vertex_normals_of_a_cylinder_are_radial():
 
 def test_smooth_shading_varies_less_between_neighbours_than_flat():
     rows, cols = 5, 9
-    points, quads, triangles = grid(rows, cols, lambda u, v: np.c_[2 * u, np.cos(2.5 * v), np.sin(2.5 * v)])
-    pieces, rgba = smooth_quads(points, vertex_normals(points, triangles), quads, (1.0, 1.0, 1.0), pieces=3)
+    points, quads, triangles = grid(
+        rows, cols, lambda u, v: np.c_[2 * u, np.cos(2.5 * v), np.sin(2.5 * v)]
+    )
+    pieces, rgba = smooth_quads(
+        points, vertex_normals(points, triangles), quads, (1.0, 1.0, 1.0), pieces=3
+    )
     assert pieces.shape == (len(quads) * 9, 4, 3) and rgba.shape == (len(quads) * 9, 4)
-    smooth = rgba[:, 0].reshape(rows - 1, cols - 1, 3, 3).transpose(0, 2, 1, 3).reshape(3 * (rows - 1), -1)
-    _, flat = smooth_quads(points, vertex_normals(points, triangles), quads, (1.0, 1.0, 1.0), pieces=1)
+    smooth = (
+        rgba[:, 0]
+        .reshape(rows - 1, cols - 1, 3, 3)
+        .transpose(0, 2, 1, 3)
+        .reshape(3 * (rows - 1), -1)
+    )
+    _, flat = smooth_quads(
+        points, vertex_normals(points, triangles), quads, (1.0, 1.0, 1.0), pieces=1
+    )
     flat = flat[:, 0].reshape(rows - 1, cols - 1)
-    # across the curved direction: the largest jump between neighbouring pieces is much smaller when smooth
+    # across the curved direction: the largest jump between neighbouring pieces is much smaller when
+    # smooth
     assert np.abs(np.diff(smooth, axis=1)).max() < 0.5 * np.abs(np.diff(flat, axis=1)).max()
 
 
@@ -110,7 +136,8 @@ def test_a_second_run_replaces_the_whole_frame_set(tmp_path):
     assert sorted(p.name for p in (out / "obj").iterdir()) == ["s_0.obj", "s_1.obj"]
     assert sorted(p.name for p in (out / "png").iterdir()) == ["frame_0000.png", "frame_0001.png"]
     assert json.loads((out / "run.json").read_text())["duration_s"] == 0.5
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["o", "sheet.PAR"]  # no staging or old set left
+    # no staging or old set left
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["o", "sheet.PAR"]
 
 
 def test_a_folder_of_other_files_is_never_replaced(tmp_path):

@@ -15,7 +15,9 @@ WALKER = Path(__file__).resolve().parents[3] / "shared/data/models/dm_control/su
 
 
 def run_example(name: str, *args: str) -> str:
-    proc = subprocess.run([sys.executable, str(EXAMPLES / name), *args], capture_output=True, text=True, timeout=600)
+    proc = subprocess.run(
+        [sys.executable, str(EXAMPLES / name), *args], capture_output=True, text=True, timeout=600
+    )
     assert proc.returncode == 0, proc.stderr
     return proc.stdout
 
@@ -42,7 +44,8 @@ def test_cloth_example_hangs_the_curtain_within_its_strain_limit():
     out = run_example("cloth_script.py", "curtain", "--seconds", "1")
     strains = numbers(r"strain +([\d.]+) %", out)
     heights = numbers(r"z = +([-\d.]+) m", out)
-    assert len(strains) == 2 and max(strains) <= 10.0 + 1e-6 and strains[-1] > 1.0  # stretched, but limited
+    # stretched, but limited
+    assert len(strains) == 2 and max(strains) <= 10.0 + 1e-6 and strains[-1] > 1.0
     assert heights[1] < heights[0]  # gravity pulls it down
 
 
@@ -53,7 +56,9 @@ def test_track_example_holds_the_walk():
 
 
 def test_sketch_example_optimizes_within_its_budget_and_plays(tmp_path):
-    out = run_example("sketch_to_gait.py", "kangaroo", "--evaluations", "40", "--output", str(tmp_path / "run"))
+    out = run_example(
+        "sketch_to_gait.py", "kangaroo", "--evaluations", "40", "--output", str(tmp_path / "run")
+    )
     evaluations = numbers(r"^(\d+) evaluations", out)
     assert evaluations and evaluations[0] <= 40
     assert (tmp_path / "run" / "best_controller.json").is_file() and "played" in out

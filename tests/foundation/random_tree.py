@@ -1,4 +1,5 @@
-"""Random articulated trees (boxes, ball and hinge joints, anisotropic stiffness) written as MJCF + sidecar."""
+"""Random articulated trees (boxes, ball and hinge joints, anisotropic stiffness) written as MJCF +
+sidecar."""
 
 from __future__ import annotations
 
@@ -16,7 +17,8 @@ def random_tree(
     anisotropic: bool = True,
     name: str = "tree",
 ) -> Path:
-    """Write `name.xml` (+ sidecar) with a free root and n_bodies-1 random joints; returns the MJCF path."""
+    """Write `name.xml` (+ sidecar) with a free root and n_bodies-1 random joints; returns the MJCF
+    path."""
     lines = [f'<mujoco model="{name}"><worldbody>']
     stiffness = {}
     parents = [-1]
@@ -29,29 +31,35 @@ def random_tree(
         pos = [0, 0, 1] if i == 0 else rng.uniform(-0.3, 0.3, 3)
         quat = rng.normal(size=4)
         quat /= np.linalg.norm(quat)
-        lines.append(f'<body name="b{i}" pos="{" ".join(map(str, pos))}" quat="{" ".join(map(str, quat))}">')
+        lines.append(
+            f'<body name="b{i}" pos="{" ".join(map(str, pos))}" quat="{" ".join(map(str, quat))}">'
+        )
         if i == 0:
             lines.append('<freejoint name="root"/>')
         elif rng.random() < hinge_fraction:
             axis = rng.normal(size=3)
             lines.append(
                 f'<joint name="j{i}" type="hinge" axis="{" ".join(map(str, axis))}" '
-                f'pos="{" ".join(map(str, rng.uniform(-0.1, 0.1, 3)))}" stiffness="{rng.uniform(5, 50)}"/>'
+                f'pos="{" ".join(map(str, rng.uniform(-0.1, 0.1, 3)))}" '
+                f'stiffness="{rng.uniform(5, 50)}"/>'
             )
         else:
             k = rng.uniform(5, 50)
             lines.append(
-                f'<joint name="j{i}" type="ball" pos="{" ".join(map(str, rng.uniform(-0.1, 0.1, 3)))}" '
-                f'stiffness="{k}"/>'
+                f'<joint name="j{i}" type="ball" '
+                f'pos="{" ".join(map(str, rng.uniform(-0.1, 0.1, 3)))}" stiffness="{k}"/>'
             )
             if anisotropic:
                 stiffness[f"j{i}"] = [float(x) for x in rng.uniform(5, 50, 3)]
         lines.append(
             f'<geom type="box" size="{" ".join(map(str, half))}" '
-            f'pos="{" ".join(map(str, rng.uniform(-0.1, 0.1, 3)))}" density="{rng.uniform(300, 2000)}"/>'
+            f'pos="{" ".join(map(str, rng.uniform(-0.1, 0.1, 3)))}" '
+            f'density="{rng.uniform(300, 2000)}"/>'
         )
         if i == n_bodies - 1:
-            lines.append(f'<site name="tip_toe" pos="{" ".join(map(str, rng.uniform(-0.1, 0.1, 3)))}"/>')
+            lines.append(
+                f'<site name="tip_toe" pos="{" ".join(map(str, rng.uniform(-0.1, 0.1, 3)))}"/>'
+            )
         for c in children[i]:
             body(c, depth + 1)
         lines.append("</body>")
@@ -61,5 +69,7 @@ def random_tree(
     path = folder / f"{name}.xml"
     path.write_text("\n".join(lines))
     if stiffness:
-        (folder / f"{name}.eigengait.yaml").write_text(yaml.safe_dump({"eigengait": 1, "stiffness": stiffness}))
+        (folder / f"{name}.eigengait.yaml").write_text(
+            yaml.safe_dump({"eigengait": 1, "stiffness": stiffness})
+        )
     return path

@@ -1,4 +1,5 @@
-"""Outputs as the user gets them: --force replaces a file, writes are atomic, MuJoCo's log stays out of the folder.
+"""Outputs as the user gets them: --force replaces a file, writes are atomic, MuJoCo's log stays out
+of the folder.
 
 Refusals (an existing file without --force, bad output paths) are in the hostile-input corpus.
 """
@@ -21,7 +22,10 @@ from test_hostile_inputs import run_cli
 REPLACED = {
     "modes-save": ("m.npz", ["modes", "humanoid", "--save", "{out}"]),
     "character-export": ("h.xml", ["character", "export", "humanoid", "-o", "{out}"]),
-    "animate-bvh": ("a.bvh", ["animate", "humanoid", "--mix", "1:1", "--seconds", "0.2", "--bvh", "{out}"]),
+    "animate-bvh": (
+        "a.bvh",
+        ["animate", "humanoid", "--mix", "1:1", "--seconds", "0.2", "--bvh", "{out}"],
+    ),
     "play-bvh": ("p.bvh", ["play", "dog-trot", "--cycles", "1", "--bvh", "{out}"]),
 }
 
@@ -63,7 +67,9 @@ def test_a_kill_during_a_video_write_leaves_no_file_under_the_final_name(tmp_pat
         deadline = time.monotonic() + 120
         while not list(tmp_path.glob(".out.mp4.*.part.mp4")):
             assert not out.exists(), "the video is written under its final name"
-            assert proc.poll() is None and time.monotonic() < deadline, "no temporary video appeared"
+            assert proc.poll() is None and time.monotonic() < deadline, (
+                "no temporary video appeared"
+            )
             time.sleep(0.05)
         os.kill(proc.pid, signal.SIGKILL)
     finally:

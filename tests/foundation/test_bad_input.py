@@ -1,4 +1,5 @@
-"""Bad characters and arguments: one clear message naming the file and field, exit status 2, no traceback."""
+"""Bad characters and arguments: one clear message naming the file and field, exit status 2, no
+traceback."""
 
 import json
 
@@ -16,12 +17,14 @@ GOOD_BODY = '<geom type="box" size=".1 .1 .1"/>'
 CASES = {
     "malformed": ("<mujoco><worldbody><body>", "malformed MJCF"),
     "ball_root": (
-        f'<mujoco><worldbody><body><joint name="j" type="ball" stiffness="5"/>{GOOD_BODY}</body></worldbody></mujoco>',
+        '<mujoco><worldbody><body><joint name="j" type="ball" '
+        f'stiffness="5"/>{GOOD_BODY}</body></worldbody></mujoco>',
         "root joint must be a named slide or hinge",
     ),
     "reserved_name": (
         f'<mujoco><worldbody><body><freejoint/>{GOOD_BODY}<body pos="0 0 .2">'
-        f'<joint name="j" type="ball" stiffness="5"/><geom name="eigengait:floor" size=".1"/></body>'
+        '<joint name="j" type="ball" stiffness="5"/><geom name="eigengait:floor" '
+        'size=".1"/></body>'
         "</body></worldbody></mujoco>",
         "geom 'eigengait:floor'",
     ),
@@ -32,7 +35,8 @@ CASES = {
     ),
     "slide_joint": (
         f'<mujoco><worldbody><body><freejoint/>{GOOD_BODY}<body pos="0 0 .2">'
-        f'<joint name="s" type="slide" stiffness="5"/>{GOOD_BODY}</body></body></worldbody></mujoco>',
+        '<joint name="s" type="slide" '
+        f'stiffness="5"/>{GOOD_BODY}</body></body></worldbody></mujoco>',
         "not supported",
     ),
 }
@@ -86,11 +90,21 @@ def test_modes_json_contract(eigengait_cli):
 
 def test_exported_mjcf_is_the_simulated_model(tmp_path, eigengait_cli):
     out = tmp_path / "h.xml"
-    assert eigengait_cli("character", "export", "humanoid", "--relax", "crouched", "-o", out).returncode == 0
+    assert (
+        eigengait_cli(
+            "character", "export", "humanoid", "--relax", "crouched", "-o", out
+        ).returncode
+        == 0
+    )
     exported = mujoco.MjModel.from_xml_path(str(out))
     world = build_world(load_character("humanoid"), "crouched")
-    assert (exported.nv, exported.nu, exported.ngeom) == (world.model.nv, world.model.nu, world.model.ngeom)
-    np.testing.assert_allclose(exported.body_quat, world.model.body_quat, atol=1e-6)  # XML keeps ~7 digits
+    assert (exported.nv, exported.nu, exported.ngeom) == (
+        world.model.nv,
+        world.model.nu,
+        world.model.ngeom,
+    )
+    # XML keeps ~7 digits
+    np.testing.assert_allclose(exported.body_quat, world.model.body_quat, atol=1e-6)
     again = eigengait_cli("character", "export", "humanoid", "-o", out)
     assert again.returncode == 2 and "--force" in again.stderr  # nothing overwritten silently
 

@@ -8,7 +8,9 @@ from eigengait.sim.build import _cpu_flags, build_fingerprint
 
 def test_cpu_flags_keep_the_vector_instructions_of_the_first_cpu(tmp_path):
     cpuinfo = tmp_path / "cpuinfo"
-    cpuinfo.write_text("processor\t: 0\nflags\t\t: fpu sse4_2 avx avx2 fma\n\nprocessor\t: 1\nflags\t\t: avx512f\n")
+    cpuinfo.write_text(
+        "processor\t: 0\nflags\t\t: fpu sse4_2 avx avx2 fma\n\nprocessor\t: 1\nflags\t\t: avx512f\n"
+    )
     assert _cpu_flags(cpuinfo) == ["sse4_2", "avx", "avx2", "fma"]
     arm = tmp_path / "arm"
     arm.write_text("processor\t: 0\nFeatures\t: fp asimd evtstrm\n")

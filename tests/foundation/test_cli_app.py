@@ -1,5 +1,5 @@
-"""The `eigengait` app is built when it runs: importing the package registers no command, and every build lists
-the commands `eigengait --help` has always listed."""
+"""The `eigengait` app is built when it runs: importing the package registers no command, and every
+build lists the commands `eigengait --help` has always listed."""
 
 import subprocess
 import sys
@@ -40,7 +40,9 @@ def _listed(group) -> list[str]:
 
 
 def test_importing_the_cli_registers_no_command():
-    done = subprocess.run([sys.executable, "-c", IMPORT_ONLY], capture_output=True, text=True, timeout=60)
+    done = subprocess.run(
+        [sys.executable, "-c", IMPORT_ONLY], capture_output=True, text=True, timeout=60
+    )
     assert done.returncode == 0, done.stderr
     assert done.stdout.splitlines() == ["['eigengait.cli.flags']", "False"]
 

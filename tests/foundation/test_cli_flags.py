@@ -90,7 +90,11 @@ def run_cli(capsys, monkeypatch, args) -> tuple[int, str]:
 
 
 def test_the_command_prints_the_same_errors_with_flags(capsys, monkeypatch, tmp_path):
-    code, err = run_cli(capsys, monkeypatch, ["character", "export", "humanoid", "--stiffness", "sag", "-o", "x.xml"])
+    code, err = run_cli(
+        capsys,
+        monkeypatch,
+        ["character", "export", "humanoid", "--stiffness", "sag", "-o", "x.xml"],
+    )
     assert code == 2 and "field '--stiffness'" in err and "pass --stiffness auto" in err, err
     code, err = run_cli(capsys, monkeypatch, ["modes", "humanoid", "--phase", "water"])
     assert code == 2 and "field '--phase'" in err and "phase=" not in err, err
@@ -100,21 +104,32 @@ def test_the_command_prints_the_same_errors_with_flags(capsys, monkeypatch, tmp_
 
 
 def test_translation_keeps_file_fields_and_the_error_type():
-    blowup = SimulationBlowUp("diverged", file="a.par", field="line 3: DELTA_t", fix="or integrator='implicit'.")
+    blowup = SimulationBlowUp(
+        "diverged", file="a.par", field="line 3: DELTA_t", fix="or integrator='implicit'."
+    )
     shown = for_command_line(blowup)
     assert type(shown) is SimulationBlowUp and shown.field == "line 3: DELTA_t"
     assert shown.fix == "or --integrator implicit." and blowup.fix == "or integrator='implicit'."
     in_file = for_command_line(UserInputError("bad", file="s.yaml", field="robustness"))
     assert in_file.field == "robustness"  # a sketch file's key, not the option
-    both = for_command_line(UserInputError("odd size", field="width/height", fix="use e.g. width=640"))
-    assert both.field == "--width/--height" and both.fix == "use e.g. --width 640" and "--width/--height" in str(both)
+    both = for_command_line(
+        UserInputError("odd size", field="width/height", fix="use e.g. width=640")
+    )
+    assert (
+        both.field == "--width/--height"
+        and both.fix == "use e.g. --width 640"
+        and "--width/--height" in str(both)
+    )
     other = for_command_line(UserInputError("bad", field="joints", fix='give it stiffness="10"'))
-    assert other.field == "joints" and other.fix == 'give it stiffness="10"'  # an MJCF attribute stays
+    # an MJCF attribute stays
+    assert other.field == "joints" and other.fix == 'give it stiffness="10"'
 
 
 def _options(command) -> set[str]:
     found = {
-        o for p in getattr(command, "params", []) for o in getattr(p, "opts", []) + getattr(p, "secondary_opts", [])
+        o
+        for p in getattr(command, "params", [])
+        for o in getattr(p, "opts", []) + getattr(p, "secondary_opts", [])
     }
     for sub in getattr(command, "commands", {}).values():
         found |= _options(sub)

@@ -1,5 +1,5 @@
-"""`files.load_model`, the one reader of validated YAML/JSON files (sidecars, mapping files): errors name the
-file, the field and the caller's fix."""
+"""`files.load_model`, the one reader of validated YAML/JSON files (sidecars, mapping files): errors
+name the file, the field and the caller's fix."""
 
 import pytest
 
@@ -7,7 +7,9 @@ from eigengait.character.metadata import CharacterMetadata, load_metadata
 from eigengait.errors import UserInputError
 from eigengait.motion.retarget import load_mapping
 
-MAPPING_FIX = "write 'joints: {BVH_JOINT: MJCF_JOINT, ...}' and optionally 'axes: {x: +z, y: +x, z: +y}'."
+MAPPING_FIX = (
+    "write 'joints: {BVH_JOINT: MJCF_JOINT, ...}' and optionally 'axes: {x: +z, y: +x, z: +y}'."
+)
 
 
 def test_an_empty_sidecar_gives_the_defaults(tmp_path):
@@ -29,7 +31,10 @@ def test_a_bad_sidecar_field_keeps_its_fix(tmp_path):
     side.write_text("eigengait: 2\n")
     with pytest.raises(UserInputError) as err:
         load_metadata(side)
-    assert (err.value.field, err.value.fix) == ("eigengait", "see the sidecar format in the README (Characters)")
+    assert (err.value.field, err.value.fix) == (
+        "eigengait",
+        "see the sidecar format in the README (Characters)",
+    )
 
 
 @pytest.mark.parametrize("text", ["{ [ unclosed", "- 1\n- 2\n"])

@@ -26,4 +26,6 @@ def test_quat_exp_is_mujocos_axis_angle_quaternion():
         mujoco.mju_axisAngle2Quat(expected, rotvec / angle, angle)
         np.testing.assert_allclose(q, expected, atol=1e-14)
     np.testing.assert_array_equal(quat_exp(np.zeros(3)), [1.0, 0, 0, 0])
-    np.testing.assert_allclose(quat_exp(np.array([0, 0, np.pi / 2])), [np.sqrt(0.5), 0, 0, np.sqrt(0.5)])
+    np.testing.assert_allclose(
+        quat_exp(np.array([0, 0, np.pi / 2])), [np.sqrt(0.5), 0, 0, np.sqrt(0.5)]
+    )

@@ -1,8 +1,9 @@
-"""Hostile input at the command line: every case exits with status 2 and one message, never a traceback.
+"""Hostile input at the command line: every case exits with status 2 and one message, never a
+traceback.
 
-One parametrized test per kind of input (option values, character files, sketches and controllers, cloth
-scripts, output paths, run folders). Each case builds its files in a temporary folder and runs `main()` in
-process, as the `eigengait` command does.
+One parametrized test per kind of input (option values, character files, sketches and controllers,
+cloth scripts, output paths, run folders). Each case builds its files in a temporary folder and runs
+`main()` in process, as the `eigengait` command does.
 """
 
 from __future__ import annotations
@@ -49,7 +50,15 @@ OPTION_VALUES = {
         "-o",
         "{tmp}/s.yaml",
     ],
-    "random-sketch-seed-negative": ["sketch", "new", "humanoid", "--random", "-1", "-o", "{tmp}/s.yaml"],
+    "random-sketch-seed-negative": [
+        "sketch",
+        "new",
+        "humanoid",
+        "--random",
+        "-1",
+        "-o",
+        "{tmp}/s.yaml",
+    ],
     "demo-harden-minutes-negative": ["demo", "--output", "{tmp}/demo", "--harden-minutes", "-1"],
     "harden-copies-zero": ["harden", "kangaroo-hop", "-o", "{tmp}/run", "--copies", "0"],
     "harden-impulse-nan": ["harden", "kangaroo-hop", "-o", "{tmp}/run", "--push-impulse", "nan"],
@@ -69,10 +78,35 @@ OPTION_VALUES = {
     "workers-negative": ["optimize", "basic-run", "-o", "{tmp}/run", "--workers", "-2"],
     "tolerance-nan": ["optimize", "basic-run", "-o", "{tmp}/run", "--cycle-tolerance", "nan"],
     "palette-angle-nan": ["palette", "humanoid", "--angle", "nan", "-o", "{tmp}/p.png"],
-    "animate-seconds-nan": ["animate", "humanoid", "--mix", "2:1", "--seconds", "nan", "--bvh", "{tmp}/a.bvh"],
+    "animate-seconds-nan": [
+        "animate",
+        "humanoid",
+        "--mix",
+        "2:1",
+        "--seconds",
+        "nan",
+        "--bvh",
+        "{tmp}/a.bvh",
+    ],
     "cloth-time-step-negative": ["cloth", "run", "curtain", "-o", "{tmp}/out", "--time-step", "-1"],
-    "fps-a-billion": ["play", "kangaroo-hop", "--cycles", "1", "--bvh", "{tmp}/x.bvh", "--fps", "1e9"],
-    "popsize-a-hundred-million": ["optimize", "basic-run", "-o", "{tmp}/run", "--popsize", "100000000"],
+    "fps-a-billion": [
+        "play",
+        "kangaroo-hop",
+        "--cycles",
+        "1",
+        "--bvh",
+        "{tmp}/x.bvh",
+        "--fps",
+        "1e9",
+    ],
+    "popsize-a-hundred-million": [
+        "optimize",
+        "basic-run",
+        "-o",
+        "{tmp}/run",
+        "--popsize",
+        "100000000",
+    ],
     "palette-tile-100000": ["palette", "humanoid", "--tile", "100000", "-o", "{tmp}/p.png"],
     "track-start-frame-negative": ["track", "{mocap}/cmu_02_01_walk.bvh", "--start-frame", "-5"],
     "track-foot-radius-negative": ["track", "{mocap}/cmu_02_01_walk.bvh", "--foot-radius", "-0.1"],
@@ -97,7 +131,9 @@ OPTION_VALUES = {
 
 @pytest.mark.parametrize("args", OPTION_VALUES.values(), ids=OPTION_VALUES.keys())
 def test_bad_option_values(args, tmp_path, capsys, monkeypatch):
-    assert_clean_refusal(*run_cli(capsys, monkeypatch, [a.format(tmp=tmp_path, mocap=MOCAP) for a in args]))
+    assert_clean_refusal(
+        *run_cli(capsys, monkeypatch, [a.format(tmp=tmp_path, mocap=MOCAP) for a in args])
+    )
     assert not (tmp_path / "run").exists()  # refused before any work started
 
 
@@ -113,8 +149,16 @@ def _deep_bvh(depth: int = 5000) -> bytes:
     """A hierarchy nested `depth` joints deep (a recursive parser overflows Python's stack)."""
     channels = "CHANNELS 6 Xposition Yposition Zposition Zrotation Xrotation Yrotation\n"
     head = "HIERARCHY\nROOT Hips\n{\nOFFSET 0 0 0\n" + channels
-    joints = "".join(f"JOINT j{i}\n{{\nOFFSET 0 1 0\nCHANNELS 3 Zrotation Xrotation Yrotation\n" for i in range(depth))
-    tail = "}\n" * (depth + 1) + "MOTION\nFrames: 1\nFrame Time: 0.01\n" + " ".join(["0"] * (6 + 3 * depth)) + "\n"
+    joints = "".join(
+        f"JOINT j{i}\n{{\nOFFSET 0 1 0\nCHANNELS 3 Zrotation Xrotation Yrotation\n"
+        for i in range(depth)
+    )
+    tail = (
+        "}\n" * (depth + 1)
+        + "MOTION\nFrames: 1\nFrame Time: 0.01\n"
+        + " ".join(["0"] * (6 + 3 * depth))
+        + "\n"
+    )
     return (head + joints + tail).encode()
 
 
@@ -149,8 +193,16 @@ FILES = {
         ["sketch", "{file}"],
     ),
     "bvh-5000-deep": ("deep.bvh", _deep_bvh(), ["track", "{file}", "--json"]),
-    "controller-unknown-foot": ("c.json", _unknown_foot_controller(), ["play", "{file}", "--cycles", "1"]),
-    "controller-short-state": ("c.json", _short_state_controller(), ["play", "{file}", "--cycles", "1"]),
+    "controller-unknown-foot": (
+        "c.json",
+        _unknown_foot_controller(),
+        ["play", "{file}", "--cycles", "1"],
+    ),
+    "controller-short-state": (
+        "c.json",
+        _short_state_controller(),
+        ["play", "{file}", "--cycles", "1"],
+    ),
     "mjcf-garbage": ("bad.xml", b"<mujoco><worldbody><body", ["modes", "{file}"]),
     "mjcf-empty": ("empty.xml", b"", ["modes", "{file}"]),
     "mjcf-missing": (None, None, ["modes", "{tmp}/missing.xml"]),
@@ -160,7 +212,11 @@ FILES = {
     "controller-not-json": ("c.json", b"{ not json", ["play", "{file}"]),
     "controller-latin1": ("c.json", LATIN1, ["play", "{file}"]),
     "controller-empty-object": ("c.json", b"{}", ["play", "{file}"]),
-    "par-garbage": ("X.PAR", b"root:x:0:0:secret\n\x00\x01", ["cloth", "run", "{file}", "-o", "{tmp}/out"]),
+    "par-garbage": (
+        "X.PAR",
+        b"root:x:0:0:secret\n\x00\x01",
+        ["cloth", "run", "{file}", "-o", "{tmp}/out"],
+    ),
     "par-empty": ("X.PAR", b"", ["cloth", "run", "{file}", "-o", "{tmp}/out"]),
     "bvh-garbage": ("m.bvh", b"HIERARCHY\nROOT\n{", ["track", "{file}", "--json"]),
 }
@@ -209,7 +265,9 @@ def test_damaged_run_folders_on_resume(damage, tmp_path, capsys, monkeypatch):
     run.mkdir()
     damage(run)
     before = sorted(p.name for p in run.iterdir())
-    assert_clean_refusal(*run_cli(capsys, monkeypatch, ["optimize", "basic-run", "-o", run, "--resume"]))
+    assert_clean_refusal(
+        *run_cli(capsys, monkeypatch, ["optimize", "basic-run", "-o", run, "--resume"])
+    )
     assert sorted(p.name for p in run.iterdir()) == before
 
 
@@ -223,7 +281,13 @@ OUTPUT_PATHS = {
     "optimize-unwritable": ["optimize", "basic-run", "-o", "/proc/eigengait-run"],
     "save-below-a-file": ["modes", "humanoid", "--save", "{tmp}/file.txt/m.npz"],
     "save-without-npz": ["modes", "humanoid", "--save", "{tmp}/old"],
-    "video-onto-a-folder-with-force": ["play", "dog-trot", "--video", "{tmp}/folder.mp4", "--force"],
+    "video-onto-a-folder-with-force": [
+        "play",
+        "dog-trot",
+        "--video",
+        "{tmp}/folder.mp4",
+        "--force",
+    ],
     "demo-into-a-file": ["demo", "--output", "{tmp}/file.txt"],
     "force-and-resume": ["optimize", "basic-run", "-o", "{tmp}/run", "--force", "--resume"],
 }

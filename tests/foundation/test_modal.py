@@ -1,4 +1,5 @@
-"""Modal analysis: reduced vs maximal coordinates, closed forms, simulation, and the built-in library."""
+"""Modal analysis: reduced vs maximal coordinates, closed forms, simulation, and the built-in
+library."""
 
 import mujoco
 import numpy as np
@@ -26,10 +27,16 @@ def test_reduced_and_maximal_formulations_agree_on_random_trees(tmp_path, seed):
         np.testing.assert_allclose(f_max, reduced.frequencies_hz, rtol=1e-6)
         # joint-space shapes agree up to sign (distinct frequencies only)
         distinct = np.r_[True, np.diff(reduced.frequencies_hz) > 1e-6 * reduced.frequencies_hz[1:]]
-        distinct &= np.r_[np.diff(reduced.frequencies_hz) > 1e-6 * reduced.frequencies_hz[:-1], True]
+        distinct &= np.r_[
+            np.diff(reduced.frequencies_hz) > 1e-6 * reduced.frequencies_hz[:-1], True
+        ]
         ours = reduced.shapes[world.internal_qvel][:, distinct]
         theirs = joint_shapes[:, distinct]
-        cos = np.abs(np.sum(ours * theirs, 0)) / np.linalg.norm(ours, axis=0) / np.linalg.norm(theirs, axis=0)
+        cos = (
+            np.abs(np.sum(ours * theirs, 0))
+            / np.linalg.norm(ours, axis=0)
+            / np.linalg.norm(theirs, axis=0)
+        )
         np.testing.assert_allclose(cos, 1.0, atol=1e-6)
 
 
@@ -38,16 +45,19 @@ def two_boxes(tmp_path, k):
     xml = """<mujoco><worldbody><body name="a" pos="0 0 1"><freejoint/>
       <geom type="box" size="0.3 0.05 0.1" pos="-0.3 0 0"/>
       <body name="b"><joint name="j" type="ball" stiffness="1"/><geom type="box" size="0.3 0.05 0.1" pos="0.3 0 0"/>
-      </body></body></worldbody></mujoco>"""
+      </body></body></worldbody></mujoco>"""  # noqa: E501
     (tmp_path / "pair.xml").write_text(xml)
     (tmp_path / "pair.eigengait.yaml").write_text(
-        yaml.safe_dump({"eigengait": 1, "stiffness": {"j": [float(x) for x in k]}, "damping_ratio": 0.0})
+        yaml.safe_dump(
+            {"eigengait": 1, "stiffness": {"j": [float(x) for x in k]}, "damping_ratio": 0.0}
+        )
     )
     return load_character(tmp_path / "pair.xml")
 
 
 def test_two_box_frequencies_match_closed_form(tmp_path):
-    # Symmetric free-free pair: each box spins about its own COM, relative angle 2α, so ω² = 2k / I_c.
+    # Symmetric free-free pair: each box spins about its own COM, relative angle 2α, so ω² = 2k
+    # / I_c.
     k = np.array([30.0, 70.0, 110.0])
     character = two_boxes(tmp_path, k)
     m = 1000 * 0.6 * 0.1 * 0.2
@@ -60,7 +70,9 @@ def test_two_box_frequencies_match_closed_form(tmp_path):
 
 def test_simulated_oscillation_matches_modal_frequency_with_anisotropic_springs(tmp_path):
     character = two_boxes(tmp_path, [30.0, 70.0, 110.0])
-    world = build_world(character, options=WorldOptions(gravity=False, floor=False, timestep=0.0005))
+    world = build_world(
+        character, options=WorldOptions(gravity=False, floor=False, timestep=0.0005)
+    )
     assert world.model.nu == 6  # 3 motors + 3 anisotropic spring actuators
     modes = compute_modes(world, "air")
     M = mass_matrix(world)
@@ -86,7 +98,8 @@ def test_builtin_characters_have_modes_in_both_phases(name):
     world = build_world(character, options=WorldOptions(gravity=False))
     air = compute_modes(world, "air")
     ground = compute_modes(world, "ground")
-    planar = bool(character.root_joints)  # slide x, slide z, hinge y: 3 rigid modes in the air, 1 on a pinned toe
+    # slide x, slide z, hinge y: 3 rigid modes in the air, 1 on a pinned toe
+    planar = bool(character.root_joints)
     assert (air.rigid_modes, ground.rigid_modes) == ((3, 1) if planar else (6, 3))
     assert air.count == ground.count == character.internal_dofs
     assert 0.5 <= air.frequencies_hz[0] <= 5.0 and 0.5 <= ground.frequencies_hz[0] <= 5.0

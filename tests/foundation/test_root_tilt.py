@@ -10,7 +10,8 @@ FREE = RootLayout("free", (0, 1, 2), 0, 0, 2, 2, quat_qpos=3)
 
 
 def free_qpos(axis, degrees, yaw_degrees=0.0):
-    """qpos (7,) of a free root at the origin turned by `degrees` about `axis` after a yaw about world z."""
+    """qpos (7,) of a free root at the origin turned by `degrees` about `axis` after a yaw about
+    world z."""
     tilt, yaw, q = np.zeros(4), np.zeros(4), np.zeros(4)
     mujoco.mju_axisAngle2Quat(tilt, np.asarray(axis, float), np.deg2rad(degrees))
     mujoco.mju_axisAngle2Quat(yaw, np.array([0.0, 0.0, 1.0]), np.deg2rad(yaw_degrees))

@@ -1,4 +1,5 @@
-"""Simulation health: a blow-up is an exit-2 error naming the time and the body, and no JSON ever holds NaN."""
+"""Simulation health: a blow-up is an exit-2 error naming the time and the body, and no JSON ever
+holds NaN."""
 
 from __future__ import annotations
 
@@ -10,7 +11,13 @@ import pytest
 from eigengait.character.library import resolve_character
 from eigengait.control.library import resolve
 from eigengait.json_text import dumps
-from eigengait.sim.stepping import MAX_CONTROL, MAX_SPEED, blown_up_dof, blown_up_steps, first_bad_torque
+from eigengait.sim.stepping import (
+    MAX_CONTROL,
+    MAX_SPEED,
+    blown_up_dof,
+    blown_up_steps,
+    first_bad_torque,
+)
 from test_hostile_inputs import assert_clean_refusal, run_cli
 
 DOFS = np.array([6, 7, 8])  # motor i drives dof DOFS[i]
@@ -56,7 +63,9 @@ def test_blow_ups_are_found_for_a_whole_batch_at_once():
 
 
 def test_json_text_has_no_nan_or_infinity():
-    text = dumps({"a": float("nan"), "b": [np.inf, np.float32(1.5)], "c": np.int64(3), "d": np.bool_(True)})
+    text = dumps(
+        {"a": float("nan"), "b": [np.inf, np.float32(1.5)], "c": np.int64(3), "d": np.bool_(True)}
+    )
     assert json.loads(text, parse_constant=lambda c: pytest.fail(f"{c} in JSON")) == {
         "a": None,
         "b": [None, 1.5],
@@ -68,7 +77,9 @@ def test_json_text_has_no_nan_or_infinity():
 def _controller(tmp_path, scale_activations=1.0, **fields):
     data = json.loads(resolve("gait", "kangaroo-hop").read_text())
     data["activations"] = {
-        f: {ph: {m: v * scale_activations for m, v in modes.items()} for ph, modes in phases.items()}
+        f: {
+            ph: {m: v * scale_activations for m, v in modes.items()} for ph, modes in phases.items()
+        }
         for f, phases in data["activations"].items()
     }
     data.update(fields)
@@ -78,7 +89,8 @@ def _controller(tmp_path, scale_activations=1.0, **fields):
 
 
 def _kangaroo_without_strength(tmp_path) -> str:
-    """A sidecar of the built-in kangaroo with no `strength`: its motors are limited by `torque_limit` only."""
+    """A sidecar of the built-in kangaroo with no `strength`: its motors are limited by
+    `torque_limit` only."""
     model = resolve_character("kangaroo")
     text = model.with_name("kangaroo.eigengait.yaml").read_text().replace("strength: 1.0\n", "")
     assert "strength" not in text
@@ -88,7 +100,8 @@ def _kangaroo_without_strength(tmp_path) -> str:
 
 
 def test_a_blow_up_during_play_names_time_and_body(tmp_path, capsys, monkeypatch):
-    character = _kangaroo_without_strength(tmp_path)  # the built-in one's strength would clip the torques
+    # the built-in one's strength would clip the torques
+    character = _kangaroo_without_strength(tmp_path)
     path = _controller(tmp_path, scale_activations=1e7, torque_limit=1e9, character=character)
     code, err = run_cli(capsys, monkeypatch, ["play", path, "--cycles", "1", "--json"])
     assert_clean_refusal(code, err)
@@ -96,12 +109,18 @@ def test_a_blow_up_during_play_names_time_and_body(tmp_path, capsys, monkeypatch
     assert capsys.readouterr().out == ""  # nothing printed as a result
 
 
-@pytest.mark.parametrize("fields", [{"initial_qvel": [1e8]}, {"torque_limit": 1e12}], ids=["runaway-speed", "torque"])
-def test_controllers_beyond_what_simulation_takes_are_refused(fields, tmp_path, capsys, monkeypatch):
+@pytest.mark.parametrize(
+    "fields", [{"initial_qvel": [1e8]}, {"torque_limit": 1e12}], ids=["runaway-speed", "torque"]
+)
+def test_controllers_beyond_what_simulation_takes_are_refused(
+    fields, tmp_path, capsys, monkeypatch
+):
     data = json.loads(resolve("gait", "kangaroo-hop").read_text())
     if "initial_qvel" in fields:
         fields = {"initial_qvel": fields["initial_qvel"] + data["initial_qvel"][1:]}
-    code, err = run_cli(capsys, monkeypatch, ["play", _controller(tmp_path, **fields), "--cycles", "1"])
+    code, err = run_cli(
+        capsys, monkeypatch, ["play", _controller(tmp_path, **fields), "--cycles", "1"]
+    )
     assert_clean_refusal(code, err)
     assert next(iter(fields)) in err
 

@@ -1,4 +1,5 @@
-"""The simulated world: standing on the floor, springs at rest, and the thesis's stance-foot contact filter."""
+"""The simulated world: standing on the floor, springs at rest, and the thesis's stance-foot contact
+filter."""
 
 import mujoco
 import numpy as np
@@ -46,7 +47,8 @@ def test_motor_limits_are_the_joint_stiffness_times_the_strength_angle():
     character = load_character("humanoid")
     assert character.meta.strength == 1.0  # the built-in sidecar states it
     character.meta.strength = None
-    assert np.isinf(build_world(character).motor_limits).all()  # no strength stated: no per-joint limit
+    # no strength stated: no per-joint limit
+    assert np.isinf(build_world(character).motor_limits).all()
     character.meta.strength = 1.0
     world = build_world(character)
     model = world.model
@@ -54,13 +56,16 @@ def test_motor_limits_are_the_joint_stiffness_times_the_strength_angle():
     springs = model.jnt_stiffness[joints] > 0  # isotropic joints carry MuJoCo's own stiffness
     assert springs.sum() > 10
     np.testing.assert_allclose(world.motor_limits[springs], model.jnt_stiffness[joints][springs])
-    forearm, thigh = (world.motor_limits[joints == model.joint(n).id][0] for n in ("left_forearm", "left_thigh"))
+    forearm, thigh = (
+        world.motor_limits[joints == model.joint(n).id][0] for n in ("left_forearm", "left_thigh")
+    )
     assert forearm < thigh / 5  # a light forearm cannot be driven like a leg
 
 
 def test_activation_time_lags_each_motor_torque_as_a_first_order_filter():
-    """A step command u from rest: the applied torque is u (1 − exp(−t/τ)) (MuJoCo's exact filter), and the torques
-    read from full-physics rollout states are those applied; with no activation time they are the commands."""
+    """A step command u from rest: the applied torque is u (1 − exp(−t/τ)) (MuJoCo's exact filter),
+    and the torques read from full-physics rollout states are those applied; with no activation time
+    they are the commands."""
     character = load_character("humanoid")
     instant = build_world(character, options=WorldOptions(gravity=False))
     assert instant.model.na == 0
@@ -83,7 +88,8 @@ def test_activation_time_lags_each_motor_torque_as_a_first_order_filter():
     data.act[:] = applied[-2]  # the activation before the last step
     data.ctrl[: world.nmotor] = u
     mujoco.mj_forward(model, data)
-    np.testing.assert_allclose(data.actuator_force[: world.nmotor], applied[-1])  # what the joints got in it
+    # what the joints got in it
+    np.testing.assert_allclose(data.actuator_force[: world.nmotor], applied[-1])
 
 
 def test_an_impossible_activation_time_is_one_clear_error():
@@ -95,8 +101,12 @@ def test_an_impossible_activation_time_is_one_clear_error():
 def test_sidecar_strength_scales_each_axis_of_an_anisotropic_joint(tmp_path):
     xml = """<mujoco><worldbody><body name="a"><freejoint/><geom type="box" size="0.3 0.05 0.1" pos="-0.3 0 0"/>
       <body name="b"><joint name="j" type="ball"/><geom type="box" size="0.3 0.05 0.1" pos="0.3 0 0"/>
-      </body></body></worldbody></mujoco>"""
+      </body></body></worldbody></mujoco>"""  # noqa: E501
     (tmp_path / "pair.xml").write_text(xml)
-    (tmp_path / "pair.eigengait.yaml").write_text("eigengait: 1\nstiffness: {j: [30, 70, 110]}\nstrength: 0.5\n")
-    world = build_world(load_character(tmp_path / "pair.xml"), options=WorldOptions(gravity=False, floor=False))
+    (tmp_path / "pair.eigengait.yaml").write_text(
+        "eigengait: 1\nstiffness: {j: [30, 70, 110]}\nstrength: 0.5\n"
+    )
+    world = build_world(
+        load_character(tmp_path / "pair.xml"), options=WorldOptions(gravity=False, floor=False)
+    )
     np.testing.assert_allclose(world.motor_limits, [15.0, 35.0, 55.0])

@@ -102,17 +102,24 @@ def test_soft_constraint_functions():
     assert terms.energy_objective(np.array([[3.0, 4.0], [0.0, 0.0]])) == pytest.approx(12.5)
     assert terms.energy_limit_term(6e5, 5e5) == pytest.approx(1e10 + 1.0)
     assert terms.priority_term([(np.array([5.0]), np.array([2.0, -2.0]))]) == 0.0
-    assert terms.priority_term([(np.array([1.0]), np.array([2.0, -2.0]))]) == pytest.approx(9.0 + 1.0)
+    assert terms.priority_term([(np.array([1.0]), np.array([2.0, -2.0]))]) == pytest.approx(
+        9.0 + 1.0
+    )
     assert terms.mean_speed_term(np.array([2.5, 0.0, 0.0]), 2.0, 0.25, 0.25) == 0.0
     assert terms.stance_contact_term(np.array([0.01, 0.004])) == pytest.approx(0.003**2 + 1.0)
-    assert terms.stance_rise_term(0.005) == pytest.approx(0.015**2 + 1.0)  # push-off rise below 2 cm
+    # push-off rise below 2 cm
+    assert terms.stance_rise_term(0.005) == pytest.approx(0.015**2 + 1.0)
     assert terms.stance_rise_term(0.03) == 0.0
-    assert terms.anti_stumble_term([0.9, 0.7, 0.8], [0.8, 0.8, 0.8]) == pytest.approx(0.1**2 + 1.0)  # one sample
-    assert terms.stance_slip_term(np.array([0.01, 0.05, 0.04]), 0.03) == pytest.approx(0.02**2 + 0.01**2 + 2.0)
+    # one sample
+    assert terms.anti_stumble_term([0.9, 0.7, 0.8], [0.8, 0.8, 0.8]) == pytest.approx(0.1**2 + 1.0)
+    assert terms.stance_slip_term(np.array([0.01, 0.05, 0.04]), 0.03) == pytest.approx(
+        0.02**2 + 0.01**2 + 2.0
+    )
 
 
 def test_push_off_rise_counts_only_the_thesis_conditions():
-    """Eq. 4.18 on a hand-built push-off: the COM falls, then rises; the toe rises 3 cm below a raised heel."""
+    """Eq. 4.18 on a hand-built push-off: the COM falls, then rises; the toe rises 3 cm below a
+    raised heel."""
     dt = 0.01
     com_vz = np.r_[np.full(5, -0.5), np.full(10, 0.5)]
     toe = np.r_[np.zeros(5), np.linspace(0.0, 0.03, 10)]
@@ -125,8 +132,15 @@ def test_push_off_rise_counts_only_the_thesis_conditions():
 
 
 def test_activations_convert_between_mode_numbers_and_columns():
-    """Mode numbers count from 1, columns from 0: sparse ψ -> dense and back, zeros dropped, bad numbers named."""
-    from eigengait.control.activations import dense_to_sparse, mode_index, mode_indices, psi_key, sparse_to_dense
+    """Mode numbers count from 1, columns from 0: sparse ψ -> dense and back, zeros dropped, bad
+    numbers named."""
+    from eigengait.control.activations import (
+        dense_to_sparse,
+        mode_index,
+        mode_indices,
+        psi_key,
+        sparse_to_dense,
+    )
     from eigengait.errors import UserInputError
 
     sparse = {1: 10.0, 4: -2.5}

@@ -1,4 +1,5 @@
-"""Balance feedback inside the pulse controller: features, output directions, and what it does to drift."""
+"""Balance feedback inside the pulse controller: features, output directions, and what it does to
+drift."""
 
 from pathlib import Path
 
@@ -32,7 +33,8 @@ def quat(axis, angle):
 
 def test_root_tilt_reads_pitch_roll_and_world_rates():
     pitch, roll, _, _ = root_tilt(quat([0, 1, 0], 0.3), np.zeros(3))
-    assert pitch == pytest.approx(0.3) and roll == pytest.approx(0.0, abs=1e-12)  # nose down is positive
+    # nose down is positive
+    assert pitch == pytest.approx(0.3) and roll == pytest.approx(0.0, abs=1e-12)
     pitch, roll, _, _ = root_tilt(quat([1, 0, 0], -0.2), np.zeros(3))
     assert roll == pytest.approx(-0.2) and pitch == pytest.approx(0.0, abs=1e-12)
     # yawed by 90°, a spin about the body's x axis is a spin about world y: a pitch rate
@@ -54,7 +56,10 @@ def gait():
 def test_the_hips_are_the_thighs_and_their_pitch_axis_is_world_y(gait):
     system, _ = gait
     world = system.world
-    assert leg_root_joint(world, "left") == "left_thigh" and leg_root_joint(world, "right") == "right_thigh"
+    assert (
+        leg_root_joint(world, "left") == "left_thigh"
+        and leg_root_joint(world, "right") == "right_thigh"
+    )
     pitch, roll = hip_motors(world, "left")
     dof_pitch, dof_roll = world.internal_qvel[pitch], world.internal_qvel[roll]
     j = world.model.joint("left_thigh").id
@@ -63,7 +68,8 @@ def test_the_hips_are_the_thighs_and_their_pitch_axis_is_world_y(gait):
 
 def test_state_roles_and_hip_torque_follow_simbicon():
     roles = state_roles(schedule(["left", "right"], 0.6, 0.4, 0.1, 0.1))
-    assert roles[0] == StateRole(support="right", swing="left", stance=None)  # flight before left lands
+    # flight before left lands
+    assert roles[0] == StateRole(support="right", swing="left", stance=None)
     assert roles[1] == StateRole(support="left", swing="right", stance="left")
     motors = {"left": (0, 1), "right": (2, 3)}
     gains = np.arange(1.0, 9.0)
@@ -83,8 +89,10 @@ def test_first_cycle_is_open_loop_and_zero_gains_change_nothing(gait):
     closed = runner.run([p], 2)
     p.feedback = FeedbackGains()
     n = int(round(p.period / system.world.model.opt.timestep))
-    np.testing.assert_array_equal(open_loop.torques[0, :n], closed.torques[0, :n])  # the reference cycle
-    assert np.abs(open_loop.torques[0, n:] - closed.torques[0, n:]).max() > 1.0  # feedback acts after it
+    # the reference cycle
+    np.testing.assert_array_equal(open_loop.torques[0, :n], closed.torques[0, :n])
+    # feedback acts after it
+    assert np.abs(open_loop.torques[0, n:] - closed.torques[0, n:]).max() > 1.0
 
 
 def drift(runner, system, p, cycles=3):
@@ -99,14 +107,16 @@ def drift(runner, system, p, cycles=3):
 
 @pytest.fixture(scope="module")
 def hopper():
-    """An open-loop hop (no feedback gains) that drifts from cycle to cycle and falls in its fifth."""
+    """An open-loop hop (no feedback gains) that drifts from cycle to cycle and falls in its
+    fifth."""
     controller = load_controller(Path(__file__).parent / "data" / "kangaroo_open_loop.json")
     system = gait_system(controller)
     return system, to_parameters(controller, system)
 
 
 def test_optimized_hip_feedback_reduces_cycle_to_cycle_drift(hopper):
-    """A short CMA-ES run over the eight hip gains alone, on an open-loop hop that drifts: drift must drop."""
+    """A short CMA-ES run over the eight hip gains alone, on an open-loop hop that drifts: drift
+    must drop."""
     system, p = hopper
     runner = ClosedLoopRunner(system)
     baseline = drift(runner, system, p)
@@ -116,7 +126,9 @@ def test_optimized_hip_feedback_reduces_cycle_to_cycle_drift(hopper):
         p.feedback = FeedbackGains(hip=scale * np.asarray(x))
         return drift(runner, system, p)
 
-    es = cma.CMAEvolutionStrategy(np.zeros(len(HIP_GAINS)), 0.3, {"seed": 3, "popsize": 8, "maxiter": 6, "verbose": -9})
+    es = cma.CMAEvolutionStrategy(
+        np.zeros(len(HIP_GAINS)), 0.3, {"seed": 3, "popsize": 8, "maxiter": 6, "verbose": -9}
+    )
     es.optimize(objective)
     best = es.result.fbest
     p.feedback = FeedbackGains()
@@ -124,8 +136,9 @@ def test_optimized_hip_feedback_reduces_cycle_to_cycle_drift(hopper):
 
 
 def test_every_cycle_played_in_full_is_counted(gait):
-    """A cycle of 0.3396 s is 679.26 steps of 0.5 ms, played as 679: it ends on the last step and still counts.
-    (One cycle, which the open-loop run survives on any build; whether it survives a fourth is chaotic.)"""
+    """A cycle of 0.3396 s is 679.26 steps of 0.5 ms, played as 679: it ends on the last step and
+    still counts. (One cycle, which the open-loop run survives on any build; whether it survives a
+    fourth is chaotic.)"""
     system, p = gait
     assert p.period / system.world.model.opt.timestep % 1 == pytest.approx(0.26, abs=0.01)
     run = ClosedLoopRunner(system).run([p], 1)

@@ -1,4 +1,5 @@
-"""Gait-quality figures against hand-built motions whose cadence, flight, slip, footfall, tilt and jumps are known."""
+"""Gait-quality figures against hand-built motions whose cadence, flight, slip, footfall, tilt and
+jumps are known."""
 
 import json
 
@@ -11,7 +12,7 @@ from eigengait.control.gait_metrics import GaitRecording, foot_contacts, gait_me
 XML = """<mujoco><worldbody><body name="root"><freejoint/><geom type="box" size=".1 .1 .1"/>
   <body name="a" pos="0 0 -.2"><joint name="ball" type="ball"/><geom type="box" size=".05 .05 .05"/></body>
   <body name="b" pos=".2 0 0"><joint name="hinge" type="hinge" axis="0 1 0"/><geom type="box" size=".05 .05 .05"/>
-  </body></body></worldbody></mujoco>"""
+  </body></body></worldbody></mujoco>"""  # noqa: E501
 FPS, PERIOD, R = 100.0, 0.8, 0.02
 CYCLE = int(PERIOD * FPS)  # 80 frames
 CYCLES = 4
@@ -29,14 +30,15 @@ def still_pose(model, frames):
 
 
 def stance(first, last, lag=0):
-    """(F,) bool: on the ground from cycle frame `first` to `last` (inclusive) of every cycle, `lag` frames late."""
+    """(F,) bool: on the ground from cycle frame `first` to `last` (inclusive) of every cycle, `lag`
+    frames late."""
     k = np.mod(np.arange(CYCLES * CYCLE) - lag, CYCLE)
     return (k >= first) & (k <= last)
 
 
 def foot(on, slide=(0.0, 0.0)):
-    """F × 2 × 3 heel and toe centres: resting on the floor when `on`, 5 cm up otherwise; the toe slides `slide`
-    (x, y in m) steadily over each stance, the heel stays put."""
+    """F × 2 × 3 heel and toe centres: resting on the floor when `on`, 5 cm up otherwise; the toe
+    slides `slide` (x, y in m) steadily over each stance, the heel stays put."""
     pts = np.zeros((len(on), 2, 3))
     pts[:, :, 2] = np.where(on, R, R + 0.05)[:, None]
     progress = np.zeros(len(on))
@@ -70,9 +72,12 @@ def recording(model, feet, fps=FPS):
 
 
 def biped(model):
-    """Left foot down over phases [0.1, 0.4), right over [0.6, 0.9): 0.16 s of flight between stances, flight 0.4
-    of the time. The left toe slides 2 cm (1.2 cm forward, 1.6 cm sideways) during each stance."""
-    return recording(model, {"left": foot(stance(8, 31), slide=(0.012, 0.016)), "right": foot(stance(48, 71))})
+    """Left foot down over phases [0.1, 0.4), right over [0.6, 0.9): 0.16 s of flight between
+    stances, flight 0.4 of the time. The left toe slides 2 cm (1.2 cm forward, 1.6 cm sideways)
+    during each stance."""
+    return recording(
+        model, {"left": foot(stance(8, 31), slide=(0.012, 0.016)), "right": foot(stance(48, 71))}
+    )
 
 
 def test_biped_cadence_flight_duty_footfall_slip_and_stride(model):
@@ -91,8 +96,8 @@ def test_biped_cadence_flight_duty_footfall_slip_and_stride(model):
 
 @pytest.mark.parametrize("lag, cadence", [(0, 150.0), (2, 150.0), (10, 300.0)])
 def test_trot_pairs_landing_within_the_window_count_as_one_step(model, lag, cadence):
-    """Diagonal pairs land at phases 0.1 and 0.6, the second foot of a pair `lag` frames (lag / 100 s) later:
-    0.02 s apart is one step, 0.1 s apart two."""
+    """Diagonal pairs land at phases 0.1 and 0.6, the second foot of a pair `lag` frames
+    (lag / 100 s) later: 0.02 s apart is one step, 0.1 s apart two."""
     feet = {
         "lf": foot(stance(8, 31)),
         "rh": foot(stance(8, 31, lag)),
@@ -106,14 +111,16 @@ def test_contacts_ignore_a_grazing_frame_and_bridge_a_one_frame_gap(model):
     """At 60 frames/s one frame lasts 1/60 s < 0.02 s: too short either as a contact or as a gap."""
     on = np.array([0, 0, 1, 0, 0, 1, 1, 1, 0, 1, 1, 1, 1, 0, 0], bool)
     feet = {"f": np.zeros((len(on), 1, 3))}
-    feet["f"][:, 0, 2] = np.where(on, R + 0.004, R + 0.05)  # bottom 4 mm up: within the 5 mm tolerance
+    # bottom 4 mm up: within the 5 mm tolerance
+    feet["f"][:, 0, 2] = np.where(on, R + 0.004, R + 0.05)
     expected = np.array([0, 0, 0, 0, 0, 1, 1, 1, 1, 1, 1, 1, 1, 0, 0], bool)
     np.testing.assert_array_equal(foot_contacts(recording(model, feet, fps=60.0))["f"], expected)
 
 
 def test_slip_counts_only_travel_while_a_sphere_touches(model):
-    """The heel holds the foot down for frames 5–24; the toe touches 5–9, is carried 5 cm forward in the air, then
-    touches again 15–24 and slides 1 cm: the slip is 1 cm, not the toe's 6 cm from first to last touch."""
+    """The heel holds the foot down for frames 5–24; the toe touches 5–9, is carried 5 cm forward in
+    the air, then touches again 15–24 and slides 1 cm: the slip is 1 cm, not the toe's 6 cm from
+    first to last touch."""
     frames = 30
     pts = np.zeros((frames, 2, 3))
     pts[:, :, 2] = R + 0.05
@@ -149,7 +156,8 @@ def test_frame_jumps_take_the_largest_joint_rotation_and_root_translation(model)
 
 
 def test_torso_pitch_and_roll_ignore_the_heading(model):
-    """Heading 40°, roll 7°, pitch ramping −5° → 12° (intrinsic z-y-x): [min, max] pitch and roll come back."""
+    """Heading 40°, roll 7°, pitch ramping −5° → 12° (intrinsic z-y-x): [min, max] pitch and roll
+    come back."""
     frames = 18
     qpos = still_pose(model, frames)
     for i, pitch in enumerate(np.linspace(-5, 12, frames)):
@@ -193,7 +201,7 @@ PLANAR = """<mujoco><worldbody><body name="torso">
   <joint name="rootx" type="slide" axis="1 0 0"/><joint name="rootz" type="slide" axis="0 0 1"/>
   <joint name="rooty" type="hinge" axis="0 1 0"/><geom type="box" size=".1 .1 .1"/>
   <body name="leg" pos="0 0 -.2"><joint name="hip" type="hinge" axis="0 1 0"/><geom type="box" size=".05 .05 .05"/>
-  </body></body></worldbody></mujoco>"""
+  </body></body></worldbody></mujoco>"""  # noqa: E501
 
 
 def test_a_planar_root_reports_its_pitch_and_its_jumps():

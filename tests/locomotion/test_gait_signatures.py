@@ -1,5 +1,5 @@
-"""Signature figures of the thesis's experiments against hand-built motions with a known sway, twist, skip count,
-stance width and raised foot."""
+"""Signature figures of the thesis's experiments against hand-built motions with a known sway,
+twist, skip count, stance width and raised foot."""
 
 import mujoco
 import numpy as np
@@ -22,8 +22,8 @@ def model():
 
 
 def foot(down_phases, y, lift=0.05):
-    """F × 1 × 3 contact-sphere centre at lateral position y: on the floor for cycle phases in any of the
-    `down_phases` [a, b) intervals, `lift` m up otherwise."""
+    """F × 1 × 3 contact-sphere centre at lateral position y: on the floor for cycle phases in any
+    of the `down_phases` [a, b) intervals, `lift` m up otherwise."""
     phase = np.mod(np.arange(FRAMES), CYCLE) / CYCLE
     down = np.any([(phase >= a) & (phase < b) for a, b in down_phases], axis=0)
     pts = np.zeros((FRAMES, 1, 3))
@@ -33,8 +33,9 @@ def foot(down_phases, y, lift=0.05):
 
 
 def record(model, feet, heading_deg=0.0, sway=0.0, yaw_deg=0.0, height=0.9):
-    """The COM walks 1.5 m/s along `heading_deg`, swaying `sway` m square to it at the cycle's frequency; the
-    root twists ±`yaw_deg` about the vertical at the same frequency, on top of the heading."""
+    """The COM walks 1.5 m/s along `heading_deg`, swaying `sway` m square to it at the cycle's
+    frequency; the root twists ±`yaw_deg` about the vertical at the same frequency, on top of the
+    heading."""
     t = np.arange(FRAMES) / FPS
     h = np.radians(heading_deg)
     forward, side = np.array([np.cos(h), np.sin(h)]), np.array([-np.sin(h), np.cos(h)])
@@ -69,12 +70,17 @@ def test_a_straight_run_has_no_sway_and_no_twist(model):
 def test_a_steady_drift_is_not_an_oscillation():
     t = np.arange(FRAMES) / FPS
     assert cycle_amplitude(0.3 * t, CYCLE) == pytest.approx(0.0, abs=1e-12)
-    assert cycle_amplitude(0.3 * t + 0.02 * np.sin(2 * np.pi * t / PERIOD), CYCLE) == pytest.approx(0.02, rel=0.05)
+    assert cycle_amplitude(0.3 * t + 0.02 * np.sin(2 * np.pi * t / PERIOD), CYCLE) == pytest.approx(
+        0.02, rel=0.05
+    )
     assert cycle_amplitude(t[: CYCLE - 1], CYCLE) is None  # not one full cycle
 
 
 def test_a_skip_lands_twice_on_each_foot_every_cycle(model):
-    skip = {"left": foot([(0.05, 0.15), (0.3, 0.4)], 0.1), "right": foot([(0.55, 0.65), (0.8, 0.9)], -0.1)}
+    skip = {
+        "left": foot([(0.05, 0.15), (0.3, 0.4)], 0.1),
+        "right": foot([(0.55, 0.65), (0.8, 0.9)], -0.1),
+    }
     s = gait_signatures(model, record(model, skip))
     # every stance start is a touchdown but the very first frame's (it is not seen landing)
     assert s["touchdowns_per_cycle"] == pytest.approx({"left": 2.0, "right": 2.0})

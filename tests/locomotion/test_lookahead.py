@@ -1,4 +1,5 @@
-"""Lookahead (predictive sampling of the modal pulses at each state start): its cost, its effect, its files."""
+"""Lookahead (predictive sampling of the modal pulses at each state start): its cost, its effect,
+its files."""
 
 import dataclasses
 import json
@@ -27,7 +28,8 @@ QUICK = dict(samples=12, horizon_cycles=1.5, refinements=0)
 
 @pytest.fixture(scope="module")
 def hopper():
-    """An open-loop hop (no feedback gains) that drifts from cycle to cycle and falls in its fifth."""
+    """An open-loop hop (no feedback gains) that drifts from cycle to cycle and falls in its
+    fifth."""
     path = Path(__file__).parent / "data" / "kangaroo_open_loop.json"
     controller = load_controller(path)
     system = gait_system(controller)
@@ -39,7 +41,9 @@ def test_root_heading_is_the_yaw_of_the_root_x_axis(hopper):
     root = system.world.root
     qpos = np.tile(p.qpos0, (3, 1))
     for row, yaw in zip(qpos, (0.0, 0.7, -2.5)):
-        mujoco.mju_axisAngle2Quat(row[root.quat_qpos : root.quat_qpos + 4], np.array([0.0, 0.0, 1.0]), yaw)
+        mujoco.mju_axisAngle2Quat(
+            row[root.quat_qpos : root.quat_qpos + 4], np.array([0.0, 0.0, 1.0]), yaw
+        )
     np.testing.assert_allclose(root.heading(qpos), [0.0, 0.7, -2.5], atol=1e-12)
 
 
@@ -51,23 +55,28 @@ def test_task_cost_is_zero_on_target_and_a_fall_costs_most(hopper):
     state = system.initial_state(p)
     sensors = system.initial_sensors(p)
     a = 1 + world.root.quat_qpos
-    mujoco.mju_axisAngle2Quat(state[a : a + 4], np.array([0.0, 0.0, 1.0]), cost.heading)  # upright, heading kept
+    # upright, heading kept
+    mujoco.mju_axisAngle2Quat(state[a : a + 4], np.array([0.0, 0.0, 1.0]), cost.heading)
     sensors[world.com_sensor : world.com_sensor + 3] = [0.3, cost.side, height]
     sensors[world.comvel_sensor : world.comvel_sensor + 3] = [speed, 0.0, 0.0]
     on_target = cost(np.tile(state, (1, 4, 1)), np.tile(sensors, (1, 4, 1)), 1)
     assert on_target[0] == pytest.approx(0.0, abs=1e-12)
     slow = sensors.copy()
     slow[world.comvel_sensor] = 0.0
-    expected = SPEED_WEIGHT * (speed / np.sqrt(9.81 * world.standing_com_height)) ** 2  # SPEED_WEIGHT × (Δv / √(g h))²
-    assert cost(np.tile(state, (1, 4, 1)), np.tile(slow, (1, 4, 1)), 1)[0] == pytest.approx(expected)
+    # SPEED_WEIGHT × (Δv / √(g h))²
+    expected = SPEED_WEIGHT * (speed / np.sqrt(9.81 * world.standing_com_height)) ** 2
+    assert cost(np.tile(state, (1, 4, 1)), np.tile(slow, (1, 4, 1)), 1)[0] == pytest.approx(
+        expected
+    )
     down = sensors.copy()
     down[world.com_sensor + 2] = 0.1 * world.standing_com_height
     assert cost(np.tile(state, (1, 4, 1)), np.tile(down, (1, 4, 1)), 1)[0] >= FALL_COST
 
 
 def test_lookahead_keeps_a_falling_hop_going(hopper):
-    """The open-loop hop falls in its fifth cycle; with lookahead (default settings) it plays six, and the played
-    (not planned) motion scores better by the planner's own cost up to the unaided fall."""
+    """The open-loop hop falls in its fifth cycle; with lookahead (default settings) it plays six,
+    and the played (not planned) motion scores better by the planner's own cost up to the unaided
+    fall."""
     system, p, _ = hopper
     alone = ClosedLoopRunner(system).run([p], 6)
     assert alone.fell[0] and alone.fell_time[0] < 5 * p.period
@@ -78,7 +87,9 @@ def test_lookahead_keeps_a_falling_hop_going(hopper):
     assert not run.fell[0] and len(run.cycle_ends[0]) == 6
     assert seen == [(k, 6) for k in range(1, 7)]
     com_z = system.world.com_sensor + 2
-    cost = TaskCost(system, 1.0, float(np.mean(run.sensors[0, :, com_z])), p.qpos0, system.initial_com(p))
+    cost = TaskCost(
+        system, 1.0, float(np.mean(run.sensors[0, :, com_z])), p.qpos0, system.initial_com(p)
+    )
     n = int(alone.ended[0])
     played = cost(run.states[:, :n], run.sensors[:, :n], 20)[0]
     unaided = cost(alone.states[:, :n], alone.sensors[:, :n], 20)[0]
@@ -113,14 +124,17 @@ class RecordingRunner(LookaheadRunner):
 
 
 def test_with_feedback_the_plans_predict_the_played_motion_feedback_included(hopper):
-    """Hip feedback on, plans at the physics timestep: the first cycle (the feedback's reference) plays as without
-    feedback; after it, the plan that was chosen simulated exactly the motion then played, the feedback's torques
-    included (so the feedback acts in the plans as in the played motion), and those torques differ from the pulses'."""
+    """Hip feedback on, plans at the physics timestep: the first cycle (the feedback's reference)
+    plays as without feedback; after it, the plan that was chosen simulated exactly the motion then
+    played, the feedback's torques included (so the feedback acts in the plans as in the played
+    motion), and those torques differ from the pulses'."""
     system, p, _ = hopper
     gains = dataclasses.replace(p, feedback=FeedbackGains(hip=np.full(8, 50.0)))
     runs, runners = {}, {}
     for on in (True, False):
-        runners[on] = RecordingRunner(system, LookaheadSettings(speed=1.0, feedback=on, plan_substeps=1, **QUICK))
+        runners[on] = RecordingRunner(
+            system, LookaheadSettings(speed=1.0, feedback=on, plan_substeps=1, **QUICK)
+        )
         runs[on] = runners[on].run(gains, 2)
         runners[on].close()
     dt = system.world.model.opt.timestep
@@ -152,23 +166,31 @@ def test_controller_file_keeps_lookahead_and_refuses_it_with_touchdown_timing(ho
 def test_play_uses_the_controllers_lookahead_unless_told_not_to(hopper, tmp_path, eigengait_cli):
     system, p, _ = hopper
     controller = tmp_path / "hop.json"
-    controller.write_text(to_file(system, p, "hop", lookahead=LookaheadSettings(speed=1.0, **QUICK)).model_dump_json())
+    controller.write_text(
+        to_file(system, p, "hop", lookahead=LookaheadSettings(speed=1.0, **QUICK)).model_dump_json()
+    )
     on = eigengait_cli("play", str(controller), "--cycles", "2", "--json")
     assert on.returncode == 0, on.stderr
     assert json.loads(on.stdout)["lookahead"] is True and "lookahead: cycle 2/2" in on.stderr
-    off = json.loads(eigengait_cli("play", str(controller), "--cycles", "2", "--json", "--no-lookahead").stdout)
+    off = json.loads(
+        eigengait_cli("play", str(controller), "--cycles", "2", "--json", "--no-lookahead").stdout
+    )
     assert off["lookahead"] is False
 
 
 def test_plans_can_keep_to_the_sketchs_modes():
-    """With `in_sketch` the plans move only the sketch's priority and allowed modes: the played torque stays in the
-    sketch (what leaves it is clipping at the motor limits), where plans in every mode put most of it outside."""
+    """With `in_sketch` the plans move only the sketch's priority and allowed modes: the played
+    torque stays in the sketch (what leaves it is clipping at the motor limits), where plans in
+    every mode put most of it outside."""
     from eigengait.control.library import resolve
     from eigengait.control.playback import play
     from eigengait.control.sketch_character import energy_split
 
-    # instant motors: a lag carries each state's torque into the next state's basis for a few tens of ms
-    controller = load_controller(resolve("gait", "dog-trot")).model_copy(update={"activation_time": None})
+    # instant motors: a lag carries each state's torque into the next state's basis for a few tens
+    # of ms
+    controller = load_controller(resolve("gait", "dog-trot")).model_copy(
+        update={"activation_time": None}
+    )
     system = gait_system(controller)
     p = to_parameters(controller, system)
     shares = {}
@@ -178,7 +200,9 @@ def test_plans_can_keep_to_the_sketchs_modes():
         )
         result = play(system, p, cycles=3, lookahead=kept.planner())
         shares[in_sketch] = energy_split(system, p, controller.sketch, result.torques)["excluded"]
-    pulses = energy_split(system, p, controller.sketch, system.controls(p, cycles=1)[:, : system.world.nmotor])
+    pulses = energy_split(
+        system, p, controller.sketch, system.controls(p, cycles=1)[:, : system.world.nmotor]
+    )
     assert shares[True] <= pulses["excluded"] + 0.05 < shares[False]
     # the file keeps the choice, and refuses it without the sketch it needs
     data = json.loads(kept.model_dump_json())
@@ -190,9 +214,12 @@ def test_plans_can_keep_to_the_sketchs_modes():
     assert "in_sketch" in str(err.value)
 
 
-def test_a_controller_with_an_activation_time_plays_torques_that_lag_their_commands(hopper, tmp_path):
-    """The file's activation time builds motors with a first-order lag: the first step applies u (1 − e^(−dt/τ)) of
-    the instant controller's u, in the feedback runner and under lookahead alike."""
+def test_a_controller_with_an_activation_time_plays_torques_that_lag_their_commands(
+    hopper, tmp_path
+):
+    """The file's activation time builds motors with a first-order lag: the first step applies u
+    (1 − e^(−dt/τ)) of the instant controller's u, in the feedback runner and under lookahead
+    alike."""
     instant, p, path = hopper
     data = json.loads(path.read_text())
     data["activation_time"] = 0.03
@@ -210,4 +237,6 @@ def test_a_controller_with_an_activation_time_plays_torques_that_lag_their_comma
         played = run.run(p, 0.5)
     finally:
         run.close()
-    assert np.abs(played.torques[0, 0]).max() < share * np.abs(lagged.torque_limits).max() * 1.000001
+    assert (
+        np.abs(played.torques[0, 0]).max() < share * np.abs(lagged.torque_limits).max() * 1.000001
+    )

@@ -1,4 +1,5 @@
-"""Method of multipliers, checkpoints, batched evaluation (threads, processes, Ray) against single stepping."""
+"""Method of multipliers, checkpoints, batched evaluation (threads, processes, Ray) against single
+stepping."""
 
 import json
 import pickle
@@ -21,7 +22,8 @@ from eigengait.optimize.parameters import ParameterSpace, feedback_gain_count
 
 
 def toy_evaluate(X):
-    """f = 0.01‖x − 0.2‖², cyclic constraint φ = x[:2] − 0.7 (the constrained optimum is x = (.7, .7, .2, …))."""
+    """f = 0.01‖x − 0.2‖², cyclic constraint φ = x[:2] − 0.7 (the constrained optimum is x
+    = (.7, .7, .2, …))."""
     X = np.atleast_2d(X)
     return [
         Outcome(
@@ -55,10 +57,13 @@ def test_method_of_multipliers_meets_the_cyclic_constraint():
 @pytest.mark.parametrize("generations", [17, 32], ids=["in-the-first-inner-run", "in-the-second"])
 @pytest.mark.parametrize("method", ["mom", "al"])
 def test_runs_are_seeded_and_a_checkpoint_resumes_exactly(tmp_path, method, generations):
-    settings = method_settings(method, seed=5, inner_generations=30, max_evaluations=1200, cycle_tolerance=1e-3)
+    settings = method_settings(
+        method, seed=5, inner_generations=30, max_evaluations=1200, cycle_tolerance=1e-3
+    )
     straight = MomState(x_start=np.full(4, 0.5))
     run_toy(settings, straight)
-    assert straight.outer >= 1 and straight.log[31]["outer"] == 1  # the second interruption is past the first run
+    # the second interruption is past the first run
+    assert straight.outer >= 1 and straight.log[31]["outer"] == 1
     interrupted = MomState(x_start=np.full(4, 0.5))
     run_toy(settings, interrupted, generations=generations)
     save_state(interrupted, tmp_path / "checkpoint.npz")
@@ -69,11 +74,15 @@ def test_runs_are_seeded_and_a_checkpoint_resumes_exactly(tmp_path, method, gene
 
 
 def test_each_method_has_its_own_settings():
-    assert isinstance(make_optimizer(toy_evaluate, method_settings("mom"), MomState(np.zeros(2))), MethodOfMultipliers)
+    assert isinstance(
+        make_optimizer(toy_evaluate, method_settings("mom"), MomState(np.zeros(2))),
+        MethodOfMultipliers,
+    )
     al = make_optimizer(toy_evaluate, method_settings("al"), MomState(np.zeros(2)))
     assert isinstance(al, AdaptiveAugmentedLagrangian)
     with pytest.raises(TypeError, match="penalty"):
-        method_settings("al", penalty=10.0)  # pycma adapts its own penalties: one given here would be ignored
+        # pycma adapts its own penalties: one given here would be ignored
+        method_settings("al", penalty=10.0)
     with pytest.raises(TypeError, match="method"):
         MomSettings(method="al")
     from eigengait.errors import UserInputError
@@ -117,7 +126,8 @@ def test_the_adaptive_al_state_is_declared_and_no_log_folder_is_left(tmp_path, m
 
 @pytest.mark.parametrize("method", ["mom", "al"])
 def test_run_folders_of_earlier_versions_resume_with_their_method(tmp_path, method):
-    """settings.json once kept the method among one settings class's fields, and the AL a penalty it ignored."""
+    """settings.json once kept the method among one settings class's fields, and the AL a penalty it
+    ignored."""
     from eigengait.optimize.run import prepare_folder
 
     sketch = load_sketch(resolve("sketch", "basic-run"))
@@ -132,7 +142,9 @@ def test_run_folders_of_earlier_versions_resume_with_their_method(tmp_path, meth
     assert settings.method == method and evaluator == "processes" and state is not None
     assert settings.seed == 4 and settings.max_evaluations == 50
     assert settings.penalty == 2.0 if method == "mom" else not hasattr(settings, "penalty")
-    (run / "settings.json").write_text(json.dumps({"method": "nope", "settings": {}, "evaluator": "threads"}))
+    (run / "settings.json").write_text(
+        json.dumps({"method": "nope", "settings": {}, "evaluator": "threads"})
+    )
     from eigengait.errors import UserInputError
 
     with pytest.raises(UserInputError, match="settings.json is missing or damaged") as caught:
@@ -183,8 +195,11 @@ def population(problem, n=6, seed=0):
 
 
 def test_batched_rollout_matches_plain_stepping(problem):
-    """The chunked batch (feedback read between chunks) against a plain per-step loop applying the same torques."""
-    evaluator = BatchEvaluator(problem.system, problem.space, problem.sketch.targets, threads=2, cycles=2)
+    """The chunked batch (feedback read between chunks) against a plain per-step loop applying the
+    same torques."""
+    evaluator = BatchEvaluator(
+        problem.system, problem.space, problem.sketch.targets, threads=2, cycles=2
+    )
     X = population(problem, 4)
     run = evaluator.simulate([problem.space.decode(x) for x in X])
     model = problem.system.world.model
@@ -196,7 +211,9 @@ def test_batched_rollout_matches_plain_stepping(problem):
             data.ctrl[:] = 0
             data.ctrl[: problem.system.world.nmotor] = run.torques[i, s]
             mujoco.mj_step(model, data)
-        np.testing.assert_allclose(data.qpos, run.states[i, run.ended[i] - 1, 1 : 1 + model.nq], atol=1e-6)
+        np.testing.assert_allclose(
+            data.qpos, run.states[i, run.ended[i] - 1, 1 : 1 + model.nq], atol=1e-6
+        )
 
 
 def test_a_falling_candidate_stops_early_and_still_ranks(problem):
@@ -212,7 +229,8 @@ def test_a_falling_candidate_stops_early_and_still_ranks(problem):
 
 
 def test_the_slip_term_charges_the_stances_that_playback_measures(problem):
-    """With a stance-slip target the evaluator charges, per stance, what `play` reports as that stance's slip."""
+    """With a stance-slip target the evaluator charges, per stance, what `play` reports as that
+    stance's slip."""
     from eigengait.control.gait_metrics import rollout_stance_slips
     from eigengait.optimize import terms
 
@@ -223,20 +241,28 @@ def test_the_slip_term_charges_the_stances_that_playback_measures(problem):
     run = evaluator.simulate([p])
     end = int(run.ended[0])
     slips = rollout_stance_slips(
-        problem.system.world.view, problem.system.initial_sensors(p), run.sensors[0, :end], evaluator.dt
+        problem.system.world.view,
+        problem.system.initial_sensors(p),
+        run.sensors[0, :end],
+        evaluator.dt,
     )
     charged = evaluator.evaluate(x[None])[0].soft["stance_slip"]
     stances = np.concatenate(list(slips.values()))
-    assert stances.size >= 2 and (stances > 0.001).any()  # two cycles of a run: stances, some sliding a millimetre
+    # two cycles of a run: stances, some sliding a millimetre
+    assert stances.size >= 2 and (stances > 0.001).any()
     assert charged == pytest.approx(terms.stance_slip_term(stances, 0.001))
     assert charged >= (stances > 0.001).sum()  # each sliding stance adds at least the step h = 1
-    plain = BatchEvaluator(problem.system, problem.space, problem.sketch.targets, threads=2, cycles=2)
+    plain = BatchEvaluator(
+        problem.system, problem.space, problem.sketch.targets, threads=2, cycles=2
+    )
     assert "stance_slip" not in plain.evaluate(x[None])[0].soft  # no target, no term
 
 
 def test_process_and_ray_evaluators_agree_with_threads(problem):
     X = population(problem, 4, seed=1)
-    reference = BatchEvaluator(problem.system, problem.space, problem.sketch.targets, threads=2).evaluate(X)
+    reference = BatchEvaluator(
+        problem.system, problem.space, problem.sketch.targets, threads=2
+    ).evaluate(X)
     processes = ProcessEvaluator(problem.sketch, workers=2)
     try:
         by_process = processes(X)
@@ -281,12 +307,14 @@ def test_the_gain_count_matches_the_parameter_space(problem, mechanisms):
 
 @pytest.mark.parametrize("preset", ["canonical-basis", "dog-trot"])
 def test_initial_states_stay_within_the_simulations_speed_limit(preset):
-    """A canonical sketch's initial state spans the lowest modes only (its numbers are joint dofs, not modes), and
-    however many fast modes sit at their bounds, q̇₀ stays within what a controller file accepts."""
+    """A canonical sketch's initial state spans the lowest modes only (its numbers are joint dofs,
+    not modes), and however many fast modes sit at their bounds, q̇₀ stays within what a controller
+    file accepts."""
     from eigengait.sim.stepping import MAX_SPEED
 
     sketch = load_sketch(resolve("sketch", preset))
-    if preset == "dog-trot":  # every air mode in the initial state, as a canonical dog sketch once had
+    # every air mode in the initial state, as a canonical dog sketch once had
+    if preset == "dog-trot":
         sketch = sketch.model_copy(update={"air": sketch.air.model_copy(update={"allowed": None})})
     space = Problem.from_sketch(sketch).space
     if sketch.basis == "canonical":
@@ -296,8 +324,9 @@ def test_initial_states_stay_within_the_simulations_speed_limit(preset):
 
 
 def test_no_initial_pose_starts_inside_the_floor():
-    """The lowest root height the space allows would sink the feet 15 cm into the floor (a launch no torque paid
-    for, which the optimizer used to exploit); decoded poses are lifted onto it instead: touching, not inside."""
+    """The lowest root height the space allows would sink the feet 15 cm into the floor (a launch no
+    torque paid for, which the optimizer used to exploit); decoded poses are lifted onto it instead:
+    touching, not inside."""
     from eigengait.sim.limits import floor_penetration
 
     space = Problem.from_sketch(load_sketch(resolve("sketch", "vertical-rotation"))).space
@@ -306,6 +335,7 @@ def test_no_initial_pose_starts_inside_the_floor():
     x[space.index["root_height"]] = 0.0  # −0.15 m
     lowered = space.decode(x)
     assert floor_penetration(model, lowered.qpos0, space.floor_geom) == pytest.approx(0.0, abs=1e-9)
-    assert lowered.qpos0[2] == pytest.approx(space.decode(space.initial()).qpos0[2], abs=2e-3)  # on the floor
+    # on the floor
+    assert lowered.qpos0[2] == pytest.approx(space.decode(space.initial()).qpos0[2], abs=2e-3)
     for x in np.random.default_rng(5).random((20, space.size)):
         assert floor_penetration(model, space.decode(x).qpos0, space.floor_geom) < 1e-9

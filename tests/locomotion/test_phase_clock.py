@@ -1,4 +1,5 @@
-"""Touchdown-triggered timing: the clock waits for a late touchdown and jumps ahead on an early one."""
+"""Touchdown-triggered timing: the clock waits for a late touchdown and jumps ahead on an early
+one."""
 
 import numpy as np
 
@@ -44,6 +45,7 @@ def test_touchdowns_on_schedule_replay_the_clock():
     for _ in range(200):
         played.append(c.controls(1)[0, 0])
         s = c.states[c.state]
-        landed = s.phase == "air" and c.waited > 0  # lands as its air state ends, when the clock starts to wait
+        # lands as its air state ends, when the clock starts to wait
+        landed = s.phase == "air" and c.waited > 0
         c.observe({f: f != s.foot or landed for f in ("a", "b")})
     assert played == list(range(200)) and c.cycle_ends == [199]

@@ -1,4 +1,5 @@
-"""The shipped gaits: named as documented, and played with physics only they do what their files record."""
+"""The shipped gaits: named as documented, and played with physics only they do what their files
+record."""
 
 import json
 
@@ -29,23 +30,29 @@ def test_required_gaits_are_shipped(eigengait_cli):
     assert REQUIRED <= {row["name"] for row in listed}
 
 
-WITHOUT = "without_lookahead_"  # scripts/make_gaits.py's prefix for the figures played without lookahead
+# scripts/make_gaits.py's prefix for the figures played without lookahead
+WITHOUT = "without_lookahead_"
 
 
 @pytest.mark.parametrize("name", sorted(gait_names()))
 def test_shipped_gait_replays_its_recorded_metrics_without_reset(name):
-    """20 cycles of physics only, feedback included and lookahead off, as scripts/make_gaits.py measured them (the
-    same with lookahead is `benchmarks/bench_lookahead.py`: ~1 min per gait). A falling gait amplifies rounding, so
-    the figures replay exactly only on the build that recorded them (`measured_on`); on any build, a replay of the
-    first cycles is deterministic."""
+    """20 cycles of physics only, feedback included and lookahead off, as scripts/make_gaits.py
+    measured them (the same with lookahead is `benchmarks/bench_lookahead.py`: ~1 min per gait). A
+    falling gait amplifies rounding, so the figures replay exactly only on the build that recorded
+    them (`measured_on`); on any build, a replay of the first cycles is deterministic."""
     controller = load_controller(resolve("gait", name))
     system = gait_system(controller)
     params = to_parameters(controller, system)
-    assert controller.measured_on is not None, "measure it with scripts/make_gaits.py --measure-only"
+    assert controller.measured_on is not None, (
+        "measure it with scripts/make_gaits.py --measure-only"
+    )
     if controller.measured_on != build_fingerprint():
         first, again = (play(system, params, cycles=2).qpos for _ in range(2))
         np.testing.assert_array_equal(first, again)
-        pytest.skip(f"recorded on {controller.measured_on}, not this build: re-measure with make_gaits --measure-only")
+        pytest.skip(
+            f"recorded on {controller.measured_on}, not this build: re-measure with make_gaits "
+            "--measure-only"
+        )
     result = play(system, params, cycles=20)
     summary = result.summary()
     assert summary["snap"] is False and summary["lookahead"] is False
@@ -55,7 +62,8 @@ def test_shipped_gait_replays_its_recorded_metrics_without_reset(name):
             assert summary[key] == pytest.approx(recorded, rel=1e-3, abs=1e-3), key
         else:
             assert summary[key] == recorded, key
-    assert result.mean_speed_mps > 0.0  # it goes forward (the planar walker's pulses alone barely: 0.05 m/s)
+    # it goes forward (the planar walker's pulses alone barely: 0.05 m/s)
+    assert result.mean_speed_mps > 0.0
 
 
 def test_play_json_contract_on_a_shipped_gait(eigengait_cli):
@@ -83,7 +91,9 @@ def test_play_json_contract_on_a_shipped_gait(eigengait_cli):
 
 
 def test_snap_is_an_explicit_option(eigengait_cli):
-    out = json.loads(eigengait_cli("play", "kangaroo-hop", "--cycles", "2", "--json", "--snap").stdout)
+    out = json.loads(
+        eigengait_cli("play", "kangaroo-hop", "--cycles", "2", "--json", "--snap").stdout
+    )
     assert out["snap"] is True
     bad = eigengait_cli("play", "kangaroo-hop", "--push", "lots@1")
     assert bad.returncode == 2 and "--push" in bad.stderr
@@ -92,13 +102,18 @@ def test_snap_is_an_explicit_option(eigengait_cli):
 def test_play_can_give_the_motors_an_activation_time(eigengait_cli):
     """The kangaroo's pulses (its file states no lag) played with a 40 ms and a 1 ms motor lag."""
     lagged = json.loads(
-        eigengait_cli("play", "kangaroo-hop", "--cycles", "1", "--json", "--activation-time", "0.04").stdout
+        eigengait_cli(
+            "play", "kangaroo-hop", "--cycles", "1", "--json", "--activation-time", "0.04"
+        ).stdout
     )
     instant = json.loads(
-        eigengait_cli("play", "kangaroo-hop", "--cycles", "1", "--json", "--activation-time", "0.001").stdout
+        eigengait_cli(
+            "play", "kangaroo-hop", "--cycles", "1", "--json", "--activation-time", "0.001"
+        ).stdout
     )
     assert lagged["activation_time"] == 0.04 and instant["activation_time"] == 0.001
-    # the hop's 80-100 ms rectangular pulses lose much of their energy through a 40 ms lag, little through 1 ms
+    # the hop's 80-100 ms rectangular pulses lose much of their energy through a 40 ms lag, little
+    # through 1 ms
     assert lagged["mean_squared_torque"] < 0.7 * instant["mean_squared_torque"]
     bad = eigengait_cli("play", "kangaroo-hop", "--activation-time", "-1")
     assert bad.returncode == 2 and "--activation-time" in bad.stderr and "0.01-0.05" in bad.stderr

@@ -1,4 +1,5 @@
-"""The split of active torque among a sketch's modes, and ψ against the sketch's, on cases with known answers."""
+"""The split of active torque among a sketch's modes, and ψ against the sketch's, on cases with
+known answers."""
 
 import numpy as np
 import pytest
@@ -7,7 +8,12 @@ from eigengait.control.binding import bind_sketch
 from eigengait.control.controller import sketch_modes
 from eigengait.control.library import resolve
 from eigengait.control.sketch import load_sketch
-from eigengait.control.sketch_character import energy_split, psi_comparison, sketch_character, state_of_steps
+from eigengait.control.sketch_character import (
+    energy_split,
+    psi_comparison,
+    sketch_character,
+    state_of_steps,
+)
 from eigengait.control.sketch_sim import sketch_parameters
 
 
@@ -26,17 +32,24 @@ def steps_of(system, p, cycles=2):
 def test_the_sketchs_own_pulses_are_all_priority(basic_run):
     system, p, modes, _ = basic_run
     pulses = system.controls(p, cycles=2)[:, : system.world.nmotor]
-    assert (np.abs(pulses) < system.torque_limits).all()  # nothing clipped: the pulses are exactly Φ ψ
-    assert energy_split(system, p, modes, pulses) == pytest.approx({"priority": 1.0, "allowed": 0.0, "excluded": 0.0})
+    # nothing clipped: the pulses are exactly Φ ψ
+    assert (np.abs(pulses) < system.torque_limits).all()
+    assert energy_split(system, p, modes, pulses) == pytest.approx(
+        {"priority": 1.0, "allowed": 0.0, "excluded": 0.0}
+    )
 
 
 def test_allowed_and_excluded_torques_land_in_their_groups(basic_run):
-    """Per state: a torque along an allowed mode made orthogonal to the priority modes, or a torque orthogonal to
-    every priority and allowed mode, counts wholly as allowed or excluded; mixed at equal energy, half each."""
+    """Per state: a torque along an allowed mode made orthogonal to the priority modes, or a torque
+    orthogonal to every priority and allowed mode, counts wholly as allowed or excluded; mixed at
+    equal energy, half each."""
     system, p, modes, _ = basic_run
     states, which = system.states(p), state_of_steps(system, p, steps_of(system, p))
     rng = np.random.default_rng(3)
-    allowed_tau, excluded_tau = np.zeros((len(which), system.world.nmotor)), np.zeros((len(which), system.world.nmotor))
+    allowed_tau, excluded_tau = (
+        np.zeros((len(which), system.world.nmotor)),
+        np.zeros((len(which), system.world.nmotor)),
+    )
     for k, s in enumerate(states):
         foot = system.active_feet[0]
         basis = system.basis_matrix(foot, s.phase)
@@ -69,7 +82,8 @@ def test_psi_against_the_sketch(basic_run):
     extra = sketch.air.optimized_modes(len(grown[("left", "air")]))
     extra = [m for m in extra if m not in sketch.air.priority][0]
     a = np.abs(np.concatenate([p.activations[(f, ph)] for f, ph in p.activations])).sum()
-    grown[("left", "air")][extra - 1] = a  # one allowed mode as large as all the priority ones together
+    # one allowed mode as large as all the priority ones together
+    grown[("left", "air")][extra - 1] = a
     figures = psi_comparison(system, type(p)(**{**p.__dict__, "activations": grown}), modes)
     norm = np.linalg.norm(np.concatenate([p.activations[k] for k in p.activations]))
     assert figures["psi_priority_share"] == pytest.approx(2 / 3, abs=1e-4)

@@ -1,4 +1,5 @@
-"""Sketch presets against the thesis's Table 5.1 search-space sizes, and the seeded random sketches of §5.3.4."""
+"""Sketch presets against the thesis's Table 5.1 search-space sizes, and the seeded random sketches
+of §5.3.4."""
 
 import pytest
 import yaml
@@ -31,7 +32,10 @@ def test_preset_search_space_matches_table_5_1(name):
     sketch = load_sketch(resolve("sketch", name))
     priority, optimized = TABLE_5_1[name]
     assert (len(sketch.air.priority), len(sketch.ground.priority)) == priority
-    assert (len(sketch.air.optimized_modes(1000)), len(sketch.ground.optimized_modes(1000))) == optimized
+    assert (
+        len(sketch.air.optimized_modes(1000)),
+        len(sketch.ground.optimized_modes(1000)),
+    ) == optimized
 
 
 @pytest.mark.parametrize("procedure", [1, 2])
@@ -55,6 +59,9 @@ def test_random_sketches_follow_the_procedure_and_the_seed(procedure):
 
 @pytest.mark.parametrize("name, seed, procedure", [("random-1", 1, 1), ("random-2", 2, 2)])
 def test_the_random_presets_are_the_documented_draws(name, seed, procedure):
-    """`sketch new humanoid --random SEED --procedure P` regenerates the shipped random presets exactly."""
+    """`sketch new humanoid --random SEED --procedure P` regenerates the shipped random presets
+    exactly."""
     drawn = random_sketch(load_character("humanoid"), "humanoid", seed=seed, procedure=procedure)
-    assert yaml.safe_load(resolve("sketch", name).read_text()) == yaml.safe_load(yaml.safe_dump(drawn))
+    assert yaml.safe_load(resolve("sketch", name).read_text()) == yaml.safe_load(
+        yaml.safe_dump(drawn)
+    )

@@ -1,4 +1,5 @@
-"""The survival stage: its sampled pushes, its search space, and a resumed run that replays the same search."""
+"""The survival stage: its sampled pushes, its search space, and a resumed run that replays the same
+search."""
 
 import json
 
@@ -40,7 +41,8 @@ def test_pushes_are_reproducible_and_within_their_ranges():
     assert impulses.min() >= 0.2 and impulses.max() <= 0.6
     assert times.min() >= period and times.max() <= (horizon - 3) * period
     assert {np.sign(p.force) for p in pushes[1:]} == {-1.0, 1.0}
-    assert generation_pushes(settings, 7, period, horizon, mass) == pushes  # common to every candidate
+    # common to every candidate
+    assert generation_pushes(settings, 7, period, horizon, mass) == pushes
     assert generation_pushes(settings, 8, period, horizon, mass) != pushes
 
 
@@ -55,7 +57,9 @@ def test_zero_offsets_decode_to_the_starting_gait(kangaroo):
         np.testing.assert_allclose(p.activations[key], psi)
     np.testing.assert_allclose(p.feedback.hip, start.feedback.hip)
     moved = space.decode(np.r_[np.zeros(4), np.ones(space.size - 4)])
-    changed = [k for k in start.activations if not np.allclose(moved.activations[k], start.activations[k])]
+    changed = [
+        k for k in start.activations if not np.allclose(moved.activations[k], start.activations[k])
+    ]
     assert changed and not np.allclose(moved.feedback.hip, start.feedback.hip)
 
 
@@ -71,7 +75,9 @@ def test_a_resumed_run_continues_the_same_search(kangaroo, tmp_path):
         SurvivalSettings(**{**settings.__dict__, "generations": 2}),
         progress=lambda _: None,
     )
-    harden(system, start, FIGURES, tmp_path / "split", settings, resume=True, progress=lambda _: None)
+    harden(
+        system, start, FIGURES, tmp_path / "split", settings, resume=True, progress=lambda _: None
+    )
     straight = json.loads((tmp_path / "straight" / "survival.json").read_text())["generations"]
     split = json.loads((tmp_path / "split" / "survival.json").read_text())["generations"]
     assert len(straight) == len(split) == 3
@@ -88,7 +94,15 @@ def test_resume_errors_name_the_parameter_and_the_command_line_shows_its_flag(ka
     (tmp_path / "damaged" / CHECKPOINT).write_text("{")
     for folder in (tmp_path / "empty", tmp_path / "damaged"):
         with pytest.raises(UserInputError) as caught:
-            harden(system, start, FIGURES, folder, SurvivalSettings(minutes=1), resume=True, progress=lambda _: None)
+            harden(
+                system,
+                start,
+                FIGURES,
+                folder,
+                SurvivalSettings(minutes=1),
+                resume=True,
+                progress=lambda _: None,
+            )
         assert "without resume=True" in caught.value.fix and "--" not in str(caught.value)
         shown = str(for_command_line(caught.value))
         assert "without --resume" in shown and "resume=True" not in shown
@@ -99,18 +113,40 @@ def test_harden_command_writes_a_playable_controller_and_refuses_to_clobber(tmp_
     import sys
 
     run = tmp_path / "run"
-    args = [sys.executable, "-m", "eigengait", "harden", "kangaroo-hop", "-o", str(run), "--popsize", "4"]
-    done = subprocess.run([*args, "--max-minutes", "0.05"], capture_output=True, text=True, timeout=300)
+    args = [
+        sys.executable,
+        "-m",
+        "eigengait",
+        "harden",
+        "kangaroo-hop",
+        "-o",
+        str(run),
+        "--popsize",
+        "4",
+    ]
+    done = subprocess.run(
+        [*args, "--max-minutes", "0.05"], capture_output=True, text=True, timeout=300
+    )
     assert done.returncode == 0, done.stderr
     assert "survival with no reset (20 cycles):" in done.stdout
     assert (run / "best_controller.json").is_file() and (run / "log.csv").is_file()
     played = subprocess.run(
-        [sys.executable, "-m", "eigengait", "play", str(run / "best_controller.json"), "--cycles", "1", "--json"],
+        [
+            sys.executable,
+            "-m",
+            "eigengait",
+            "play",
+            str(run / "best_controller.json"),
+            "--cycles",
+            "1",
+            "--json",
+        ],
         capture_output=True,
         text=True,
         timeout=300,
     )
-    assert played.returncode == 0, played.stderr  # the file loads and plays (a short search may still fall)
+    # the file loads and plays (a short search may still fall)
+    assert played.returncode == 0, played.stderr
     assert json.loads(played.stdout)["controller"] == str(run / "best_controller.json")
     again = subprocess.run(args, capture_output=True, text=True, timeout=300)
     assert again.returncode == 2 and "--resume" in again.stderr
@@ -123,7 +159,9 @@ def test_the_cost_charges_lost_speed_and_extra_effort(kangaroo):
     settings = SurvivalSettings(minutes=1, copies=1, horizon=4)
 
     def cost(speed, effort):
-        scorer = SurvivalScorer(system, start, settings, StartingFigures(speed=speed, effort=effort))
+        scorer = SurvivalScorer(
+            system, start, settings, StartingFigures(speed=speed, effort=effort)
+        )
         try:
             return scorer.score([start], generation=0, horizon=4)
         finally:
@@ -131,7 +169,8 @@ def test_the_cost_charges_lost_speed_and_extra_effort(kangaroo):
 
     free, survived = cost(0.0, 1e12)  # no speed to keep, effort far below the reference
     assert free[0] == pytest.approx(1 - survived[0] / 4)
-    assert cost(100.0, 1e12)[0][0] == pytest.approx(free[0] + 0.5 * (1 - 0), abs=0.02)  # nearly all speed lost
+    # nearly all speed lost
+    assert cost(100.0, 1e12)[0][0] == pytest.approx(free[0] + 0.5 * (1 - 0), abs=0.02)
     assert cost(0.0, 1.0)[0][0] > free[0] + 100  # thousands of times the reference effort
 
 
@@ -143,7 +182,9 @@ def test_the_slip_term_reads_the_slip_that_playback_reports(kangaroo):
     reported = play(system, start, cycles=4).quality["stance_slip_max_m"]
     costs = {}
     for max_slip in (None, 0.001):
-        scorer = SurvivalScorer(system, start, SurvivalSettings(minutes=1, copies=1, max_slip=max_slip), FIGURES)
+        scorer = SurvivalScorer(
+            system, start, SurvivalSettings(minutes=1, copies=1, max_slip=max_slip), FIGURES
+        )
         try:
             costs[max_slip] = scorer.score([start], generation=0, horizon=4)[0][0]
             run = scorer.runner.run([start], 4)
@@ -152,4 +193,6 @@ def test_the_slip_term_reads_the_slip_that_playback_reports(kangaroo):
             scorer.close()
     assert reported > 0.002  # the hop's foot slides a little: the term has something to charge
     assert measured == pytest.approx(reported, abs=1e-4)  # the same frames as playback records
-    assert costs[0.001] - costs[None] == pytest.approx(SLIP_WEIGHT * (measured / 0.001 - 1), rel=1e-6)
+    assert costs[0.001] - costs[None] == pytest.approx(
+        SLIP_WEIGHT * (measured / 0.001 - 1), rel=1e-6
+    )

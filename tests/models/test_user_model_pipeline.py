@@ -1,13 +1,16 @@
-"""The whole pipeline through the CLI on users' models: planar walker and the CMU humanoid (56 hinges).
+"""The whole pipeline through the CLI on users' models: planar walker and the CMU humanoid
+(56 hinges).
 
-Budgets are tiny (16 evaluations): these check that every command accepts the model, not that the gait walks."""
+Budgets are tiny (16 evaluations): these check that every command accepts the model, not that the
+gait walks."""
 
 import json
 from pathlib import Path
 
 import pytest
 
-MODELS = Path(__file__).resolve().parents[3] / "shared" / "data" / "models" / "dm_control"  # beside the repo
+# beside the repo
+MODELS = Path(__file__).resolve().parents[3] / "shared" / "data" / "models" / "dm_control"
 
 
 @pytest.mark.parametrize("model", ["suite/walker.xml", "suite/humanoid_CMU.xml"])
@@ -42,12 +45,24 @@ def test_modes_palette_sketch_optimize_play(tmp_path, eigengait_cli, model):
         "2",
     )
     assert r.returncode == 0, r.stderr
-    video = ["--video", tmp_path / "v.gif"] if "walker" in model else []  # rendering 56 bodies takes ~10 s
-    planner = [] if "walker" in model else ["--no-lookahead"]  # lookahead on the planar walker only: 56 dofs are slow
+    # rendering 56 bodies takes ~10 s
+    video = ["--video", tmp_path / "v.gif"] if "walker" in model else []
+    # lookahead on the planar walker only: 56 dofs are slow
+    planner = [] if "walker" in model else ["--no-lookahead"]
     r = eigengait_cli(
-        "play", run / "best_controller.json", "--cycles", "1", "--json", "--bvh", tmp_path / "m.bvh", *video, *planner
+        "play",
+        run / "best_controller.json",
+        "--cycles",
+        "1",
+        "--json",
+        "--bvh",
+        tmp_path / "m.bvh",
+        *video,
+        *planner,
     )
     assert r.returncode == 0, r.stderr
     assert json.loads(r.stdout.splitlines()[0])["character"] == str(side.resolve())
     assert json.loads(r.stdout.splitlines()[0])["lookahead"] is (not planner)
-    assert (tmp_path / "m.bvh").exists() and all(p.stat().st_size > 0 for p in tmp_path.glob("v.gif"))
+    assert (tmp_path / "m.bvh").exists() and all(
+        p.stat().st_size > 0 for p in tmp_path.glob("v.gif")
+    )

@@ -18,13 +18,18 @@ from eigengait.optimize.problem import Problem
 from eigengait.sim import build_world
 from eigengait.sim.stepping import MAX_SPEED
 
-MODELS = Path(__file__).resolve().parents[3] / "shared" / "data" / "models" / "dm_control"  # beside the repo
+# beside the repo
+MODELS = Path(__file__).resolve().parents[3] / "shared" / "data" / "models" / "dm_control"
 WALKER = MODELS / "suite" / "walker.xml"
 # model -> (internal DOF, rigid air modes, guessed feet)
 EXPECTED = {
     "suite/humanoid.xml": (21, 6, {"right_foot", "left_foot"}),
     "suite/humanoid_CMU.xml": (56, 6, {"ltoes", "rtoes"}),
-    "suite/quadruped.xml": (16, 12, {"toe_front_left", "toe_front_right", "toe_back_right", "toe_back_left"}),
+    "suite/quadruped.xml": (
+        16,
+        12,
+        {"toe_front_left", "toe_front_right", "toe_back_right", "toe_back_left"},
+    ),
     "suite/walker.xml": (6, 3, {"right_foot", "left_foot"}),
     "suite/cheetah.xml": (6, 3, {"bfoot", "ffoot"}),
     "locomotion/humanoid_CMU_V2020.xml": (56, 6, {"ltoes", "rtoes"}),
@@ -42,31 +47,39 @@ def test_model_loads_with_its_modes_and_feet(model):
 
 
 def test_builtin_planar_walker_is_the_users_walker_with_the_auto_stiffness():
-    """The built-in keeps dm_control's file as shipped; its sidecar holds what `--stiffness auto` chooses."""
+    """The built-in keeps dm_control's file as shipped; its sidecar holds what `--stiffness auto`
+    chooses."""
     builtin = load_character("planar-walker")
     assert builtin.path.read_bytes() == WALKER.read_bytes()
     assert builtin.name == "planar-walker" and builtin.meta.strength == 1.0
     users = load_character(WALKER, stiffness="auto")
-    assert set(builtin.stiffness) == set(users.stiffness) and builtin.root_joints == users.root_joints
+    assert (
+        set(builtin.stiffness) == set(users.stiffness) and builtin.root_joints == users.root_joints
+    )
     for joint, k in users.stiffness.items():
         np.testing.assert_allclose(builtin.stiffness[joint], k, rtol=1e-6)
-    model = build_world(builtin).model  # the model's own floor strip is kept but not drawn over eigengait's
+    # the model's own floor strip is kept but not drawn over eigengait's
+    model = build_world(builtin).model
     floor = model.geom("floor").id
     assert model.geom_rgba[floor][3] == 0.0 and model.geom_matid[floor] == -1
     assert model.geom_rgba[model.geom("eigengait:floor").id][3] > 0.0
 
 
 def test_initial_poses_stay_inside_joint_ranges(tmp_path, eigengait_cli):
-    """The quadruped's starter sketch: modal initial poses reach beyond its ankles' ranges, and a violated limit
-    launched the body within 3 ms. Decoded poses are clipped into every limited hinge's range and simulate 10 ms
-    with no torque without blowing up."""
+    """The quadruped's starter sketch: modal initial poses reach beyond its ankles' ranges, and a
+    violated limit launched the body within 3 ms. Decoded poses are clipped into every limited
+    hinge's range and simulate 10 ms with no torque without blowing up."""
     sketch = tmp_path / "q.yaml"
-    made = eigengait_cli("sketch", "new", MODELS / "suite/quadruped.xml", "--stiffness", "auto", "-o", sketch)
+    made = eigengait_cli(
+        "sketch", "new", MODELS / "suite/quadruped.xml", "--stiffness", "auto", "-o", sketch
+    )
     assert made.returncode == 0, made.stderr
     problem = Problem.from_sketch(load_sketch(sketch))
     model = problem.system.world.model
     hinges = [
-        j for j in np.flatnonzero(model.jnt_limited) if int(model.jnt_type[j]) == int(mujoco.mjtJoint.mjJNT_HINGE)
+        j
+        for j in np.flatnonzero(model.jnt_limited)
+        if int(model.jnt_type[j]) == int(mujoco.mjtJoint.mjJNT_HINGE)
     ]
     for x in np.random.default_rng(0).uniform(0, 1, (8, problem.space.size)):
         p = problem.space.decode(x)
@@ -80,9 +93,10 @@ def test_initial_poses_stay_inside_joint_ranges(tmp_path, eigengait_cli):
 
 
 def test_planar_root_gives_the_free_root_modes_of_a_planar_creature(tmp_path):
-    """The walker with both legs moved into the plane y = 0 has all its mass in that plane and all joints about y:
-    with a free root instead of slide x/z + hinge y, only rigid out-of-plane motion is added, so the non-rigid
-    frequencies must be the same. (With the legs at y = ±0.05 a swinging leg would yaw a free torso.)"""
+    """The walker with both legs moved into the plane y = 0 has all its mass in that plane and all
+    joints about y: with a free root instead of slide x/z + hinge y, only rigid out-of-plane motion
+    is added, so the non-rigid frequencies must be the same. (With the legs at y = ±0.05 a swinging
+    leg would yaw a free torso.)"""
     spec = mujoco.MjSpec.from_file(str(WALKER))
     for leg in ("left_thigh", "right_thigh"):
         spec.body(leg).pos[1] = 0.0
@@ -108,7 +122,8 @@ def test_auto_stiffness_is_the_sag_rule_of_a_point_mass_pendulum(tmp_path):
     path.write_text(
         '<mujoco><worldbody><body><freejoint/><geom type="box" size=".1 .1 .1" mass="50"/>'
         '<body pos="0 0 -.1"><joint name="hinge" axis="0 1 0"/>'
-        f'<geom type="sphere" size=".01" pos="0 0 -{r}" mass="{m}"/></body></body></worldbody></mujoco>'
+        f'<geom type="sphere" size=".01" pos="0 0 -{r}" '
+        f'mass="{m}"/></body></body></worldbody></mujoco>'
     )
     character = load_character(path, stiffness="auto")
     assert character.stiffness["hinge"][0] == pytest.approx(m * GRAVITY * r / np.deg2rad(SAG_DEG))
@@ -116,7 +131,8 @@ def test_auto_stiffness_is_the_sag_rule_of_a_point_mass_pendulum(tmp_path):
 
 
 def test_names_added_by_eigengait_do_not_clash_and_model_actuators_are_replaced():
-    character = load_character(MODELS / "suite" / "humanoid_CMU.xml")  # it has its own 'grid' texture
+    # it has its own 'grid' texture
+    character = load_character(MODELS / "suite" / "humanoid_CMU.xml")
     world = build_world(character)
     assert world.model.nu == character.internal_dofs  # eigengait's motors only
     assert world.model.sensor(0).name == "eigengait:com"
@@ -133,7 +149,9 @@ def test_y_up_model_is_turned_to_stand_on_its_feet():
 
 
 def test_mirror_pairs_from_names():
-    assert mirror_pairs(["lfemurrx", "rfemurrx", "lowerback", "left_hip", "right_hip", "knee_l", "knee_r"]) == {
+    assert mirror_pairs(
+        ["lfemurrx", "rfemurrx", "lowerback", "left_hip", "right_hip", "knee_l", "knee_r"]
+    ) == {
         "lfemurrx": "rfemurrx",
         "left_hip": "right_hip",
         "knee_l": "knee_r",
@@ -151,11 +169,19 @@ def test_body_choice_errors_name_the_fix():
 
 
 @pytest.mark.parametrize(
-    "model", ["suite/humanoid.xml", "suite/quadruped.xml", "suite/cheetah.xml", "locomotion/humanoid_CMU_V2020.xml"]
+    "model",
+    [
+        "suite/humanoid.xml",
+        "suite/quadruped.xml",
+        "suite/cheetah.xml",
+        "locomotion/humanoid_CMU_V2020.xml",
+    ],
 )
 def test_cli_inspect_and_sketch_new(tmp_path, eigengait_cli, model):
     side = tmp_path / "c.eigengait.yaml"
-    r = eigengait_cli("character", "inspect", MODELS / model, "--stiffness", "auto", "--json", "-o", side)
+    r = eigengait_cli(
+        "character", "inspect", MODELS / model, "--stiffness", "auto", "--json", "-o", side
+    )
     assert r.returncode == 0, r.stderr
     info = json.loads(r.stdout)
     assert info["internal_dofs"] == EXPECTED[model][0] and side.exists()
@@ -177,9 +203,17 @@ def test_root_layout_of_planar_and_free_roots():
     assert root.translation_qvel == (0, 1)
     qpos = np.zeros(walker.model.nq)
     root.lift_and_pitch(qpos, 0.1, 0.3)
-    assert qpos[:3] == pytest.approx([0.1, 0.0, 0.3]) and root.up_z(qpos) == pytest.approx(np.cos(0.3))
+    assert qpos[:3] == pytest.approx([0.1, 0.0, 0.3]) and root.up_z(qpos) == pytest.approx(
+        np.cos(0.3)
+    )
     free = build_world(load_character("humanoid")).root
-    assert (free.kind, free.translation_qvel, free.forward_qvel, free.vertical_qvel, free.quat_qpos) == (
+    assert (
+        free.kind,
+        free.translation_qvel,
+        free.forward_qvel,
+        free.vertical_qvel,
+        free.quat_qpos,
+    ) == (
         "free",
         (0, 1, 2),
         0,
@@ -194,15 +228,19 @@ def test_root_layout_of_planar_and_free_roots():
 @pytest.mark.parametrize(
     "xml, expected",
     [
-        ('<mujoco><worldbody><body><geom size=".1"/></body></worldbody></mujoco>', "the model has no joints"),
         (
-            '<mujoco><worldbody><body><joint type="slide"/><geom size=".1"/><body><joint name="h"/><geom size=".1"/>'
-            '</body></body></worldbody></mujoco>',
+            '<mujoco><worldbody><body><geom size=".1"/></body></worldbody></mujoco>',
+            "the model has no joints",
+        ),
+        (
+            '<mujoco><worldbody><body><joint type="slide"/><geom size=".1"/><body><joint '
+            'name="h"/><geom size=".1"/></body></body></worldbody></mujoco>',
             "field 'the root body (unnamed)'",
         ),
         (
-            '<mujoco><worldbody><body><freejoint/><geom size=".1"/><body><joint name="h"/><geom size=".1"/>'
-            '</body></body></worldbody><sensor><actuatorfrc actuator="none"/></sensor></mujoco>',
+            '<mujoco><worldbody><body><freejoint/><geom size=".1"/><body><joint name="h"/><geom '
+            'size=".1"/></body></body></worldbody><sensor><actuatorfrc '
+            'actuator="none"/></sensor></mujoco>',
             "cannot compile",
         ),
     ],

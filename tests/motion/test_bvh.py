@@ -1,4 +1,5 @@
-"""BVH reader/writer: round trips on the real CMU clips, channel orders, and clear errors for bad files."""
+"""BVH reader/writer: round trips on the real CMU clips, channel orders, and clear errors for bad
+files."""
 
 from pathlib import Path
 
@@ -6,7 +7,14 @@ import numpy as np
 import pytest
 
 from eigengait.errors import UserInputError
-from eigengait.motion.bvh import BvhClip, BvhJoint, axis_rotation, global_transforms, read_bvh, write_bvh
+from eigengait.motion.bvh import (
+    BvhClip,
+    BvhJoint,
+    axis_rotation,
+    global_transforms,
+    read_bvh,
+    write_bvh,
+)
 
 MOCAP = Path(__file__).resolve().parents[3] / "shared" / "data" / "mocap"  # shared/ beside the repo
 CLIPS = {
@@ -38,7 +46,14 @@ def test_round_trip_is_identical(name, tmp_path):
 def test_header_quirks_are_read():
     walk = read_bvh(MOCAP / "cmu_02_01_walk.bvh")
     assert walk.frame_time == pytest.approx(0.0083333)
-    assert walk.joints[0].channels == ["Xposition", "Yposition", "Zposition", "Zrotation", "Yrotation", "Xrotation"]
+    assert walk.joints[0].channels == [
+        "Xposition",
+        "Yposition",
+        "Zposition",
+        "Zrotation",
+        "Yrotation",
+        "Xrotation",
+    ]
     assert sum(j.end_site is not None for j in walk.joints) == 7
     run = read_bvh(MOCAP / "cmu_16_36_run_daz.bvh")
     assert run.joints[1].channels == ["Zrotation", "Xrotation", "Yrotation"]
@@ -69,9 +84,15 @@ def test_channel_order_is_intrinsic_product_in_listed_order():
 
 
 def test_single_axis_rotation_is_right_handed():
-    np.testing.assert_allclose(axis_rotation("Z", 90.0) @ [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], atol=1e-12)
-    np.testing.assert_allclose(axis_rotation("X", 90.0) @ [0.0, 1.0, 0.0], [0.0, 0.0, 1.0], atol=1e-12)
-    np.testing.assert_allclose(axis_rotation("Y", 90.0) @ [0.0, 0.0, 1.0], [1.0, 0.0, 0.0], atol=1e-12)
+    np.testing.assert_allclose(
+        axis_rotation("Z", 90.0) @ [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], atol=1e-12
+    )
+    np.testing.assert_allclose(
+        axis_rotation("X", 90.0) @ [0.0, 1.0, 0.0], [0.0, 0.0, 1.0], atol=1e-12
+    )
+    np.testing.assert_allclose(
+        axis_rotation("Y", 90.0) @ [0.0, 0.0, 1.0], [1.0, 0.0, 0.0], atol=1e-12
+    )
 
 
 def test_walk_feet_stay_below_hips():
@@ -112,19 +133,23 @@ def test_truncated_hierarchy_and_cut_last_line(tmp_path):
     "text, fragment",
     [
         (
-            "HIERARCHY\nROOT a\n{\nOFFSET 0 0\nCHANNELS 1 Xrotation\n}\nMOTION\nFrames: 1\nFrame Time: 0.1\n0\n",
+            "HIERARCHY\nROOT a\n{\nOFFSET 0 0\nCHANNELS 1 Xrotation\n}\nMOTION\nFrames: 1\nFrame "
+            "Time: 0.1\n0\n",
             "number",
         ),
         (
-            "HIERARCHY\nROOT a\n{\nOFFSET 0 0 0\nCHANNELS 1 Wrotation\n}\nMOTION\nFrames: 1\nFrame Time: 0.1\n0\n",
+            "HIERARCHY\nROOT a\n{\nOFFSET 0 0 0\nCHANNELS 1 Wrotation\n}\nMOTION\nFrames: 1\nFrame "
+            "Time: 0.1\n0\n",
             "Wrotation",
         ),
         (
-            "HIERARCHY\nROOT a\n{\nOFFSET 0 0 0\nCHANNELS 1 Xrotation\n}\nMOTION\nFrames: x\nFrame Time: 0.1\n0\n",
+            "HIERARCHY\nROOT a\n{\nOFFSET 0 0 0\nCHANNELS 1 Xrotation\n}\nMOTION\nFrames: x\nFrame "
+            "Time: 0.1\n0\n",
             "integer",
         ),
         (
-            "HIERARCHY\nROOT a\n{\nOFFSET 0 0 0\nCHANNELS 1 Xrotation\n}\nMOTION\nFrames: 1\nFrame Time: 0.1\nabc\n",
+            "HIERARCHY\nROOT a\n{\nOFFSET 0 0 0\nCHANNELS 1 Xrotation\n}\nMOTION\nFrames: 1\nFrame "
+            "Time: 0.1\nabc\n",
             "not a number",
         ),
         ("hello\n", "MOTION"),

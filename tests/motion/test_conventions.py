@@ -1,4 +1,5 @@
-"""Unit, up axis and facing detected on both CMU skeleton families, on a re-axed metre copy, and joint roles by name."""
+"""Unit, up axis and facing detected on both CMU skeleton families, on a re-axed metre copy, and
+joint roles by name."""
 
 from pathlib import Path
 
@@ -28,7 +29,9 @@ def run():
 
 def test_motionbuilder_family(walk):
     roles = find_roles(walk)
-    assert roles["root"] == "Hips" and roles["torso"] == "Spine1" and roles["left_shin"] == "LeftLeg"
+    assert (
+        roles["root"] == "Hips" and roles["torso"] == "Spine1" and roles["left_shin"] == "LeftLeg"
+    )
     conv = detect_conventions(walk, roles)
     assert (conv.up, conv.forward, conv.unit) == ("+y", "+z", "CMU")
     assert conv.hip_height * conv.metres_per_unit == pytest.approx(0.93, abs=0.03)
@@ -49,7 +52,8 @@ def test_daz_family(run):
 
 
 def _reaxed(clip: BvhClip, matrix: np.ndarray, scale: float) -> BvhClip:
-    """The same motion in other file axes (new = matrix @ old, a signed permutation) and length unit."""
+    """The same motion in other file axes (new = matrix @ old, a signed permutation) and length
+    unit."""
     relabel = {}
     for old in range(3):
         new = int(np.flatnonzero(matrix[:, old])[0])
@@ -63,7 +67,9 @@ def _reaxed(clip: BvhClip, matrix: np.ndarray, scale: float) -> BvhClip:
             frames[:, column] *= sign * (scale if name.endswith("position") else 1.0)
             column += 1
         end = None if joint.end_site is None else scale * matrix @ joint.end_site
-        joints.append(BvhJoint(joint.name, joint.parent, scale * matrix @ joint.offset, channels, end))
+        joints.append(
+            BvhJoint(joint.name, joint.parent, scale * matrix @ joint.offset, channels, end)
+        )
     return BvhClip(joints, clip.frame_time, frames)
 
 
@@ -79,7 +85,10 @@ def test_z_up_metre_copy_is_detected_and_retargets_identically(run):
 
 def test_namespaced_common_names_map_like_the_originals(walk):
     renamed = BvhClip(
-        [BvhJoint("mixamorig:" + j.name, j.parent, j.offset, j.channels, j.end_site) for j in walk.joints],
+        [
+            BvhJoint("mixamorig:" + j.name, j.parent, j.offset, j.channels, j.end_site)
+            for j in walk.joints
+        ],
         walk.frame_time,
         walk.frames,
     )

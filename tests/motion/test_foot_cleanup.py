@@ -1,4 +1,5 @@
-"""Skate removal by leg IK on a Daz-skeleton walk: the cleaned reference's feet hold still, the upper body is kept."""
+"""Skate removal by leg IK on a Daz-skeleton walk: the cleaned reference's feet hold still, the
+upper body is kept."""
 
 from pathlib import Path
 
@@ -23,17 +24,22 @@ SKATE_FRACTION = 0.35
 def cleaned():
     world = build_world(load_character("walker"))
     clip = read_bvh(MOCAP / "cmu_07_06_walk_daz.bvh")
-    poses = retarget(clip, world, builtin_mapping("walker", clip), start_frame=first_frame_after_lead_in(clip, 1))
+    poses = retarget(
+        clip, world, builtin_mapping("walker", clip), start_frame=first_frame_after_lead_in(clip, 1)
+    )
     return world, poses, clean_feet(world, poses.qpos, poses.frame_time)
 
 
 def test_cleaned_skate_is_a_fraction_of_the_raw_one(cleaned):
-    # Measured: raw 0.298 m per stance, cleaned 0.069 m (the grounded reference keeps its feet within 2 cm of the
-    # floor for longer than before grounding, when it measured 0.079 and 0.006 m).
+    # Measured: raw 0.298 m per stance, cleaned 0.069 m (the grounded reference keeps its feet
+    # within 2 cm of the floor for longer than before grounding, when it measured 0.079 and
+    # 0.006 m).
     world, poses, result = cleaned
     raw = foot_report(sole_points(world, poses.qpos), poses.frame_time)
     clean = foot_report(sole_points(world, result.qpos), poses.frame_time)
-    assert raw.foot_skate_m > SKATE_BOUND_M and clean.foot_skate_m < SKATE_FRACTION * raw.foot_skate_m
+    assert (
+        raw.foot_skate_m > SKATE_BOUND_M and clean.foot_skate_m < SKATE_FRACTION * raw.foot_skate_m
+    )
     assert clean.stances >= 4 and clean.floor_penetration_m < 0.005
     assert result.ik_error_m < 0.06
 
@@ -41,7 +47,11 @@ def test_cleaned_skate_is_a_fraction_of_the_raw_one(cleaned):
 def test_only_the_legs_move(cleaned):
     world, poses, result = cleaned
     model = world.model
-    leg = [j for j in range(model.njnt) if any(s in model.joint(j).name for s in ("thigh", "shin", "foot"))]
+    leg = [
+        j
+        for j in range(model.njnt)
+        if any(s in model.joint(j).name for s in ("thigh", "shin", "foot"))
+    ]
     legs = np.concatenate([model.jnt_qposadr[j] + np.arange(4) for j in leg])
     others = np.setdiff1d(np.arange(model.nq), legs)
     np.testing.assert_array_equal(result.qpos[:, others], poses.qpos[:, others])
@@ -49,13 +59,15 @@ def test_only_the_legs_move(cleaned):
 
 
 def test_holds_that_meet_are_joined_without_a_jump():
-    # A foot found as two stances back to back that ask for positions 0.2 m apart: the correction's step at the
-    # junction is bounded by MAX_CORRECTION_SPEED, inside the stances it follows the slip.
+    # A foot found as two stances back to back that ask for positions 0.2 m apart: the correction's
+    # step at the junction is bounded by MAX_CORRECTION_SPEED, inside the stances it follows the
+    # slip.
     frame_time, n = 0.01, 200
     points = np.zeros((n, 2, 3))
     points[:, 1, 0] = 0.18
     slide = np.concatenate([np.zeros(60), np.linspace(0.0, 0.2, 20), np.full(n - 80, 0.2)])
-    points[..., 0] += slide[:, None]  # stands, slides 0.2 m in 0.2 s (1 m/s: not a stance), stands again
+    # stands, slides 0.2 m in 0.2 s (1 m/s: not a stance), stands again
+    points[..., 0] += slide[:, None]
     correction, holds = foot_corrections(points, frame_time)
     assert len(holds) == 2
     steps = np.linalg.norm(np.diff(correction[:, :2], axis=0), axis=1)

@@ -1,4 +1,5 @@
-"""Levelling and joint ranges on retargeted CMU clips: feet that stand still stand flat, no joint past its limit."""
+"""Levelling and joint ranges on retargeted CMU clips: feet that stand still stand flat, no joint
+past its limit."""
 
 from pathlib import Path
 
@@ -22,8 +23,8 @@ def world():
 
 
 def _still_tilt_deg(world, qpos, frame_time):
-    """Per foot: the tilt (degrees) of the world up direction averaged in the foot's frame over its still frames
-    (a constant error in the foot's rest orientation shows as such a mean tilt)."""
+    """Per foot: the tilt (degrees) of the world up direction averaged in the foot's frame over its
+    still frames (a constant error in the foot's rest orientation shows as such a mean tilt)."""
     model, data = world.model, mujoco.MjData(world.model)
     soles = sole_points(world, qpos)
     out = {}
@@ -40,8 +41,8 @@ def _still_tilt_deg(world, qpos, frame_time):
 
 
 def test_levelled_feet_stand_flat_on_average_when_still(world):
-    # Measured on the MotionBuilder walk: its still feet stand rolled about 23° before levelling (the foot bone's
-    # rest twist), and the mean tilt is below 1° after.
+    # Measured on the MotionBuilder walk: its still feet stand rolled about 23° before levelling
+    # (the foot bone's rest twist), and the mean tilt is below 1° after.
     clip = read_bvh(MOCAP / "cmu_02_01_walk.bvh")
     poses = retarget(clip, world, builtin_mapping("walker", clip))
     assert min(poses.foot_level_deg.values()) > 10.0
@@ -59,5 +60,6 @@ def test_no_joint_is_past_its_range(world):
         adr = model.jnt_qposadr[j]
         angle = 2 * np.arccos(np.clip(np.abs(poses.qpos[:, adr]), 0, 1))
         assert angle.max() <= model.jnt_range[j, 1] + 1e-6, model.joint(j).name
-    # the scale fitted to the legs: about 0.65 of the hip-height scale for the Daz exports (measured 0.665)
+    # the scale fitted to the legs: about 0.65 of the hip-height scale for the Daz exports (measured
+    # 0.665)
     assert 0.55 < poses.root_factor < 0.75

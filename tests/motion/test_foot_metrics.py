@@ -1,4 +1,5 @@
-"""Stance detection, skate, penetration and clearance on a hand-built two-point foot with known stances and slide."""
+"""Stance detection, skate, penetration and clearance on a hand-built two-point foot with known
+stances and slide."""
 
 import numpy as np
 import pytest
@@ -10,8 +11,9 @@ DT = 0.01  # s
 
 
 def _foot():
-    """Heel and toe sole points (130, 2, 3): stance 0–49 (still, ending on a heel-to-toe roll), swing 50–79 (0.5 m
-    forward, 0.10 m high, touching 2 frames mid-way), stance 80–129 sliding 6 cm forward, 5 mm into the floor."""
+    """Heel and toe sole points (130, 2, 3): stance 0–49 (still, ending on a heel-to-toe roll),
+    swing 50–79 (0.5 m forward, 0.10 m high, touching 2 frames mid-way), stance 80–129 sliding 6 cm
+    forward, 5 mm into the floor."""
     heel = np.zeros((130, 3))
     heel[40:50, 2] = np.linspace(0.005, 0.05, 10)  # heel lifts, toe stays put: a roll, no skate
     swing = np.sin(np.linspace(0, np.pi, 32))[1:-1]

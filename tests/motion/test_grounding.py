@@ -1,4 +1,5 @@
-"""Grounding: the capture floor's drift and a hovering supporting foot are removed, a flight keeps its height."""
+"""Grounding: the capture floor's drift and a hovering supporting foot are removed, a flight keeps
+its height."""
 
 import numpy as np
 import pytest

@@ -1,9 +1,14 @@
-"""A clip's lead-in (a synthetic first pose and the blend out of it) is skipped; a clip's own motion is not."""
+"""A clip's lead-in (a synthetic first pose and the blend out of it) is skipped; a clip's own motion
+is not."""
 
 import numpy as np
 
 from eigengait.motion.bvh import read_bvh
-from eigengait.motion.lead_in import LEAD_IN_MAX_S, first_frame_after_lead_in, largest_bone_turns_deg
+from eigengait.motion.lead_in import (
+    LEAD_IN_MAX_S,
+    first_frame_after_lead_in,
+    largest_bone_turns_deg,
+)
 
 FRAME_TIME = 1 / 120
 
@@ -50,7 +55,8 @@ def test_bone_turns_are_the_frame_to_frame_rotation_angles(tmp_path):
 def test_a_t_pose_and_a_blend_out_of_it_are_skipped(tmp_path):
     motion = swing(240, start=1.0)
     t_pose = 90.0
-    blend = [t_pose + (motion[0] - t_pose) * k / 4 for k in range(1, 4)]  # ~20° per frame, as Daz exports do
+    # ~20° per frame, as Daz exports do
+    blend = [t_pose + (motion[0] - t_pose) * k / 4 for k in range(1, 4)]
     clip = write_clip(tmp_path, [t_pose, *blend, *motion])
     assert first_frame_after_lead_in(clip, 0) == 4  # the first frame of the clip's own motion
     assert first_frame_after_lead_in(clip, 1) == 4
@@ -60,7 +66,8 @@ def test_a_clip_that_starts_in_its_motion_keeps_its_start(tmp_path):
     clip = write_clip(tmp_path, swing(240))
     assert first_frame_after_lead_in(clip, 0) == 0
     assert first_frame_after_lead_in(clip, 7) == 7
-    assert first_frame_after_lead_in(clip, -5) == -5  # outside the clip: left for retarget to refuse
+    # outside the clip: left for retarget to refuse
+    assert first_frame_after_lead_in(clip, -5) == -5
 
 
 def test_fast_motion_longer_than_a_lead_in_is_kept(tmp_path):

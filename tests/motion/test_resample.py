@@ -31,11 +31,13 @@ def test_quaternions_stay_unit_and_take_the_short_way(humanoid_world):
     adr = quaternion_addresses(model)
     assert len(adr) == 1 + 10  # the free root and ten ball joints
     a, b = model.qpos0.copy(), model.qpos0.copy()
-    b[adr[1] : adr[1] + 4] = -np.array([np.cos(0.2), np.sin(0.2), 0, 0])  # a 0.4 rad turn, stored with a flipped sign
+    # a 0.4 rad turn, stored with a flipped sign
+    b[adr[1] : adr[1] + 4] = -np.array([np.cos(0.2), np.sin(0.2), 0, 0])
     mid = resample(model, np.array([a, b]), [0.0, 1.0], [0.5])[0]
     quat = mid[adr[1] : adr[1] + 4]
     assert np.linalg.norm(quat) == pytest.approx(1.0)
-    assert 2 * np.arccos(abs(quat[0])) == pytest.approx(0.2, abs=1e-3)  # half of the short 0.4 rad arc
+    # half of the short 0.4 rad arc
+    assert 2 * np.arccos(abs(quat[0])) == pytest.approx(0.2, abs=1e-3)
 
 
 def test_bad_rates_are_refused():

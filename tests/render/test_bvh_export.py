@@ -4,7 +4,13 @@ import numpy as np
 from eigengait.character import load_character
 from eigengait.modal import compute_modes
 from eigengait.motion.bvh import end_site_positions, global_transforms, read_bvh
-from eigengait.motion.bvh_export import MUJOCO_TO_BVH, UNIT_SCALE, anchor_points, skeleton_bodies, write_trajectory_bvh
+from eigengait.motion.bvh_export import (
+    MUJOCO_TO_BVH,
+    UNIT_SCALE,
+    anchor_points,
+    skeleton_bodies,
+    write_trajectory_bvh,
+)
 from eigengait.motion.modal_mix import ModeTerm, build_mix, mix_trajectory
 from eigengait.sim.world import WorldOptions, build_world
 
@@ -12,7 +18,9 @@ from eigengait.sim.world import WorldOptions, build_world
 def _random_mix_round_trip(world, modes, tmp_path, seed):
     rng = np.random.default_rng(seed)
     chosen = rng.choice(modes.count, size=4, replace=False) + 1
-    terms = [ModeTerm(int(k), float(rng.uniform(0.5, 2.0)), float(rng.uniform(0, 360))) for k in chosen]
+    terms = [
+        ModeTerm(int(k), float(rng.uniform(0.5, 2.0)), float(rng.uniform(0, 360))) for k in chosen
+    ]
     _, qpos = mix_trajectory(world, build_mix(world, modes, terms), seconds=0.5, fps=24)
     path = tmp_path / "mix.bvh"
     write_trajectory_bvh(world, qpos, 24, path, units="cm")
@@ -54,11 +62,13 @@ def test_bvh_is_y_up_in_centimetres_with_end_sites_at_leaf_tips(tmp_path):
     data.qpos[:] = qpos[5]
     mujoco.mj_kinematics(world.model, data)
     root = world.root_body
-    np.testing.assert_allclose(positions[5, 0, 1], data.xpos[root, 2] * 100, atol=1e-6)  # height is BVH y
+    # height is BVH y
+    np.testing.assert_allclose(positions[5, 0, 1], data.xpos[root, 2] * 100, atol=1e-6)
     forearm = clip.joint_index("left_forearm")
     tips = end_site_positions(clip, rotations, positions)
     body = world.model.body("left_forearm").id
-    tip_world = data.xpos[body] + data.xmat[body].reshape(3, 3) @ np.array([0, 0, -0.26])  # box bottom face
+    # box bottom face
+    tip_world = data.xpos[body] + data.xmat[body].reshape(3, 3) @ np.array([0, 0, -0.26])
     np.testing.assert_allclose(tips[forearm][5], MUJOCO_TO_BVH @ tip_world * 100, atol=1e-5)
     leaves = {j.name for j in clip.joints if j.end_site is not None}
     assert leaves == {"head", "left_forearm", "right_forearm", "left_foot", "right_foot"}

@@ -1,5 +1,5 @@
-"""Exported BVH read back by a small reader written here from the format's description (not eigengait's own),
-and, where Debian's Blender is installed, imported by Blender."""
+"""Exported BVH read back by a small reader written here from the format's description (not
+eigengait's own), and, where Debian's Blender is installed, imported by Blender."""
 
 import shutil
 import subprocess
@@ -17,13 +17,16 @@ FPS = 60.0
 
 
 def read(path):
-    """(joints, frame_time, frames): joints as dicts name/parent/offset/channels/end (end-site offset or None)."""
+    """(joints, frame_time, frames): joints as dicts name/parent/offset/channels/end (end-site
+    offset or None)."""
     tokens = path.read_text().split()
     joints, stack, i = [], [], 1
     while tokens[i] != "MOTION":
         word = tokens[i]
         if word in ("ROOT", "JOINT"):
-            joints.append({"name": tokens[i + 1], "parent": stack[-1] if stack else -1, "end": None})
+            joints.append(
+                {"name": tokens[i + 1], "parent": stack[-1] if stack else -1, "end": None}
+            )
             i += 2
         elif word == "End":
             joints[stack[-1]]["end"] = np.array(tokens[i + 4 : i + 7], float)
@@ -80,7 +83,8 @@ def end_sites(joints, row):
 
 @pytest.fixture(scope="module")
 def running_poses():
-    """The humanoid, travelling 1 m/s forward for 1 s while its left thigh swings (qpos at SOURCE_FPS)."""
+    """The humanoid, travelling 1 m/s forward for 1 s while its left thigh swings (qpos at
+    SOURCE_FPS)."""
     world = build_world(load_character("humanoid"))
     model = world.model
     t = np.arange(62) / SOURCE_FPS  # 0 … 1.0065 s
@@ -88,7 +92,9 @@ def running_poses():
     qpos[:, 0] += t
     thigh = model.jnt_qposadr[model.joint("left_thigh").id]
     angle = 0.4 * np.sin(2 * np.pi * t)
-    qpos[:, thigh : thigh + 4] = np.c_[np.cos(angle / 2), np.zeros_like(t), np.sin(angle / 2), np.zeros_like(t)]
+    qpos[:, thigh : thigh + 4] = np.c_[
+        np.cos(angle / 2), np.zeros_like(t), np.sin(angle / 2), np.zeros_like(t)
+    ]
     return world, qpos
 
 
@@ -121,10 +127,14 @@ def test_bvh_frame_time_bones_feet_and_hip_height(tmp_path, running_poses, units
     for foot in ("left", "right"):
         toe = data.site_xpos[model.site(f"{foot}_toe").id]
         heel = data.site_xpos[model.site(f"{foot}_heel").id]
-        np.testing.assert_allclose(ends[f"{foot}_foot"] / scale, [toe[0], toe[2], -toe[1]], atol=1e-6)
+        np.testing.assert_allclose(
+            ends[f"{foot}_foot"] / scale, [toe[0], toe[2], -toe[1]], atol=1e-6
+        )
         foot_joint = next(j for j in joints if j["name"] == f"{foot}_foot")
         along = toe - heel  # the foot's direction, relax pose
-        np.testing.assert_allclose(foot_joint["end"] / scale, [along[0], along[2], -along[1]], atol=1e-6)
+        np.testing.assert_allclose(
+            foot_joint["end"] / scale, [along[0], along[2], -along[1]], atol=1e-6
+        )
         assert along[0] > 0.1 and abs(along[2]) < 0.01  # pointing forward along the floor
 
 
@@ -139,7 +149,7 @@ bpy.ops.import_anim.bvh(filepath=path)
 arm = next(o for o in bpy.context.scene.objects if o.type == 'ARMATURE')
 print('BONES', len(arm.data.bones), 'FPS', bpy.context.scene.render.fps / bpy.context.scene.render.fps_base)
 print('HEIGHT', max(v[2] for v in [arm.matrix_world @ b.head_local for b in arm.data.bones]))
-"""
+"""  # noqa: E501
 
 
 @pytest.mark.skipif(shutil.which("blender") is None, reason="Debian's blender is not installed")
@@ -155,6 +165,10 @@ def test_blender_imports_the_bvh_life_size(tmp_path, running_poses):
         text=True,
         timeout=300,
     )
-    lines = {line.split()[0]: line.split()[1:] for line in run.stdout.splitlines() if line[:5] in ("BONES", "HEIGH")}
+    lines = {
+        line.split()[0]: line.split()[1:]
+        for line in run.stdout.splitlines()
+        if line[:5] in ("BONES", "HEIGH")
+    }
     assert int(lines["BONES"][0]) == world.model.nbody - 1 + 2
     assert 1.0 < float(lines["HEIGHT"][0]) < 2.0  # metres: a life-size humanoid

@@ -17,7 +17,8 @@ def app():
 
 
 def exit_status(app, monkeypatch, *args) -> int:
-    """Run the commands through eigengait's real entry point, which turns bad input into status 2."""
+    """Run the commands through eigengait's real entry point, which turns bad input into
+    status 2."""
     monkeypatch.setattr(eigengait.cli, "build_app", lambda: app)
     monkeypatch.setattr(sys, "argv", ["eigengait", *map(str, args)])
     try:

@@ -1,4 +1,5 @@
-"""Every command with --json prints exactly one JSON document on standard output, whatever else it writes."""
+"""Every command with --json prints exactly one JSON document on standard output, whatever else it
+writes."""
 
 import json
 from pathlib import Path
@@ -13,7 +14,17 @@ def _commands(tmp: Path) -> list[list[str]]:
         ["characters", "--json"],
         ["modes", "kangaroo", "--json"],
         ["gaits", "--json"],
-        ["sketch", "basic-run", "--seconds", "0.3", "--json", "--video", tmp / "sketch.gif", "--fps", "10"],
+        [
+            "sketch",
+            "basic-run",
+            "--seconds",
+            "0.3",
+            "--json",
+            "--video",
+            tmp / "sketch.gif",
+            "--fps",
+            "10",
+        ],
         [
             "play",
             "humanoid-basic-run",
@@ -27,7 +38,17 @@ def _commands(tmp: Path) -> list[list[str]]:
             "--bvh",
             tmp / "play.bvh",
         ],
-        ["track", WALK, "--json", "--video", tmp / "track.gif", "--bvh", tmp / "track.bvh", "--fps", "5"],
+        [
+            "track",
+            WALK,
+            "--json",
+            "--video",
+            tmp / "track.gif",
+            "--bvh",
+            tmp / "track.bvh",
+            "--fps",
+            "5",
+        ],
     ]
 
 
@@ -41,4 +62,5 @@ def test_json_commands_print_only_json(eigengait_cli, tmp_path, index):
     json.loads(run.stdout)
     written = [a for a in args if isinstance(a, Path) and a.parent == tmp_path]
     assert all(p.exists() and p.stat().st_size > 0 for p in written)
-    assert all(str(p) in run.stderr for p in written)  # status lines still reach the user, on stderr
+    # status lines still reach the user, on stderr
+    assert all(str(p) in run.stderr for p in written)

@@ -4,7 +4,14 @@ import pytest
 
 from eigengait.errors import UserInputError
 from eigengait.modal.shape_kinematics import equal_energy_amplitudes, joint_rotations
-from eigengait.motion.modal_mix import ModalMix, ModeTerm, build_mix, common_period, mix_trajectory, parse_mix
+from eigengait.motion.modal_mix import (
+    ModalMix,
+    ModeTerm,
+    build_mix,
+    common_period,
+    mix_trajectory,
+    parse_mix,
+)
 
 
 def test_single_mode_reaches_its_amplitude_at_a_quarter_period(humanoid):

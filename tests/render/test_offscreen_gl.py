@@ -1,4 +1,5 @@
-"""Importing eigengait leaves the environment alone; the renderer chooses the offscreen GL backend itself."""
+"""Importing eigengait leaves the environment alone; the renderer chooses the offscreen GL backend
+itself."""
 
 import json
 import os
@@ -10,7 +11,7 @@ import json, os
 before = dict(os.environ)
 import eigengait, eigengait.cli, eigengait.sim, eigengait.render
 print(json.dumps({"changed": sorted(k for k in set(before) | set(os.environ) if before.get(k) != os.environ.get(k))}))
-"""
+"""  # noqa: E501
 
 RENDER_AFTER_MUJOCO = """
 import json, os
@@ -23,12 +24,14 @@ world = build_world(load_character("humanoid"), "default", WorldOptions(gravity=
 with FrameRenderer(world, 64, 48) as frames:
     image = frames.render(world.model.qpos0)
 print(json.dumps({"backend": os.environ.get("MUJOCO_GL"), "shape": list(image.shape), "spread": int(np.ptp(image))}))
-"""
+"""  # noqa: E501
 
 
 def _run(code: str) -> dict:
     env = {k: v for k, v in os.environ.items() if k not in ("MUJOCO_GL", "PYOPENGL_PLATFORM")}
-    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, timeout=120)
+    done = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, env=env, timeout=120
+    )
     assert done.returncode == 0, done.stderr
     return json.loads(done.stdout.splitlines()[-1])
 

@@ -5,7 +5,12 @@ from eigengait.optimize.run import write_plots
 
 def test_violation_plot_marks_the_cycle_tolerance(tmp_path):
     rows = [
-        {"generation": g, "outer": g // 10, "best_cost": 5.0 / (g + 1), "best_violation": 2.0 / (g + 1)}
+        {
+            "generation": g,
+            "outer": g // 10,
+            "best_cost": 5.0 / (g + 1),
+            "best_violation": 2.0 / (g + 1),
+        }
         for g in range(40)
     ]
 

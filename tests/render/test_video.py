@@ -27,7 +27,8 @@ def test_frames_show_the_character_and_its_motion(humanoid, leg_swing):
     character = np.abs(first.astype(int) - floor.astype(int)).max(axis=2) > 40
     assert 0.02 < character.mean() < 0.5  # visible, and not filling the frame
     rows, cols = np.nonzero(character)
-    assert 0.25 < cols.mean() / 160 < 0.75 and 0.25 < rows.mean() / 120 < 0.75  # framed near the centre
+    # framed near the centre
+    assert 0.25 < cols.mean() / 160 < 0.75 and 0.25 < rows.mean() / 120 < 0.75
     assert rows.max() > 0.6 * 120  # feet in the lower part, on the floor
     changed = np.abs(moved.astype(int) - first.astype(int)).max(axis=2) > 40
     assert changed.mean() > 0.005
@@ -41,7 +42,11 @@ def test_mp4_is_h264_yuv420p_and_gif_loops(humanoid, leg_swing, tmp_path):
     assert render_video(world, leg_swing, 10, tmp_path / "a.mp4", 96, 64, fps=10) == 3
     reader = imageio.get_reader(tmp_path / "a.mp4")
     meta = reader.get_meta_data()
-    assert meta["codec"] == "h264" and meta["pix_fmt"].startswith("yuv420p") and meta["size"] == (96, 64)
+    assert (
+        meta["codec"] == "h264"
+        and meta["pix_fmt"].startswith("yuv420p")
+        and meta["size"] == (96, 64)
+    )
     assert sum(1 for _ in reader) == 3
     reader.close()
     assert render_video(world, leg_swing, 10, tmp_path / "a.gif", 96, 64, fps=10) == 3
@@ -59,7 +64,8 @@ def test_bad_sizes_and_formats_are_refused(humanoid, leg_swing, tmp_path):
 
 
 def test_shadow_follows_a_character_far_from_the_origin():
-    """Standing 4 m from the origin, the character still casts a shadow on the floor under its feet."""
+    """Standing 4 m from the origin, the character still casts a shadow on the floor under its
+    feet."""
     from eigengait.character import load_character
     from eigengait.sim.world import build_world
 
@@ -68,7 +74,9 @@ def test_shadow_follows_a_character_far_from_the_origin():
     here[0] += 4.0
     away = here.copy()
     away[2] += 50.0  # above the light: no shadow, and out of the camera's view
-    with FrameRenderer(world, 160, 120, CameraView(azimuth_deg=100.0, elevation_deg=-24.0)) as renderer:
+    with FrameRenderer(
+        world, 160, 120, CameraView(azimuth_deg=100.0, elevation_deg=-24.0)
+    ) as renderer:
         image, floor = renderer.render(here).astype(int), renderer.render(away).astype(int)
         renderer.renderer.enable_segmentation_rendering()
         segments = renderer.render(here)
@@ -91,7 +99,10 @@ def test_video_has_exactly_the_requested_frame_rate_and_speed(humanoid, tmp_path
     reader = imageio.get_reader(tmp_path / "a.mp4")
     assert reader.get_meta_data()["fps"] == 25
     reader.close()
-    assert render_video(world, qpos, source_fps, tmp_path / "slow.gif", 64, 48, fps=20, speed=0.5) == 41
+    assert (
+        render_video(world, qpos, source_fps, tmp_path / "slow.gif", 64, 48, fps=20, speed=0.5)
+        == 41
+    )
 
 
 def test_fixed_camera_shows_travel_and_frames_carry_time_and_contacts():
@@ -108,11 +119,13 @@ def test_fixed_camera_shows_travel_and_frames_carry_time_and_contacts():
         return np.nonzero(frame.astype(int).sum(axis=2) < 350)[1].mean()
 
     assert centre_column(fixed[1]) - centre_column(fixed[0]) > 40  # crosses the fixed frame
-    assert abs(centre_column(follow[1]) - centre_column(follow[0])) < 3  # stays put in the following one
+    # stays put in the following one
+    assert abs(centre_column(follow[1]) - centre_column(follow[0])) < 3
     plain = next(iter_frames(world, qpos[:1], 160, 120))
     stamped = next(iter_frames(world, qpos[:1], 160, 120, times=np.array([0.0])))
     changed = np.abs(stamped.astype(int) - plain.astype(int)).max(axis=2) > 40
-    assert changed[:20, :60].mean() > 0.1 and changed[:20, 100:].mean() > 0.1  # time stamp and foot boxes
+    # time stamp and foot boxes
+    assert changed[:20, :60].mean() > 0.1 and changed[:20, 100:].mean() > 0.1
 
 
 def test_foot_contacts_and_the_footfall_diagram():

@@ -8,7 +8,9 @@ import pytest
 from studio_helpers import ARTIFACTS, gui_label
 
 CHROMIUM = "/usr/bin/chromium"
-MOCAP_WALK = Path(__file__).resolve().parents[3] / "shared" / "data" / "mocap" / "cmu_02_01_walk.bvh"
+MOCAP_WALK = (
+    Path(__file__).resolve().parents[3] / "shared" / "data" / "mocap" / "cmu_02_01_walk.bvh"
+)
 CHROMIUM_ARGS = [
     "--headless",
     "--no-sandbox",
@@ -40,7 +42,9 @@ def studio(tmp_path_factory):
 @pytest.fixture(scope="module")
 def browser():
     if not os.path.exists(CHROMIUM):
-        pytest.skip("Debian chromium is not installed (scripts/install-system-deps.sh --with-browser)")
+        pytest.skip(
+            "Debian chromium is not installed (scripts/install-system-deps.sh --with-browser)"
+        )
     from playwright.sync_api import sync_playwright
 
     with sync_playwright() as p:

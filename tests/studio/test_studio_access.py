@@ -1,5 +1,5 @@
-"""Only the studio's own page gets in: Host, Origin and token on HTTP and WebSocket; the port is exactly the one
-asked."""
+"""Only the studio's own page gets in: Host, Origin and token on HTTP and WebSocket; the port is
+exactly the one asked."""
 
 import http.client
 import socket
@@ -44,7 +44,11 @@ def test_the_printed_address_opens_the_page_and_hands_out_the_cookie(served):
     gate, _ = served
     status, cookie, body = get(gate, f"/?token={gate.token}")
     assert status == 200 and b"<html" in body.lower()
-    assert cookie.startswith(f"{gate.cookie}={gate.token};") and "HttpOnly" in cookie and "SameSite=Strict" in cookie
+    assert (
+        cookie.startswith(f"{gate.cookie}={gate.token};")
+        and "HttpOnly" in cookie
+        and "SameSite=Strict" in cookie
+    )
     assert get(gate, "/", Cookie=f"other=1; {gate.cookie}={gate.token}")[0] == 200
 
 
@@ -65,7 +69,9 @@ def test_the_printed_address_opens_the_page_and_hands_out_the_cookie(served):
 def test_http_without_own_host_origin_and_token_is_refused(served, path, headers):
     gate, _ = served
     values = {"token": gate.token, "port": gate.port}
-    status, cookie, body = get(gate, path.format(**values), **{k: v.format(**values) for k, v in headers.items()})
+    status, cookie, body = get(
+        gate, path.format(**values), **{k: v.format(**values) for k, v in headers.items()}
+    )
     assert status == 403 and cookie is None and body.startswith(b"Forbidden")
 
 
@@ -88,9 +94,15 @@ def connect(gate, origin, token):
 
 @pytest.mark.parametrize(
     "origin, token",
-    [("http://evil.example.com", "right"), ("http://127.0.0.1:{port}", None), ("http://127.0.0.1:{port}", "wrong")],
+    [
+        ("http://evil.example.com", "right"),
+        ("http://127.0.0.1:{port}", None),
+        ("http://127.0.0.1:{port}", "wrong"),
+    ],
 )
-def test_websocket_handshakes_from_elsewhere_or_without_the_token_are_refused(served, origin, token):
+def test_websocket_handshakes_from_elsewhere_or_without_the_token_are_refused(
+    served, origin, token
+):
     gate, server = served
     with pytest.raises(websockets.exceptions.InvalidStatus) as refused:
         connect(gate, origin.format(port=gate.port), gate.token if token == "right" else token)
@@ -138,5 +150,9 @@ def test_a_bad_or_busy_port_exits_2_with_one_message(tmp_path, eigengait_cli, po
         number = str(busy.getsockname()[1]) if port == "busy" else port
         result = eigengait_cli("studio", "--port", number, cwd=tmp_path, timeout=60)
     assert result.returncode == 2 and "Traceback" not in result.stderr
-    assert "'--port'" in result.stderr and f"port {number}" in result.stderr and "Fix:" in result.stderr
+    assert (
+        "'--port'" in result.stderr
+        and f"port {number}" in result.stderr
+        and "Fix:" in result.stderr
+    )
     assert "eigengait studio: http" not in result.stdout

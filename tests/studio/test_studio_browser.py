@@ -1,4 +1,5 @@
-"""The studio in a real headless Chromium: palette, marking modes, live sketch, sandbox, optimization, playback."""
+"""The studio in a real headless Chromium: palette, marking modes, live sketch, sandbox,
+optimization, playback."""
 
 import http.server
 import re
@@ -56,14 +57,18 @@ def status_text(page) -> str:
 def copy_color(studio, phase: str, mode: int) -> np.ndarray:
     palette = studio.palette
     geoms = len(palette.geom_shade) // len(palette.copies)
-    return np.asarray(palette.mesh.batched_colors)[palette.copies.index((phase, mode)) * geoms].astype(int)
+    return np.asarray(palette.mesh.batched_colors)[
+        palette.copies.index((phase, mode)) * geoms
+    ].astype(int)
 
 
 def test_palette_lists_every_mode_of_both_phases(studio, page, artifacts):
     expand(page, "Ground modes (30)")
     labels = page.locator("label").all_inner_texts()
     for phase in ("air", "ground"):
-        shown = [t for t in labels if re.fullmatch(rf"{phase} \d+ · [\d.]+ Hz", t.replace("\u200b", ""))]
+        shown = [
+            t for t in labels if re.fullmatch(rf"{phase} \d+ · [\d.]+ Hz", t.replace("\u200b", ""))
+        ]
         assert len(shown) == studio.state.modes(phase).count == 30
         numbers = [int(t.split()[1]) for t in shown]
         assert numbers == list(range(1, 31))
@@ -77,7 +82,8 @@ def test_palette_lists_every_mode_of_both_phases(studio, page, artifacts):
         what="the palette copies to vibrate",
     )
     expand(page, "Ground modes (30)")
-    page.get_by_label("animate palette").uncheck()  # software WebGL: keep the page responsive for the rest
+    # software WebGL: keep the page responsive for the rest
+    page.get_by_label("animate palette").uncheck()
     wait_until(lambda: not studio.palette.animate.value, what="the palette to pause")
 
 
@@ -86,10 +92,14 @@ def test_selecting_a_mode_marks_it_in_gui_scene_and_sketch_file(studio, page, ar
     assert page.get_by_label(label).input_value() == "allowed"
     choose(page, label, "priority")
     wait_until(lambda: studio.state.status("air", 3) == "priority", what="air 3 to become priority")
-    wait_until(lambda: (c := copy_color(studio, "air", 3))[1] > c[0] + 60, what="the copy to turn green")
+    wait_until(
+        lambda: (c := copy_color(studio, "air", 3))[1] > c[0] + 60, what="the copy to turn green"
+    )
     row(page, "ψ air 3 (N·m)").wait_for()
     choose(page, gui_label(studio, "air", 5), "excluded")
-    wait_until(lambda: (c := copy_color(studio, "air", 5))[0] > c[1] + 60, what="the copy to turn red")
+    wait_until(
+        lambda: (c := copy_color(studio, "air", 5))[0] > c[1] + 60, what="the copy to turn red"
+    )
     saved = studio.state.autosave_path.read_text()
     assert "priority:\n    '3': 20.0" in saved and "- 5" in saved.split("excluded:")[1]
     expand(page, "Ground modes (30)")
@@ -102,7 +112,9 @@ def test_selecting_a_mode_marks_it_in_gui_scene_and_sketch_file(studio, page, ar
 def test_moving_a_slider_changes_the_sketch_motion(studio, page, artifacts):
     if studio.state.status("air", 3) != "priority":
         choose(page, gui_label(studio, "air", 3), "priority")
-    wait_until(lambda: studio.sketch_view.latency_s == studio.sketch_view.latency_s, what="a first sketch")
+    wait_until(
+        lambda: studio.sketch_view.latency_s == studio.sketch_view.latency_s, what="a first sketch"
+    )
     time.sleep(0.5)
     shown, before = studio.stage.shown, studio.stage.positions.copy()
     start = time.perf_counter()
@@ -112,7 +124,9 @@ def test_moving_a_slider_changes_the_sketch_motion(studio, page, artifacts):
     assert studio.state.sketch.air.priority[3] == 200.0
     after = studio.stage.positions
     span = min(len(before), len(after))
-    assert np.abs(after[:span] - before[:span]).max() > 0.01, "a larger activation moves the character more"
+    assert np.abs(after[:span] - before[:span]).max() > 0.01, (
+        "a larger activation moves the character more"
+    )
     assert latency < 3.0
     print(
         f"slider → new sketch on stage: {latency * 1000:.0f} ms "
@@ -143,7 +157,9 @@ def test_paths_outside_the_studio_folder_are_refused(studio, page, outside):
     character_before = studio.state.sketch.character
     row(page, "file").locator("input").fill(outside)
     page.get_by_role("button", name="Load file").click()
-    wait_until(lambda: "outside the studio folder" in status_text(page), what="a refusal in the page")
+    wait_until(
+        lambda: "outside the studio folder" in status_text(page), what="a refusal in the page"
+    )
     assert status_text(page).startswith("Refused:")
     assert studio.state.sketch.character == character_before
 
@@ -186,7 +202,8 @@ def elsewhere():
 
 
 def test_a_page_from_another_origin_cannot_open_the_websocket(studio, browser, page, elsewhere):
-    """The browser holds the token's cookie, sent along to the same site: only the Origin check stands in the way."""
+    """The browser holds the token's cookie, sent along to the same site: only the Origin check
+    stands in the way."""
     import viser
 
     port = studio.server.get_port()
@@ -216,7 +233,9 @@ def test_saving_over_an_existing_file_asks_first(studio, page):
     name = row(page, "save sketch as").locator("input")
     name.fill("asked.sketch.yaml")
     name.press("Tab")
-    wait_until(lambda: studio.character_panel.save_name.value == "asked.sketch.yaml", what="the file name")
+    wait_until(
+        lambda: studio.character_panel.save_name.value == "asked.sketch.yaml", what="the file name"
+    )
     path = studio.sandbox.root / "asked.sketch.yaml"
     page.get_by_role("button", name="Save sketch").click()
     wait_until(path.is_file, what="the first save")
@@ -243,7 +262,8 @@ def test_optimization_runs_in_the_background_and_its_plot_advances(studio, page,
     progress = page.get_by_text(re.compile(r"^studio-runs/run-.*generation \d+"))
     progress.wait_for(timeout=30_000)
     first = int(re.search(r"generation (\d+)", progress.inner_text()).group(1))
-    page.get_by_label(gui_label(studio, "air", 1)).click()  # the page stays responsive during the run
+    # the page stays responsive during the run
+    page.get_by_label(gui_label(studio, "air", 1)).click()
     page.keyboard.press("Escape")
     wait_until(
         lambda: int(re.search(r"generation (\d+)", progress.inner_text()).group(1)) > first,

@@ -1,4 +1,5 @@
-"""Character files the studio opens read nothing outside its folder: includes, meshes, textures, sidecars."""
+"""Character files the studio opens read nothing outside its folder: includes, meshes, textures,
+sidecars."""
 
 import pytest
 
@@ -80,7 +81,11 @@ def test_files_inside_the_folder_are_accepted_and_the_character_loads(folders):
     humanoid_with(root, "creature.xml", '<include file="parts/options.xml"/>')
     confine_character(
         Sandbox(root),
-        humanoid_with(root, "meshed.xml", '<compiler meshdir="parts"/><asset><mesh name="m" file="mesh.stl"/></asset>'),
+        humanoid_with(
+            root,
+            "meshed.xml",
+            '<compiler meshdir="parts"/><asset><mesh name="m" file="mesh.stl"/></asset>',
+        ),
     )
     state = StudioState(Sandbox(root))
     state.load_character("creature.xml")

@@ -11,7 +11,9 @@ from eigengait.studio.sandbox import Sandbox
 from eigengait.studio.state import AUTOSAVE_NAME, StudioState
 
 
-@pytest.mark.parametrize("outside", ["../x.xml", "/etc/passwd", "a/../../b.yaml", "~/.bashrc/../../../etc/x.xml"])
+@pytest.mark.parametrize(
+    "outside", ["../x.xml", "/etc/passwd", "a/../../b.yaml", "~/.bashrc/../../../etc/x.xml"]
+)
 def test_sandbox_refuses_paths_outside_the_root(tmp_path, outside):
     with pytest.raises(UserInputError, match="outside the studio folder|not found"):
         Sandbox(tmp_path).resolve(outside, must_exist=True)
@@ -31,7 +33,9 @@ def test_sandbox_refuses_a_symlink_that_leaves_the_root(tmp_path):
 
 def test_sandbox_accepts_files_inside_and_checks_suffixes(tmp_path):
     (tmp_path / "sub").mkdir()
-    assert Sandbox(tmp_path).resolve("sub/../run.yaml", (".yaml",)) == tmp_path.resolve() / "run.yaml"
+    assert (
+        Sandbox(tmp_path).resolve("sub/../run.yaml", (".yaml",)) == tmp_path.resolve() / "run.yaml"
+    )
     with pytest.raises(UserInputError, match="must end with"):
         Sandbox(tmp_path).resolve("notes.txt", (".yaml",))
 

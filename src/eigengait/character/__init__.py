@@ -1,4 +1,5 @@
-"""Characters: an MJCF file with a free-joint root, stiff ball/hinge joints, and optional sidecar metadata."""
+"""Characters: an MJCF file with a free-joint root, stiff ball/hinge joints, and optional sidecar
+metadata."""
 
 from eigengait.character.library import builtin_names, resolve_character
 from eigengait.character.loader import Character, load_character

@@ -1,12 +1,13 @@
 """What eigengait guesses about a model without a sidecar: feet and left/right mirror pairs.
 
-* **Feet**: the creature's named end bodies (no child body) whose lowest geom point at the model's zero pose lies within
-  `FOOT_BAND` of the creature's height above its lowest point. Each gets one contact point (a site named
-  `eigengait:foot:<body>`) at the bottom of its lowest geom, with that geom's radius (capsule, sphere, cylinder) or
-  smallest half-size (box, ellipsoid, mesh bounding sphere otherwise). The foot is named after the body.
-  A sidecar may name such a site (`toe: eigengait:foot:<body>`) for any body: the point is placed the same way.
-* **Mirror pairs**: joints whose names differ only by left/right (`left`/`right`, `l`/`r` at the start, `_l`/`_r`
-  or `_left`/`_right` anywhere) are paired.
+* **Feet**: the creature's named end bodies (no child body) whose lowest geom point at the model's
+  zero pose lies within `FOOT_BAND` of the creature's height above its lowest point. Each gets one
+  contact point (a site named `eigengait:foot:<body>`) at the bottom of its lowest geom, with that
+  geom's radius (capsule, sphere, cylinder) or smallest half-size (box, ellipsoid, mesh bounding
+  sphere otherwise). The foot is named after the body. A sidecar may name such a site
+  (`toe: eigengait:foot:<body>`) for any body: the point is placed the same way.
+* **Mirror pairs**: joints whose names differ only by left/right (`left`/`right`, `l`/`r` at the
+  start, `_l`/`_r` or `_left`/`_right` anywhere) are paired.
 """
 
 from __future__ import annotations
@@ -23,7 +24,8 @@ FOOT_SITE_PREFIX = "eigengait:foot:"
 
 @dataclass(frozen=True)
 class FootPoint:
-    """A guessed foot: its body, the contact point in the body frame (m) and the contact sphere radius (m)."""
+    """A guessed foot: its body, the contact point in the body frame (m) and the contact sphere
+    radius (m)."""
 
     body: str
     pos: tuple[float, float, float]
@@ -56,7 +58,9 @@ def foot_at(model: mujoco.MjModel, body: str) -> FootPoint | None:
     data = mujoco.MjData(model)
     mujoco.mj_forward(model, data)
     b = model.body(body).id
-    bottoms = [_geom_bottom(model, data, g) for g in range(model.ngeom) if model.geom_bodyid[g] == b]
+    bottoms = [
+        _geom_bottom(model, data, g) for g in range(model.ngeom) if model.geom_bodyid[g] == b
+    ]
     if not bottoms:
         return None
     c, r = min(bottoms, key=lambda cr: cr[0][2] - cr[1])
@@ -80,12 +84,16 @@ def find_feet(model: mujoco.MjModel, root: int) -> list[FootPoint]:
         return []
     low = min(c[2] - r for c, r in bottoms.values())
     high = max(
-        data.geom_xpos[g][2] + model.geom_rbound[g] for g in range(model.ngeom) if int(model.geom_bodyid[g]) in bodies
+        data.geom_xpos[g][2] + model.geom_rbound[g]
+        for g in range(model.ngeom)
+        if int(model.geom_bodyid[g]) in bodies
     )
     leaves = [
         b
         for b in bodies
-        if b in bottoms and model.body(b).name and not any(model.body_parentid[c] == b for c in bodies if c != b)
+        if b in bottoms
+        and model.body(b).name
+        and not any(model.body_parentid[c] == b for c in bodies if c != b)
     ]
     feet = []
     for b in leaves:
@@ -114,14 +122,20 @@ def _partner(name: str) -> str | None:
             return name.replace(a, b)
         if b in name:
             return name.replace(b, a)
-    for pattern, swap in ((r"^l(?=[a-z_])", "r"), (r"^r(?=[a-z_])", "l"), (r"_l(?=$|_)", "_r"), (r"_r(?=$|_)", "_l")):
+    for pattern, swap in (
+        (r"^l(?=[a-z_])", "r"),
+        (r"^r(?=[a-z_])", "l"),
+        (r"_l(?=$|_)", "_r"),
+        (r"_r(?=$|_)", "_l"),
+    ):
         if re.search(pattern, name):
             return re.sub(pattern, swap, name, count=1)
     return None
 
 
 def mirror_pairs(joints: list[str]) -> dict[str, str]:
-    """Left -> right joint pairs found from the names (each pair once, keyed by the first in model order)."""
+    """Left -> right joint pairs found from the names (each pair once, keyed by the first in model
+    order)."""
     known, pairs, seen = set(joints), {}, set()
     for j in joints:
         p = _partner(j)

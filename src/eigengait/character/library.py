@@ -1,7 +1,8 @@
 """The built-in creature library shipped in `eigengait/data/characters/`.
 
-A built-in is either `NAME.xml` (with its sidecar `NAME.eigengait.yaml` beside it) or, for a model kept as its
-authors ship it in a subfolder, a standalone sidecar `NAME.eigengait.yaml` whose `model:` names that file.
+A built-in is either `NAME.xml` (with its sidecar `NAME.eigengait.yaml` beside it) or, for a model
+kept as its authors ship it in a subfolder, a standalone sidecar `NAME.eigengait.yaml` whose
+`model:` names that file.
 """
 
 from __future__ import annotations
@@ -18,7 +19,8 @@ def library_dir() -> Path:
 
 
 def _builtin_paths() -> dict[str, Path]:
-    """Built-in name -> what to load: its MJCF, or the standalone sidecar of a model kept in a subfolder."""
+    """Built-in name -> what to load: its MJCF, or the standalone sidecar of a model kept in a
+    subfolder."""
     folder = library_dir()
     found = {p.stem: p for p in folder.glob("*.xml")}
     for side in folder.glob("*" + SIDECAR_SUFFIX):
@@ -41,7 +43,9 @@ def resolve_character(name_or_path: str | Path) -> Path:
     if path.suffix.lower() in (".xml", ".yaml") or path.exists():
         if not path.is_file():
             raise UserInputError(
-                "file not found", file=path, fix="give a path to an MJCF .xml file or a NAME.eigengait.yaml sidecar"
+                "file not found",
+                file=path,
+                fix="give a path to an MJCF .xml file or a NAME.eigengait.yaml sidecar",
             )
         return path
     raise UserInputError(

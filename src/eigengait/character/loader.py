@@ -1,12 +1,13 @@
 """Load and validate a character: an MJCF creature with stiff ball/hinge joints, plus metadata.
 
-CHARACTER is a built-in name, an MJCF path, or a sidecar `NAME.eigengait.yaml` whose `model:` names the MJCF.
-The scene is prepared by the rules of `scene.py` (creature choice, root, actuators, reserved names); missing feet
-are guessed by `guess.py`; a joint's stiffness comes from the sidecar, else the MJCF, else — only when asked for
-with `stiffness="auto"` — from the sag rule of `stiffness.py`.
+CHARACTER is a built-in name, an MJCF path, or a sidecar `NAME.eigengait.yaml` whose `model:` names
+the MJCF. The scene is prepared by the rules of `scene.py` (creature choice, root, actuators,
+reserved names); missing feet are guessed by `guess.py`; a joint's stiffness comes from the sidecar,
+else the MJCF, else — only when asked for with `stiffness="auto"` — from the sag rule of
+`stiffness.py`.
 
-The loaded :class:`Character` can produce a fresh `mujoco.MjSpec` at any relax pose (see `relax.py`): the
-springs rest at the relax pose, joint frames and limits are measured from it.
+The loaded :class:`Character` can produce a fresh `mujoco.MjSpec` at any relax pose (see
+`relax.py`): the springs rest at the relax pose, joint frames and limits are measured from it.
 """
 
 from __future__ import annotations
@@ -19,7 +20,13 @@ import numpy as np
 
 from eigengait.character.guess import FOOT_SITE_PREFIX, FootPoint, find_feet, foot_at
 from eigengait.character.library import resolve_character
-from eigengait.character.metadata import CharacterMetadata, Foot, is_sidecar, load_metadata, sidecar_path
+from eigengait.character.metadata import (
+    CharacterMetadata,
+    Foot,
+    is_sidecar,
+    load_metadata,
+    sidecar_path,
+)
 from eigengait.character.scene import Scene, compile_spec, prepare
 from eigengait.character.stiffness import SAG_DEG, auto_stiffness
 from eigengait.errors import UserInputError
@@ -30,22 +37,26 @@ STIFFNESS_CHOICES = ("auto",)
 
 @dataclass
 class Character:
-    """A validated character. `path` is its MJCF file; `joints` lists the internal joints in model order."""
+    """A validated character. `path` is its MJCF file; `joints` lists the internal joints in model
+    order."""
 
     name: str
     path: Path
     meta: CharacterMetadata
     joints: list[str]
     joint_dofs: dict[str, int]
-    stiffness: dict[str, np.ndarray] = field(repr=False)  # joint -> (3,) or (1,) N·m/rad, joint frame
+    # joint -> (3,) or (1,) N·m/rad, joint frame
+    stiffness: dict[str, np.ndarray] = field(repr=False)
     scene: Scene = None
     guessed_feet: list[FootPoint] = field(default_factory=list)
-    stiffness_source: dict[str, str] = field(default_factory=dict)  # joint -> "sidecar", "mjcf" or "auto"
+    # joint -> "sidecar", "mjcf" or "auto"
+    stiffness_source: dict[str, str] = field(default_factory=dict)
     sidecar: Path | None = None
 
     @property
     def reference(self) -> Path:
-        """What to pass as CHARACTER to load this character again: the sidecar if it names the model."""
+        """What to pass as CHARACTER to load this character again: the sidecar if it names the
+        model."""
         return self.sidecar if self.sidecar is not None and self.meta.model else self.path
 
     @property
@@ -58,11 +69,13 @@ class Character:
 
     @property
     def root_joints(self) -> list[str]:
-        """The planar root's slide/hinge joints (rigid degrees of freedom); empty for a free root."""
+        """The planar root's slide/hinge joints (rigid degrees of freedom); empty for a free
+        root."""
         return self.scene.root_joints
 
     def raw_spec(self) -> mujoco.MjSpec:
-        """The user's MJCF as a fresh spec, prepared (`scene.py`) and with the guessed foot sites."""
+        """The user's MJCF as a fresh spec, prepared (`scene.py`) and with the guessed foot
+        sites."""
         spec = _parse(self.path)
         prepare(spec, self.path, self.scene.root)
         _add_foot_sites(spec, self.guessed_feet)
@@ -74,7 +87,9 @@ def _parse(path: Path) -> mujoco.MjSpec:
         return mujoco.MjSpec.from_file(str(path))
     except Exception as exc:  # MuJoCo raises ValueError with its own parser message
         msg = str(exc).strip().replace("\n", " ")
-        raise UserInputError(f"malformed MJCF: {msg}", file=path, fix="fix the XML so MuJoCo can load it") from None
+        raise UserInputError(
+            f"malformed MJCF: {msg}", file=path, fix="fix the XML so MuJoCo can load it"
+        ) from None
 
 
 def _add_foot_sites(spec: mujoco.MjSpec, feet: list[FootPoint]) -> None:
@@ -107,15 +122,19 @@ def _locate(name_or_path: str | Path) -> tuple[Path, Path, CharacterMetadata]:
     return path, side, (load_metadata(side) if side.exists() else CharacterMetadata())
 
 
-def load_character(name_or_path: str | Path, body: str | None = None, stiffness: str | None = None) -> Character:
+def load_character(
+    name_or_path: str | Path, body: str | None = None, stiffness: str | None = None
+) -> Character:
     """Load a character (built-in name, MJCF path or sidecar path).
 
-    `body` picks the creature's root body in a scene with several (default: the sidecar's, else the largest);
-    `stiffness="auto"` gives joints with no stiffness one by the sag rule (also asked for by `stiffness: auto` in the
-    sidecar).
+    `body` picks the creature's root body in a scene with several (default: the sidecar's, else the
+    largest); `stiffness="auto"` gives joints with no stiffness one by the sag rule (also asked for
+    by `stiffness: auto` in the sidecar).
     """
     if stiffness is not None and stiffness not in STIFFNESS_CHOICES:
-        raise UserInputError(f"unknown stiffness rule '{stiffness}'", field="stiffness", fix="pass stiffness='auto'")
+        raise UserInputError(
+            f"unknown stiffness rule '{stiffness}'", field="stiffness", fix="pass stiffness='auto'"
+        )
     path, side, meta = _locate(name_or_path)
     spec = _parse(path)
     scene = prepare(spec, path, body or meta.body)
@@ -142,7 +161,9 @@ def load_character(name_or_path: str | Path, body: str | None = None, stiffness:
         sites |= {f.site for f in guessed}
         meta.feet = {f.body: Foot(toe=f.site) for f in guessed}
         if guessed:
-            scene.notes.append(f"feet guessed from the lowest end bodies: {', '.join(f.body for f in guessed)}")
+            scene.notes.append(
+                f"feet guessed from the lowest end bodies: {', '.join(f.body for f in guessed)}"
+            )
 
     use_auto = stiffness == "auto" or meta.stiffness == "auto"
     given = {} if meta.stiffness == "auto" else meta.stiffness
@@ -164,14 +185,17 @@ def load_character(name_or_path: str | Path, body: str | None = None, stiffness:
                 "joint has no stiffness",
                 file=path,
                 field=f"joint '{name}' stiffness",
-                fix='give it stiffness="..." (N·m/rad) in the MJCF or in the sidecar, or pass stiffness=\'auto\'',
+                fix=(
+                    'give it stiffness="..." (N·m/rad) in the MJCF or in the sidecar, or pass '
+                    'stiffness=\'auto\''
+                ),
             )
         dofs[name], k_of[name] = n, k[:n]
     if "auto" in source.values():
         ks = [k_of[j][0] for j in joints if source[j] == "auto"]
         scene.notes.append(
-            f"stiffness auto (the sag rule): {len(ks)} joint(s) given k = m·g·r/θ_sag (θ_sag = {SAG_DEG:g}°), "
-            f"{min(ks):.3g} to {max(ks):.3g} N·m/rad"
+            f"stiffness auto (the sag rule): {len(ks)} joint(s) given k = m·g·r/θ_sag (θ_sag = "
+            f"{SAG_DEG:g}°), {min(ks):.3g} to {max(ks):.3g} N·m/rad"
         )
 
     _check_metadata(meta, side, joints, sites)
@@ -200,7 +224,10 @@ def _named_foot(model: mujoco.MjModel, body: str, side: Path) -> FootPoint:
     point = foot_at(model, body)
     if point is None:
         raise UserInputError(
-            f"body '{body}' has no geom to stand on", file=side, field="feet", fix="name a body with a geom"
+            f"body '{body}' has no geom to stand on",
+            file=side,
+            field="feet",
+            fix="name a body with a geom",
         )
     return point
 
@@ -232,14 +259,20 @@ def _internal_joints(model: mujoco.MjModel, root: int, scene: Scene, path: Path)
             )
         joints.append(name)
     if not joints:
-        raise UserInputError("the creature has no internal joints", file=path, fix="add ball or hinge joints")
+        raise UserInputError(
+            "the creature has no internal joints", file=path, fix="add ball or hinge joints"
+        )
     return joints
 
 
-def _check_metadata(meta: CharacterMetadata, side: Path, joints: list[str], sites: set[str]) -> None:
+def _check_metadata(
+    meta: CharacterMetadata, side: Path, joints: list[str], sites: set[str]
+) -> None:
     if not meta.feet:
         meta.feet = {
-            s[: -len("_toe")]: Foot(toe=s, heel=(s[:-4] + "_heel") if s[:-4] + "_heel" in sites else None)
+            s[: -len("_toe")]: Foot(
+                toe=s, heel=(s[:-4] + "_heel") if s[:-4] + "_heel" in sites else None
+            )
             for s in sorted(sites)
             if s.endswith("_toe")
         }
@@ -256,18 +289,26 @@ def _check_metadata(meta: CharacterMetadata, side: Path, joints: list[str], site
         meta.gait_order = list(meta.feet)
     for foot in meta.gait_order:
         if foot not in meta.feet:
-            raise UserInputError(f"gait_order names unknown foot '{foot}'", file=side, field="gait_order")
+            raise UserInputError(
+                f"gait_order names unknown foot '{foot}'", file=side, field="gait_order"
+            )
     if meta.mirror:
         for a, b in meta.mirror.pairs.items():
             for j in (a, b):
                 if j not in joints:
-                    raise UserInputError(f"mirror pair names unknown joint '{j}'", file=side, field="mirror.pairs")
+                    raise UserInputError(
+                        f"mirror pair names unknown joint '{j}'", file=side, field="mirror.pairs"
+                    )
     for j in {} if meta.stiffness == "auto" else meta.stiffness:
         if j not in joints:
-            raise UserInputError(f"stiffness given for unknown joint '{j}'", file=side, field="stiffness")
+            raise UserInputError(
+                f"stiffness given for unknown joint '{j}'", file=side, field="stiffness"
+            )
     for pose, rot in meta.relax_poses.items():
         for j in rot:
             if j not in joints:
                 raise UserInputError(
-                    f"relax pose '{pose}' names unknown joint '{j}'", file=side, field=f"relax_poses.{pose}"
+                    f"relax pose '{pose}' names unknown joint '{j}'",
+                    file=side,
+                    field=f"relax_poses.{pose}",
                 )

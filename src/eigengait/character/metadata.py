@@ -1,4 +1,5 @@
-"""The sidecar metadata file `<model>.eigengait.yaml` beside a character's MJCF (optional, validated).
+"""The sidecar metadata file `<model>.eigengait.yaml` beside a character's MJCF (optional,
+validated).
 
 ```yaml
 eigengait: 1                     # format version
@@ -20,7 +21,7 @@ relax_poses:                     # named relax poses: joint -> rotation vector i
   crouched: {left_thigh: [0, -35, 0]}
 ```
 Without a sidecar, feet are found from site pairs named `<foot>_toe` / `<foot>_heel`.
-"""
+"""  # noqa: E501
 
 from __future__ import annotations
 
@@ -56,16 +57,22 @@ class CharacterMetadata(BaseModel):
     feet: dict[str, Foot] = Field(default_factory=dict)
     gait_order: list[str] = Field(default_factory=list)
     mirror: MirrorSpec | None = None
-    stiffness: dict[str, tuple[float, float, float] | float] | Literal["auto"] = Field(default_factory=dict)
+    stiffness: dict[str, tuple[float, float, float] | float] | Literal["auto"] = Field(
+        default_factory=dict
+    )
     damping_ratio: float = Field(0.1, ge=0.0)
     strength: float | None = Field(None, gt=0.0)
-    relax_poses: dict[str, dict[str, tuple[float, float, float] | float]] = Field(default_factory=dict)
+    relax_poses: dict[str, dict[str, tuple[float, float, float] | float]] = Field(
+        default_factory=dict
+    )
 
     @field_validator("eigengait")
     @classmethod
     def _known_version(cls, v: int) -> int:
         if v != FORMAT_VERSION:
-            raise ValueError(f"unsupported format version {v}; this eigengait reads version {FORMAT_VERSION}")
+            raise ValueError(
+                f"unsupported format version {v}; this eigengait reads version {FORMAT_VERSION}"
+            )
         return v
 
     @field_validator("stiffness")
@@ -73,7 +80,9 @@ class CharacterMetadata(BaseModel):
     def _positive_stiffness(cls, v):
         for joint, k in ({} if v == "auto" else v).items():
             if min(k if isinstance(k, tuple) else (k,)) <= 0:
-                raise ValueError(f"stiffness of joint '{joint}' must be positive in every axis, got {list(k)}")
+                raise ValueError(
+                    f"stiffness of joint '{joint}' must be positive in every axis, got {list(k)}"
+                )
         return v
 
 
@@ -90,6 +99,11 @@ def is_sidecar(path: Path) -> bool:
 
 
 def load_metadata(path: Path) -> CharacterMetadata:
-    """Read and validate a sidecar file (an empty one gives the defaults); raise UserInputError naming the file and
-    field."""
-    return load_model(CharacterMetadata, path, "see the sidecar format in the README (Characters)", allow_empty=True)
+    """Read and validate a sidecar file (an empty one gives the defaults); raise UserInputError
+    naming the file and field."""
+    return load_model(
+        CharacterMetadata,
+        path,
+        "see the sidecar format in the README (Characters)",
+        allow_empty=True,
+    )

@@ -1,8 +1,10 @@
-"""Relax poses: the pose at which the springs rest, joint frames are measured and modes are computed.
+"""Relax poses: the pose at which the springs rest, joint frames are measured and modes are
+computed.
 
-A relax pose is `default` (the MJCF as written), a preset named in the character's sidecar, or per-joint
-rotations `{joint: rotation vector in degrees}` (joint frame; a hinge takes one angle about its axis). Applying
-it rotates each joint's child body about the joint anchor, so the new pose becomes the model's zero pose.
+A relax pose is `default` (the MJCF as written), a preset named in the character's sidecar, or
+per-joint rotations `{joint: rotation vector in degrees}` (joint frame; a hinge takes one angle
+about its axis). Applying it rotates each joint's child body about the joint anchor, so the new pose
+becomes the model's zero pose.
 """
 
 from __future__ import annotations
@@ -21,7 +23,8 @@ DEFAULT_POSE = "default"
 
 
 def parse_relax_argument(text: str | None) -> str | dict[str, list[float]]:
-    """`crouched` -> preset name; `left_thigh=0,-30,0;right_shin=45` -> per-joint rotations (degrees)."""
+    """`crouched` -> preset name; `left_thigh=0,-30,0;right_shin=45` -> per-joint rotations
+    (degrees)."""
     if text is None or text.strip() == "":
         return DEFAULT_POSE
     if "=" not in text:
@@ -69,7 +72,8 @@ def pose_rotations(character: Character, pose: str | dict) -> dict[str, np.ndarr
         v = np.atleast_1d(np.asarray(value, dtype=float))
         if v.size != character.joint_dofs[joint]:
             raise UserInputError(
-                f"joint '{joint}' needs {character.joint_dofs[joint]} rotation value(s), got {v.size}",
+                f"joint '{joint}' needs {character.joint_dofs[joint]} rotation value(s), got "
+                f"{v.size}",
                 file=character.path,
                 field="relax pose",
             )

@@ -1,4 +1,5 @@
-"""What `eigengait character inspect` shows about a loaded character, and the editable sidecar it writes."""
+"""What `eigengait character inspect` shows about a loaded character, and the editable sidecar it
+writes."""
 
 from __future__ import annotations
 
@@ -13,7 +14,8 @@ from eigengait.character.metadata import FORMAT_VERSION
 
 
 def describe(character: Character) -> dict:
-    """A JSON-ready description: root, joints (kind, stiffness and its source), feet, mirror pairs, notes."""
+    """A JSON-ready description: root, joints (kind, stiffness and its source), feet, mirror pairs,
+    notes."""
     scene = character.scene
     pairs = character.meta.mirror.pairs if character.meta.mirror else mirror_pairs(character.joints)
     return {
@@ -37,7 +39,11 @@ def describe(character: Character) -> dict:
             for j in character.joints
         ],
         "feet": {
-            name: {"toe": f.toe, "heel": f.heel, "guessed": any(g.site == f.toe for g in character.guessed_feet)}
+            name: {
+                "toe": f.toe,
+                "heel": f.heel,
+                "guessed": any(g.site == f.toe for g in character.guessed_feet),
+            }
             for name, f in character.feet.items()
         },
         "gait_order": character.meta.gait_order,
@@ -48,13 +54,17 @@ def describe(character: Character) -> dict:
 
 
 def sidecar_yaml(character: Character, output: Path) -> str:
-    """A standalone sidecar (with `model:` relative to `output`) that reloads the character as inspected."""
+    """A standalone sidecar (with `model:` relative to `output`) that reloads the character as
+    inspected."""
     meta = character.meta
     data = {
         "eigengait": FORMAT_VERSION,
         "model": os.path.relpath(character.path.resolve(), output.resolve().parent),
         "body": character.scene.root,
-        "feet": {name: {k: v for k, v in f.model_dump().items() if v is not None} for name, f in meta.feet.items()},
+        "feet": {
+            name: {k: v for k, v in f.model_dump().items() if v is not None}
+            for name, f in meta.feet.items()
+        },
         "gait_order": list(meta.gait_order),
     }
     pairs = meta.mirror.pairs if meta.mirror else mirror_pairs(character.joints)
@@ -76,8 +86,10 @@ def sidecar_yaml(character: Character, output: Path) -> str:
             for p, rot in meta.relax_poses.items()
         }
     header = (
-        f"# eigengait character sidecar for {character.path.name}: edit and pass this file as CHARACTER.\n"
-        "# stiffness lists the joints whose stiffness is not in the MJCF (N·m/rad; ball: kx, ky, kz).\n"
+        f"# eigengait character sidecar for {character.path.name}: edit and pass this file as "
+        "CHARACTER.\n"
+        "# stiffness lists the joints whose stiffness is not in the MJCF (N·m/rad; ball: kx, ky, "
+        "kz).\n"
     )
     return header + yaml.safe_dump(data, sort_keys=False, allow_unicode=True)
 

@@ -1,16 +1,18 @@
 """Turn a user's MJCF scene into an eigengait character spec, by fixed and documented rules.
 
-* **The creature** is one articulated tree under `<worldbody>`: the body named by `body` (sidecar `body:` or
-  `--body`), else the largest tree (most bodies, then most mass) among the worldbody's children that have joints.
-  Other bodies stay in the scene as they are.
-* **The root**: a free joint is kept; a root with no joint gets one (a note says so) and, if the creature's extent
-  along y exceeds 1.2 × its extent along z (a Y-up model made to be attached by another tool), is turned +90°
-  about x so that it stands along z; a root with slide/hinge joints
-  (a planar root such as slide x, slide z, hinge y) keeps them as the character's rigid degrees of freedom.
-* **The model's actuators, sensors and keyframes are removed**: eigengait drives every internal degree of freedom
-  with its own torque motors and reads its own sensors; a keyframe would no longer fit the state or the controls.
-* **Reserved names**: everything eigengait adds is named with a prefix in `RESERVED_PREFIXES`; a model whose own
-  names use one is refused, so the added names can never clash.
+* **The creature** is one articulated tree under `<worldbody>`: the body named by `body` (sidecar
+  `body:` or `--body`), else the largest tree (most bodies, then most mass) among the worldbody's
+  children that have joints. Other bodies stay in the scene as they are.
+* **The root**: a free joint is kept; a root with no joint gets one (a note says so) and, if the
+  creature's extent along y exceeds 1.2 × its extent along z (a Y-up model made to be attached by
+  another tool), is turned +90° about x so that it stands along z; a root with slide/hinge joints
+  (a planar root such as slide x, slide z, hinge y) keeps them as the character's rigid degrees of
+freedom.
+* **The model's actuators, sensors and keyframes are removed**: eigengait drives every internal
+  degree of freedom with its own torque motors and reads its own sensors; a keyframe would no longer
+  fit the state or the controls.
+* **Reserved names**: everything eigengait adds is named with a prefix in `RESERVED_PREFIXES`; a
+  model whose own names use one is refused, so the added names can never clash.
 """
 
 from __future__ import annotations
@@ -32,18 +34,22 @@ UNNAMED_ROOT = "eigengait:body"  # the name given to an unnamed root body
 
 @dataclass
 class Scene:
-    """What preparing the spec found: the creature's root body, its rigid root joints, and notes for the user."""
+    """What preparing the spec found: the creature's root body, its rigid root joints, and notes for
+    the user."""
 
     root: str
-    root_joints: list[str] = field(default_factory=list)  # planar root joints; empty for a free root
+    # planar root joints; empty for a free root
+    root_joints: list[str] = field(default_factory=list)
     added_free_joint: bool = False
-    removed: dict[str, int] = field(default_factory=dict)  # element kind -> how many of the model's were removed
+    # element kind -> how many of the model's were removed
+    removed: dict[str, int] = field(default_factory=dict)
     notes: list[str] = field(default_factory=list)
 
 
 def compile_spec(spec: mujoco.MjSpec, path: Path | None = None) -> mujoco.MjModel:
-    """`spec.compile()`, its errors as UserInputError naming `path`, without MuJoCo's deprecation notice on a
-    model's own `settotalmass` (meant for the model's author; every command would print it several times)."""
+    """`spec.compile()`, its errors as UserInputError naming `path`, without MuJoCo's deprecation
+    notice on a model's own `settotalmass` (meant for the model's author; every command would print
+    it several times)."""
     with warnings.catch_warnings():
         warnings.filterwarnings("ignore", message="compiler attribute 'settotalmass' is deprecated")
         try:
@@ -75,11 +81,16 @@ def _tree_size(body) -> tuple[int, float]:
 
 
 def choose_root(spec: mujoco.MjSpec, path: Path, body: str | None):
-    """The creature's root body: `body` if given, else the largest articulated tree under the worldbody."""
+    """The creature's root body: `body` if given, else the largest articulated tree under the
+    worldbody."""
     trees = [b for b in spec.worldbody.bodies if _has_joints(b)]
     names = ", ".join(b.name or "(unnamed)" for b in trees) or "(none)"
     if body is not None:
-        chosen = [b for b in spec.worldbody.bodies if b.name == body or (body == UNNAMED_ROOT and not b.name)]
+        chosen = [
+            b
+            for b in spec.worldbody.bodies
+            if b.name == body or (body == UNNAMED_ROOT and not b.name)
+        ]
         if not chosen:
             raise UserInputError(
                 f"no body '{body}' directly under <worldbody>",
@@ -169,7 +180,11 @@ def prepare(spec: mujoco.MjSpec, path: Path, body: str | None = None) -> Scene:
     where = f"body '{root.name}'" if root.name else "the root body (unnamed)"
     root.name = root.name or UNNAMED_ROOT
     scene = Scene(root=root.name)
-    for kind, elements in (("actuator", spec.actuators), ("sensor", spec.sensors), ("keyframe", spec.keys)):
+    for kind, elements in (
+        ("actuator", spec.actuators),
+        ("sensor", spec.sensors),
+        ("keyframe", spec.keys),
+    ):
         items = list(elements)
         for element in items:
             spec.delete(element)
@@ -186,13 +201,19 @@ def prepare(spec: mujoco.MjSpec, path: Path, body: str | None = None) -> Scene:
     if not joints:
         root.add_freejoint(name=ADDED_FREE_JOINT)
         scene.added_free_joint = True
-        scene.notes.append(f"the root body '{root.name}' had no joint: added a free joint '{ADDED_FREE_JOINT}'")
+        scene.notes.append(
+            f"the root body '{root.name}' had no joint: added a free joint '{ADDED_FREE_JOINT}'"
+        )
         if _is_y_up(spec, root.name):
             q = np.zeros(4)
-            mujoco.mju_mulQuat(q, np.array([np.sqrt(0.5), np.sqrt(0.5), 0.0, 0.0]), _body_quat(spec, root.name))
+            mujoco.mju_mulQuat(
+                q, np.array([np.sqrt(0.5), np.sqrt(0.5), 0.0, 0.0]), _body_quat(spec, root.name)
+            )
             root.quat = q
             root.alt.type = mujoco.mjtOrientation.mjORIENTATION_QUAT
-            scene.notes.append("the creature is longest along y (Y-up): turned +90° about x to stand along z")
+            scene.notes.append(
+                "the creature is longest along y (Y-up): turned +90° about x to stand along z"
+            )
     elif any(j.type == mujoco.mjtJoint.mjJNT_FREE for j in joints):
         if len(joints) != 1:
             raise UserInputError(

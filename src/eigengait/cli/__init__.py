@@ -1,9 +1,9 @@
 """The `eigengait` command: one sub-command per job.
 
-Each command module adds its commands through a `register(app)` function; `build_app()` calls them all, so
-importing this package registers nothing. Bad input and simulation blow-ups raise an `EigengaitError`; `main()`
-prints it as one message on stderr, in the command line's words (`flags.for_command_line`: the library's parameter
-names become flags), and exits with status 2.
+Each command module adds its commands through a `register(app)` function; `build_app()` calls them
+all, so importing this package registers nothing. Bad input and simulation blow-ups raise an
+`EigengaitError`; `main()` prints it as one message on stderr, in the command line's words
+(`flags.for_command_line`: the library's parameter names become flags), and exits with status 2.
 """
 
 from __future__ import annotations
@@ -33,7 +33,8 @@ def build_app() -> typer.Typer:
 
 
 def _is_usage_error(exc: Exception) -> bool:
-    """A command-line usage error from click or from the copy of click that typer carries (a bad option value)."""
+    """A command-line usage error from click or from the copy of click that typer carries (a bad
+    option value)."""
     import click
 
     carried = tuple(k for k in typer.BadParameter.__mro__ if k.__name__ == "ClickException")
@@ -41,14 +42,18 @@ def _is_usage_error(exc: Exception) -> bool:
 
 
 def main() -> None:
-    """Entry point: build and run the app, turning bad input or a blow-up into one message and exit status 2."""
+    """Entry point: build and run the app, turning bad input or a blow-up into one message and exit
+    status 2."""
     keep_mujoco_log_out_of_the_folder()
     if sys.argv[1:3] == ["sketch", "new"]:  # `sketch new MODEL`: the starter-sketch command
         sys.argv[1:3] = ["sketch-new"]
     try:
-        code = build_app()(standalone_mode=False)  # a typer.Exit inside a command comes back as the return value
+        # a typer.Exit inside a command comes back as the return value
+        code = build_app()(standalone_mode=False)
     except EigengaitError as err:
-        Console(stderr=True).print(f"[bold red]error:[/] {for_command_line(err)}", highlight=False, soft_wrap=True)
+        Console(stderr=True).print(
+            f"[bold red]error:[/] {for_command_line(err)}", highlight=False, soft_wrap=True
+        )
         sys.exit(2)
     except (typer.Exit, SystemExit) as exc:
         code = getattr(exc, "exit_code", getattr(exc, "code", 0))

@@ -1,6 +1,7 @@
 """`eigengait balance`: stand in a pose with no motion capture and recover from sideways pushes.
 
-The chapter's reference-free mode (control/balance/standing.py): the tracker holds the standing pose.
+The chapter's reference-free mode (control/balance/standing.py): the tracker holds the standing
+pose.
 """
 
 from __future__ import annotations
@@ -18,15 +19,22 @@ from eigengait.cli.balance_options import (
     ROBUSTNESS_OPTION,
     balance_settings,
 )
-from eigengait.cli.media import CAMERA_OPTION, FPS_OPTION, SPEED_OPTION, MediaOptions, status_console, write_media
+from eigengait.cli.media import (
+    CAMERA_OPTION,
+    FPS_OPTION,
+    SPEED_OPTION,
+    MediaOptions,
+    status_console,
+    write_media,
+)
 from eigengait.errors import UserInputError
 from eigengait.inputs import check_range
 from eigengait.outputs import refuse_existing
 
 MAX_DURATION_S = 600.0
 PUSH_HELP = (
-    "Sideways push on the root body, as for `play`: FORCE@TIME[,...] (N along +y for 0.1 s, at s), e.g. 350@1.0; "
-    "repeat the option or separate pushes with commas."
+    "Sideways push on the root body, as for `play`: FORCE@TIME[,...] (N along +y for 0.1 s, at s), "
+    "e.g. 350@1.0; repeat the option or separate pushes with commas."
 )
 
 
@@ -35,22 +43,29 @@ def register(app: typer.Typer) -> None:
 
     @app.command("balance")
     def balance_command(
-        character: str = typer.Argument(..., help="Built-in character name or MJCF path (e.g. walker)."),
-        pose: str = typer.Option("default", "--pose", help="Relax pose to stand in: default or a sidecar preset."),
+        character: str = typer.Argument(
+            ..., help="Built-in character name or MJCF path (e.g. walker)."
+        ),
+        pose: str = typer.Option(
+            "default", "--pose", help="Relax pose to stand in: default or a sidecar preset."
+        ),
         robustness: float = ROBUSTNESS_OPTION,
         foot_radius: float = FOOT_RADIUS_OPTION,
         foot_height: float = FOOT_HEIGHT_OPTION,
         foot_friction: float = FOOT_FRICTION_OPTION,
         push: Optional[List[str]] = typer.Option(None, "--push", help=PUSH_HELP),
         duration: float = typer.Option(3.0, "--duration", help="Simulated time (s)."),
-        video: Optional[Path] = typer.Option(None, "--video", help="Write the simulated motion to this .mp4 or .gif."),
+        video: Optional[Path] = typer.Option(
+            None, "--video", help="Write the simulated motion to this .mp4 or .gif."
+        ),
         fps: float = FPS_OPTION,
         speed: float = SPEED_OPTION,
         camera: str = CAMERA_OPTION,
         force: bool = typer.Option(False, "--force", help="Overwrite an existing --video file."),
         as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
     ) -> None:
-        """Stand in a pose with no motion capture and recover from sideways pushes (balance controller)."""
+        """Stand in a pose with no motion capture and recover from sideways pushes (balance
+        controller)."""
         from eigengait.character import load_character
         from eigengait.control.balance.pushes import sideways_pushes
         from eigengait.control.balance.standing import stand
@@ -84,19 +99,22 @@ def register(app: typer.Typer) -> None:
             return
         state = f"fell at {run.fall_time_s:.2f} s" if run.fell else "did not fall"
         typer.echo(
-            f"{loaded.name} stood {run.duration_s:.2f} s of {duration:g} s in pose '{pose}' ({state}); pushes "
-            f"survived {result.pushes_survived} of {len(pushes)}; COM error {run.com_error_m:.3f} m, foot skate "
-            f"{run.foot_skate_m:.3f} m per stance, mean artificial torque {run.artificial_torque:.1f} N·m "
-            f"(robustness {robustness:g})."
+            f"{loaded.name} stood {run.duration_s:.2f} s of {duration:g} s in pose '{pose}' "
+            f"({state}); pushes survived {result.pushes_survived} of {len(pushes)}; COM error "
+            f"{run.com_error_m:.3f} m, foot skate {run.foot_skate_m:.3f} m per stance, mean "
+            f"artificial torque {run.artificial_torque:.1f} N·m (robustness {robustness:g})."
         )
 
 
 def _check_pose(character, pose: str) -> None:
-    """One error naming --pose unless `pose` is 'default' or one of the character's relax-pose presets."""
+    """One error naming --pose unless `pose` is 'default' or one of the character's relax-pose
+    presets."""
     from eigengait.character.relax import DEFAULT_POSE
 
     known = [DEFAULT_POSE, *character.meta.relax_poses]
     if pose not in known:
         raise UserInputError(
-            f"unknown pose '{pose}' for {character.name}", field="--pose", fix=f"use one of: {', '.join(known)}"
+            f"unknown pose '{pose}' for {character.name}",
+            field="--pose",
+            fix=f"use one of: {', '.join(known)}",
         )

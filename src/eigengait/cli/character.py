@@ -1,8 +1,8 @@
-"""`eigengait characters`, `character export`, `character inspect` and `sketch new`: the built-in characters and a
-user's MJCF model.
+"""`eigengait characters`, `character export`, `character inspect` and `sketch new`: the built-in
+characters and a user's MJCF model.
 
-The options that choose a character (`--body`, `--stiffness`) and its relax pose (`--relax`) are shared with the
-commands that load one.
+The options that choose a character (`--body`, `--stiffness`) and its relax pose (`--relax`) are
+shared with the commands that load one.
 """
 
 from __future__ import annotations
@@ -23,12 +23,19 @@ from eigengait.inputs import check_range
 
 console = Console()
 BODY_OPTION = typer.Option(
-    None, "--body", help="Root body of the creature in a scene with several (default: the largest articulated tree)."
+    None,
+    "--body",
+    help=(
+        "Root body of the creature in a scene with several (default: the largest articulated tree)."
+    ),
 )
 STIFFNESS_OPTION = typer.Option(
     None,
     "--stiffness",
-    help="`auto`: give joints without stiffness k = m·g·r/θ_sag (10° sag under the weight they carry).",
+    help=(
+        "`auto`: give joints without stiffness k = m·g·r/θ_sag (10° sag under the weight they "
+        "carry)."
+    ),
 )
 RELAX_OPTION = typer.Option(None, "--relax", help="Relax pose: preset or JOINT=rx,ry,rz;...")
 
@@ -39,7 +46,9 @@ def print_notes(character) -> None:
         Console(stderr=True).print(f"note: {note}", highlight=False, soft_wrap=True)
 
 
-def characters_command(as_json: bool = typer.Option(False, "--json", help="Print JSON instead of a table.")):
+def characters_command(
+    as_json: bool = typer.Option(False, "--json", help="Print JSON instead of a table."),
+):
     """List the built-in characters with bodies, internal DOF and mass."""
     from eigengait.character import builtin_names, load_character
     from eigengait.sim import build_world
@@ -119,7 +128,8 @@ def inspect_command(
         return
     root = info["root"]
     console.print(
-        f"[bold]{info['character']}[/] — {info['internal_dofs']} internal DOF; root '{root['body']}' "
+        f"[bold]{info['character']}[/] — {info['internal_dofs']} internal DOF; root "
+        f"'{root['body']}' "
         f"({root['kind']}{': ' + ', '.join(root['joints']) if root['joints'] else ''})"
     )
     for note in info["notes"]:
@@ -128,11 +138,22 @@ def inspect_command(
     for col in ("joint", "kind", "stiffness (N·m/rad)", "source"):
         table.add_column(col)
     for j in info["joints"]:
-        table.add_row(j["name"], j["kind"], ", ".join(f"{k:.3g}" for k in j["stiffness"]), j["stiffness_source"])
+        table.add_row(
+            j["name"],
+            j["kind"],
+            ", ".join(f"{k:.3g}" for k in j["stiffness"]),
+            j["stiffness_source"],
+        )
     console.print(table)
-    feet = ", ".join(f"{n}{' (guessed)' if f['guessed'] else ''}" for n, f in info["feet"].items()) or "(none)"
+    feet = (
+        ", ".join(f"{n}{' (guessed)' if f['guessed'] else ''}" for n, f in info["feet"].items())
+        or "(none)"
+    )
     console.print(f"feet: {feet}")
-    console.print("mirror pairs: " + (", ".join(f"{a}↔{b}" for a, b in info["mirror_pairs"].items()) or "(none)"))
+    console.print(
+        "mirror pairs: "
+        + (", ".join(f"{a}↔{b}" for a, b in info["mirror_pairs"].items()) or "(none)")
+    )
     if output is not None:
         console.print(f"wrote {output}")
 
@@ -143,13 +164,18 @@ def sketch_new_command(
     body: Optional[str] = BODY_OPTION,
     stiffness: Optional[str] = STIFFNESS_OPTION,
     random: Optional[int] = typer.Option(
-        None, "--random", help="Draw the priority modes and signs from this seed (the thesis's random sketches)."
+        None,
+        "--random",
+        help="Draw the priority modes and signs from this seed (the thesis's random sketches).",
     ),
-    procedure: int = typer.Option(1, "--procedure", help="With --random: 1 (3 air + 4 ground modes, ±0.4) or 2."),
+    procedure: int = typer.Option(
+        1, "--procedure", help="With --random: 1 (3 air + 4 ground modes, ±0.4) or 2."
+    ),
     force: bool = typer.Option(False, "--force", help="Overwrite existing files."),
 ):
-    """Write a starter sketch (or with --random a random one, thesis §5.3.4); for a user's MJCF (or a sidecar with
-    --body/--stiffness), also a character sidecar `NAME.eigengait.yaml` beside it that the sketch refers to."""
+    """Write a starter sketch (or with --random a random one, thesis §5.3.4); for a user's MJCF
+    (or a sidecar with --body/--stiffness), also a character sidecar `NAME.eigengait.yaml` beside it
+    that the sketch refers to."""
     from eigengait.character import builtin_names, load_character
     from eigengait.character.metadata import SIDECAR_SUFFIX
     from eigengait.character.report import sidecar_yaml
@@ -157,7 +183,9 @@ def sketch_new_command(
     from eigengait.control.starter import starter_sketch
 
     if procedure not in PROCEDURES:
-        raise UserInputError(f"unknown procedure {procedure}", field="--procedure", fix="use 1 or 2")
+        raise UserInputError(
+            f"unknown procedure {procedure}", field="--procedure", fix="use 1 or 2"
+        )
     check_range(random, "--random", 0, 2**63 - 1)
     character = load_character(model, body=body, stiffness=stiffness)
     print_notes(character)
@@ -176,12 +204,14 @@ def sketch_new_command(
         write_atomically(sidecar, sidecar_yaml(character, sidecar))
         console.print(f"wrote {sidecar}")
     write_atomically(output, yaml.safe_dump(sketch, sort_keys=False, allow_unicode=True))
-    console.print(f"wrote {output}: feet {', '.join(sketch['feet'])}, period {sketch['timing']['period']} s")
+    console.print(
+        f"wrote {output}: feet {', '.join(sketch['feet'])}, period {sketch['timing']['period']} s"
+    )
 
 
 def register(app: typer.Typer) -> None:
-    """Add `characters`, the `character` group (`export`, `inspect`) and the hidden `sketch-new` that `main` runs for
-    `sketch new`."""
+    """Add `characters`, the `character` group (`export`, `inspect`) and the hidden `sketch-new`
+    that `main` runs for `sketch new`."""
     app.command("characters")(characters_command)
     app.command("sketch-new", hidden=True)(sketch_new_command)
     character_app = typer.Typer(no_args_is_help=True, help="Inspect and export characters.")

@@ -38,45 +38,73 @@ def _fail(error: EigengaitError) -> typer.Exit:
 def _warn(caught) -> None:
     """Print caught library warnings, their parameters written as this command's flags."""
     for w in caught:
-        errors.print(f"[yellow]warning:[/] {keywords_as_flags(str(w.message))}", highlight=False, soft_wrap=True)
+        errors.print(
+            f"[yellow]warning:[/] {keywords_as_flags(str(w.message))}",
+            highlight=False,
+            soft_wrap=True,
+        )
 
 
 def _progress() -> Progress:
     return Progress(
-        TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeRemainingColumn(), console=errors
+        TextColumn("{task.description}"),
+        BarColumn(),
+        MofNCompleteColumn(),
+        TimeRemainingColumn(),
+        console=errors,
     )
 
 
 def examples() -> None:
     """List the dissertation's example scenes shipped with eigengait."""
-    table = Table("name", "scene", title="shipped FLEX3D examples (run: eigengait cloth run NAME -o DIR)")
+    table = Table(
+        "name", "scene", title="shipped FLEX3D examples (run: eigengait cloth run NAME -o DIR)"
+    )
     for name, (_, description) in EXAMPLES.items():
         table.add_row(name, description)
     console.print(table)
 
 
 def run(
-    script: str = typer.Argument(..., help="a .PAR file or a shipped example name (see 'examples')"),
-    output: Path = typer.Option(..., "-o", "--output", help="folder for the frame set (new, empty, or --force)"),
+    script: str = typer.Argument(
+        ..., help="a .PAR file or a shipped example name (see 'examples')"
+    ),
+    output: Path = typer.Option(
+        ..., "-o", "--output", help="folder for the frame set (new, empty, or --force)"
+    ),
     integrator: str = typer.Option("euler", help=f"one of: {', '.join(INTEGRATORS)}"),
     video: Optional[Path] = typer.Option(None, help="MP4 path (default: DIR/<script>.mp4)"),
-    duration: Optional[float] = typer.Option(None, help="simulate this many seconds instead of DURACAO"),
+    duration: Optional[float] = typer.Option(
+        None, help="simulate this many seconds instead of DURACAO"
+    ),
     time_step: Optional[float] = typer.Option(None, "--time-step", help="override DELTA_t (s)"),
     no_gravity: bool = typer.Option(False, "--no-gravity", help="switch gravity off"),
     no_render: bool = typer.Option(False, "--no-render", help="write .OBT/.obj frames only"),
-    self_collision: bool = typer.Option(False, "--self-collision", help="collide surfaces with themselves"),
-    restitution: float = typer.Option(0.0, help="normal restitution at contacts, 0..1 (1 = FLEX3D elastic)"),
-    strain_limit: float = typer.Option(DEFAULT_BOUND, help="largest spring strain kept (0.1 = 10 %); 0 = off"),
-    thickness: Optional[float] = typer.Option(None, help="contact gap in m (default 5 % of the spacing)"),
-    floor: Optional[float] = typer.Option(None, help="floor plane at this height (m, world z; PISO in scripts)"),
+    self_collision: bool = typer.Option(
+        False, "--self-collision", help="collide surfaces with themselves"
+    ),
+    restitution: float = typer.Option(
+        0.0, help="normal restitution at contacts, 0..1 (1 = FLEX3D elastic)"
+    ),
+    strain_limit: float = typer.Option(
+        DEFAULT_BOUND, help="largest spring strain kept (0.1 = 10 %); 0 = off"
+    ),
+    thickness: Optional[float] = typer.Option(
+        None, help="contact gap in m (default 5 % of the spacing)"
+    ),
+    floor: Optional[float] = typer.Option(
+        None, help="floor plane at this height (m, world z; PISO in scripts)"
+    ),
     dissertation: bool = typer.Option(
         False, "--dissertation", help="FLEX3D as published: no strain limit, swept hits only"
     ),
-    video_fps: float = typer.Option(30.0, help="video frames per second of simulated time (real-time playback)"),
+    video_fps: float = typer.Option(
+        30.0, help="video frames per second of simulated time (real-time playback)"
+    ),
     force: bool = typer.Option(False, "--force", help="replace an earlier run's frame set in DIR"),
 ) -> None:
-    """Simulate a script and write <NAME>_<frame>.OBT, obj/<NAME>_<frame>.obj, png/ frames, a real-time video,
-    a contact sheet and run.json."""
+    """Simulate a script and write <NAME>_<frame>.OBT, obj/<NAME>_<frame>.obj, png/ frames, a
+    real-time video, a contact sheet and run.json."""
     from eigengait.cloth.simulate import frame_steps, run_samples, video_steps
 
     try:
@@ -84,9 +112,15 @@ def run(
         parsed = read_par(path)
         obstacles = [read_obt(p) for p in parsed.obstacles]
         model = script_model(parsed, obstacles, gravity=not no_gravity)
-        _check_options(duration, time_step, restitution, strain_limit, thickness, integrator, video_fps)
+        _check_options(
+            duration, time_step, restitution, strain_limit, thickness, integrator, video_fps
+        )
         h = time_step or parsed.time_step
-        step_field = f"line {parsed.lines.get('DELTA_T', '?')}: DELTA_t" if time_step is None else "--time-step"
+        step_field = (
+            f"line {parsed.lines.get('DELTA_T', '?')}: DELTA_t"
+            if time_step is None
+            else "--time-step"
+        )
         total = duration or parsed.duration
         check_range(floor, "--floor", -1e6, 1e6, "m")
         floor = floor if floor is not None else parsed.floor
@@ -114,7 +148,15 @@ def run(
                 floor=floor,
                 dissertation=dissertation,
             )
-            states = _simulate(model, samples, steps, frames, staging, f"simulating {path.name} ({integrator})", caught)
+            states = _simulate(
+                model,
+                samples,
+                steps,
+                frames,
+                staging,
+                f"simulating {path.name} ({integrator})",
+                caught,
+            )
             summary = {
                 "script": str(path),
                 "integrator": integrator,
@@ -142,8 +184,10 @@ def run(
     except EigengaitError as error:
         raise _fail(error) from None
     console.print(
-        f"wrote {len(frames)} frames ({parsed.frames_per_second:g} per simulated second, {total:g} s) of "
-        f"{len(model.surfaces)} surface(s) to {output}"
+        (
+            f"wrote {len(frames)} frames ({parsed.frames_per_second:g} per simulated second, "
+            f"{total:g} s) of {len(model.surfaces)} surface(s) to {output}"
+        )
         + (
             ""
             if target is None
@@ -153,7 +197,9 @@ def run(
     )
 
 
-def _check_options(duration, time_step, restitution, strain_limit, thickness, integrator, video_fps) -> None:
+def _check_options(
+    duration, time_step, restitution, strain_limit, thickness, integrator, video_fps
+) -> None:
     """Raise :class:`UserInputError` for an impossible ``run`` option."""
     check_range(duration, "--duration", 1e-6, 1e6, "s")
     check_range(time_step, "--time-step", 1e-7, 1.0, "s")
@@ -163,7 +209,9 @@ def _check_options(duration, time_step, restitution, strain_limit, thickness, in
     check_range(video_fps, "--video-fps", 1e-3, 1000, "frames/s")
     if integrator not in INTEGRATORS:
         raise UserInputError(
-            f"unknown integrator '{integrator}'.", field="--integrator", fix=f"use one of: {', '.join(INTEGRATORS)}."
+            f"unknown integrator '{integrator}'.",
+            field="--integrator",
+            fix=f"use one of: {', '.join(INTEGRATORS)}.",
         )
 
 
@@ -172,8 +220,8 @@ def _inside(path: Path, folder: Path) -> bool:
 
 
 def _simulate(model, samples, steps, frames, staging: Path, label: str, caught) -> dict:
-    """Write the script's frames (step counts ``frames``) into ``staging`` as they come; return every sample as
-    {step: (time s, positions (N, 3) m)}."""
+    """Write the script's frames (step counts ``frames``) into ``staging`` as they come; return
+    every sample as {step: (time s, positions (N, 3) m)}."""
     index = {int(step): k for k, step in enumerate(frames)}
     states = {}
     with _progress() as progress:
@@ -187,8 +235,11 @@ def _simulate(model, samples, steps, frames, staging: Path, label: str, caught) 
     return states
 
 
-def _render(model, states: dict, frames, shots, staging: Path, video: Path, name: str, fps: float, floor) -> None:
-    """PNGs of the script's frames, the video of ``shots`` at ``fps`` and the contact sheet, into ``staging``."""
+def _render(
+    model, states: dict, frames, shots, staging: Path, video: Path, name: str, fps: float, floor
+) -> None:
+    """PNGs of the script's frames, the video of ``shots`` at ``fps`` and the contact sheet, into
+    ``staging``."""
     from eigengait.cloth.render import CAMERAS, render_run
 
     (staging / "png").mkdir()
@@ -218,12 +269,15 @@ def modes(
     target: str = typer.Argument(..., help="a .PAR file, an example name, or a size like 20x20"),
     palette: Optional[Path] = typer.Option(None, help="PNG with one tile per mode"),
     count: int = typer.Option(9, help="number of modes"),
-    stretch: float = typer.Option(1.05, help="pre-stretch of a size-given membrane (boundary pinned)"),
+    stretch: float = typer.Option(
+        1.05, help="pre-stretch of a size-given membrane (boundary pinned)"
+    ),
     spacing: float = typer.Option(1.0, help="rest spacing (m) of a size-given membrane"),
     mass: float = typer.Option(0.01, help="mass per point (kg) of a size-given membrane"),
     stiffness: float = typer.Option(100.0, help="spring constant (N/m) of a size-given membrane"),
 ) -> None:
-    """Vibration modes: a pinned pre-stretched membrane (SIZE) or a script's surfaces hanging at equilibrium."""
+    """Vibration modes: a pinned pre-stretched membrane (SIZE) or a script's surfaces hanging at
+    equilibrium."""
     from eigengait.cloth.modes import draw_palette, equilibrium, membrane, vibration_modes
 
     try:
@@ -233,8 +287,12 @@ def modes(
         if size:
             rows, cols = int(size[1]), int(size[2])
             if rows < 3 or cols < 3 or stretch <= 1.0:
-                raise UserInputError("a membrane needs at least 3x3 points and --stretch > 1.", field=target)
-            model = membrane(rows, cols, spacing=spacing, mass=mass, stiffness=stiffness, stretch=stretch)
+                raise UserInputError(
+                    "a membrane needs at least 3x3 points and --stretch > 1.", field=target
+                )
+            model = membrane(
+                rows, cols, spacing=spacing, mass=mass, stiffness=stiffness, stretch=stretch
+            )
             x = model.rest_positions
         else:
             parsed = read_par(resolve_script(target))
@@ -245,7 +303,9 @@ def modes(
             "mode",
             "frequency (Hz)",
             "period (s)",
-            title=f"{len(result.frequencies)} lowest modes ({result.zero_modes} zero modes dropped)",
+            title=(
+                f"{len(result.frequencies)} lowest modes ({result.zero_modes} zero modes dropped)"
+            ),
         )
         for k, f in enumerate(result.frequencies, start=1):
             table.add_row(str(k), f"{f:.5g}", f"{1 / f:.4g}")

@@ -1,12 +1,15 @@
-"""The command line's words for library errors: a parameter named in an `EigengaitError` becomes its flag.
+"""The command line's words for library errors: a parameter named in an `EigengaitError` becomes its
+flag.
 
-Library functions name their own Python parameters: `field="robustness"`, `fix="pass stiffness='auto'"`. A user of
-the command line typed flags, so before printing an error the CLI rewrites, through `FLAGS`:
+Library functions name their own Python parameters: `field="robustness"`,
+`fix="pass stiffness='auto'"`. A user of the command line typed flags, so before printing an error
+the CLI rewrites, through `FLAGS`:
 
-- the field, when the error concerns no file (a field of a file is that file's key, not a parameter), including
-  fields naming several parameters at once (`"width/height"` → `"--width/--height"`);
-- keyword arguments written in the message or the fix: `name='text'` → `--flag text`, `name=3` → `--flag 3`,
-  `name=True` → `--flag`.
+- the field, when the error concerns no file (a field of a file is that file's key, not a
+  parameter), including fields naming several parameters at once (`"width/height"`
+  → `"--width/--height"`);
+- keyword arguments written in the message or the fix: `name='text'` → `--flag text`, `name=3`
+  → `--flag 3`, `name=True` → `--flag`.
 """
 
 from __future__ import annotations
@@ -47,7 +50,9 @@ FLAGS = {
     "width": "--width",
 }
 
-_KEYWORD = re.compile(r"(?<![\w.-])(" + "|".join(FLAGS) + r")=(?:'([^']*)'|(True)\b|([-+]?\d[\w.]*))")
+_KEYWORD = re.compile(
+    r"(?<![\w.-])(" + "|".join(FLAGS) + r")=(?:'([^']*)'|(True)\b|([-+]?\d[\w.]*))"
+)
 
 
 def keywords_as_flags(text: str | None) -> str | None:

@@ -27,10 +27,13 @@ from eigengait.errors import UserInputError
 from eigengait.outputs import check_folder, refuse_existing, write_atomically
 
 console = Console()
-DEMO_KINEMATIC_MIX = "2:1.4,15:0.8@90"  # stride + both knees a quarter period later (Kry et al. 2009 style)
+# stride + both knees a quarter period later (Kry et al. 2009 style)
+DEMO_KINEMATIC_MIX = "2:1.4,15:0.8@90"
 DEMO_KINEMATIC_BASE_HZ = 0.9  # snap both frequencies to multiples of 0.9 Hz so the clip loops
 RESUME_OPTION = typer.Option(False, "--resume", help="Continue the run in --output.")
-START_OVER_OPTION = typer.Option(False, "--force", help="Start over: delete an earlier run's files in --output.")
+START_OVER_OPTION = typer.Option(
+    False, "--force", help="Start over: delete an earlier run's files in --output."
+)
 
 
 def sketch_command(
@@ -65,9 +68,9 @@ def sketch_command(
         print(json_text.dumps(summary))
     else:
         console.print(
-            f"simulated {seconds:.1f} s of '{path.name}' with gravity off in {result.wall_seconds:.2f} s "
-            f"({summary['realtime_factor']}× real time); largest joint rotation "
-            f"{summary['max_joint_rotation_deg']}°"
+            f"simulated {seconds:.1f} s of '{path.name}' with gravity off in "
+            f"{result.wall_seconds:.2f} s ({summary['realtime_factor']}× real time); largest joint "
+            f"rotation {summary['max_joint_rotation_deg']}°"
         )
     write_media(result.world, result.qpos, result.fps, media, status_console(as_json))
 
@@ -75,8 +78,12 @@ def sketch_command(
 def optimize_command(
     sketch: str = typer.Argument(..., help="Sketch file or shipped preset name."),
     output: Path = typer.Option(..., "-o", "--output", help="Run folder."),
-    seed: Optional[int] = typer.Option(None, "--seed", help="Random seed (default 1; a resumed run keeps its own)."),
-    evaluations: Optional[int] = typer.Option(None, "--max-evaluations", help="Total simulation budget."),
+    seed: Optional[int] = typer.Option(
+        None, "--seed", help="Random seed (default 1; a resumed run keeps its own)."
+    ),
+    evaluations: Optional[int] = typer.Option(
+        None, "--max-evaluations", help="Total simulation budget."
+    ),
     minutes: Optional[float] = typer.Option(None, "--max-minutes", help="Wall-clock budget (min)."),
     generations: int = typer.Option(1000, "--inner-generations", help="Cap per inner CMA-ES run."),
     max_outer: int = typer.Option(20, "--max-outer", help="Cap on multiplier iterations."),
@@ -85,14 +92,19 @@ def optimize_command(
     ),
     popsize: Optional[int] = typer.Option(None, "--popsize"),
     method: str = typer.Option(
-        "mom", "--method", help="mom (thesis's method of multipliers) | al (pycma's adaptive augmented Lagrangian)"
+        "mom",
+        "--method",
+        help="mom (thesis's method of multipliers) | al (pycma's adaptive augmented Lagrangian)",
     ),
     evaluator: str = typer.Option("threads", "--evaluator", help="threads | processes | ray"),
-    workers: Optional[int] = typer.Option(None, "--workers", help="Threads/processes/actors (default: cores)."),
+    workers: Optional[int] = typer.Option(
+        None, "--workers", help="Threads/processes/actors (default: cores)."
+    ),
     resume: bool = RESUME_OPTION,
     force: bool = START_OVER_OPTION,
 ):
-    """Optimize a sketch into a cyclic, physically simulated gait (method of multipliers + CMA-ES)."""
+    """Optimize a sketch into a cyclic, physically simulated gait (method of multipliers +
+    CMA-ES)."""
     from eigengait.control.library import resolve
     from eigengait.control.sketch import load_sketch
     from eigengait.optimize.methods import method_settings
@@ -124,14 +136,18 @@ def optimize_command(
     )
     if not resume:
         _start_run(output, force)
-    state = optimize_gait(loaded, output, settings, evaluator, workers, resume, sketch_source=path, seed=seed)
+    state = optimize_gait(
+        loaded, output, settings, evaluator, workers, resume, sketch_source=path, seed=seed
+    )
     best = state.best
     console.print(
         f"{state.finished}: {state.evaluations} evaluations, {state.generation} generations, "
         f"{state.elapsed:.0f} s; best cost {best.cost:.4g}, cycle violation {best.violation:.3g}, "
         f"speed {best.mean_velocity[0]:.2f} m/s"
     )
-    console.print(f"run folder: {output} (best_controller.json, log.csv, objective.png, violation.png)")
+    console.print(
+        f"run folder: {output} (best_controller.json, log.csv, objective.png, violation.png)"
+    )
 
 
 def _refuse_force_with_resume(force: bool, resume: bool) -> None:
@@ -144,7 +160,8 @@ def _refuse_force_with_resume(force: bool, resume: bool) -> None:
 
 
 def _start_run(folder: Path, force: bool) -> None:
-    """Before a new run: refuse an earlier run in the folder or its stage-1 folder, or with `force` delete its files."""
+    """Before a new run: refuse an earlier run in the folder or its stage-1 folder, or with `force`
+    delete its files."""
     from eigengait.optimize.run import clear_run, refuse_earlier_run
     from eigengait.optimize.staged import STAGE_ONE
 
@@ -162,22 +179,34 @@ def play_command(
     snap: bool = typer.Option(
         False,
         "--snap",
-        help="Reset to the initial state at each cycle end, open loop (the thesis's playback; physically incorrect).",
+        help=(
+            "Reset to the initial state at each cycle end, open loop (the thesis's playback; "
+            "physically incorrect)."
+        ),
     ),
     push: Optional[str] = typer.Option(
         None,
         "--push",
-        help="Sideways pushes on the root body: FORCE@TIME[,...] (N along +y for 0.1 s, at s), e.g. 350@1.3",
+        help=(
+            "Sideways pushes on the root body: FORCE@TIME[,...] (N along +y for 0.1 s, at s), e.g. "
+            "350@1.3"
+        ),
     ),
     lookahead: bool = typer.Option(
         True,
         "--lookahead/--no-lookahead",
-        help="Use the controller's lookahead (sampled pulse corrections at each state start), if it has one.",
+        help=(
+            "Use the controller's lookahead (sampled pulse corrections at each state start), if it "
+            "has one."
+        ),
     ),
     activation_time: Optional[float] = typer.Option(
         None,
         "--activation-time",
-        help="Motors follow their torque commands with this first-order lag (s), instead of the controller's own.",
+        help=(
+            "Motors follow their torque commands with this first-order lag (s), instead of the "
+            "controller's own."
+        ),
     ),
     as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
     video: Optional[Path] = typer.Option(None, "--video", help="Write a video (.mp4/.gif)."),
@@ -188,7 +217,8 @@ def play_command(
     bvh_units: str = BVH_UNITS_OPTION,
     force: bool = typer.Option(False, "--force", help="Overwrite existing outputs."),
 ):
-    """Play a controller on the ground with gravity, physics only; report speed, energy, survival and gait quality."""
+    """Play a controller on the ground with gravity, physics only; report speed, energy, survival
+    and gait quality."""
     from eigengait.control.binding import gait_system
     from eigengait.control.controller import load_controller, to_parameters
     from eigengait.control.library import resolve
@@ -204,7 +234,9 @@ def play_command(
             field="--push",
             fix="pushes test the gait's own balance: play without --snap",
         )
-    media = MediaOptions(video=video, bvh=bvh, fps=fps, speed=speed, camera=camera, bvh_units=bvh_units).check()
+    media = MediaOptions(
+        video=video, bvh=bvh, fps=fps, speed=speed, camera=camera, bvh_units=bvh_units
+    ).check()
     refuse_existing([video, bvh], force)
     path = resolve("gait", controller)
     c = load_controller(path)
@@ -213,9 +245,20 @@ def play_command(
     system = gait_system(c, source=path)
     planner = c.planner() if lookahead and not snap else None
     status = status_console(as_json)
-    progress = (lambda k, n: status.print(f"lookahead: cycle {k}/{n}")) if planner is not None else None
+    progress = (
+        (lambda k, n: status.print(f"lookahead: cycle {k}/{n}")) if planner is not None else None
+    )
     params = to_parameters(c, system, path)
-    result = play(system, params, cycles, snap=snap, pushes=pushes, source=path, lookahead=planner, progress=progress)
+    result = play(
+        system,
+        params,
+        cycles,
+        snap=snap,
+        pushes=pushes,
+        source=path,
+        lookahead=planner,
+        progress=progress,
+    )
     summary = {
         "controller": str(path),
         "character": c.character,
@@ -240,20 +283,30 @@ def harden_command(
     controller: str = typer.Argument(..., help="Controller file or shipped gait name."),
     output: Path = typer.Option(..., "-o", "--output", help="Run folder."),
     minutes: float = typer.Option(15.0, "--max-minutes", help="Wall-clock budget (min)."),
-    seed: int = typer.Option(1, "--seed", help="Random seed of the search and of the sampled pushes."),
+    seed: int = typer.Option(
+        1, "--seed", help="Random seed of the search and of the sampled pushes."
+    ),
     popsize: int = typer.Option(12, "--popsize", help="Candidates per generation."),
-    copies: int = typer.Option(3, "--copies", help="Plays per candidate: one undisturbed, the others pushed."),
-    impulse: float = typer.Option(0.6, "--push-impulse", help="Largest sampled push (N·s per kg of body mass)."),
-    horizon: int = typer.Option(8, "--horizon", help="Cycles played at the start (grows as candidates survive)."),
+    copies: int = typer.Option(
+        3, "--copies", help="Plays per candidate: one undisturbed, the others pushed."
+    ),
+    impulse: float = typer.Option(
+        0.6, "--push-impulse", help="Largest sampled push (N·s per kg of body mass)."
+    ),
+    horizon: int = typer.Option(
+        8, "--horizon", help="Cycles played at the start (grows as candidates survive)."
+    ),
     max_slip: float = typer.Option(
-        0.03, "--max-slip", help="Stance-foot slip penalized beyond this (m, mean per stance; 0: not penalized)."
+        0.03,
+        "--max-slip",
+        help="Stance-foot slip penalized beyond this (m, mean per stance; 0: not penalized).",
     ),
     workers: int = typer.Option(1, "--workers", help="Simulation threads."),
     resume: bool = RESUME_OPTION,
     force: bool = START_OVER_OPTION,
 ):
-    """Optimize a gait's survival with no reset under sampled sideways pushes (pulses, timing, hip feedback, foot
-    slip)."""
+    """Optimize a gait's survival with no reset under sampled sideways pushes (pulses, timing, hip
+    feedback, foot slip)."""
     from eigengait.control.binding import gait_system
     from eigengait.control.controller import load_controller, to_parameters
     from eigengait.control.library import resolve
@@ -297,14 +350,24 @@ def harden_command(
     figures = StartingFigures.of(before)
     planner = c.planner()
     result = harden(
-        system, start, figures, output, settings, resume, c.name, console.print, lookahead=planner, sketch=c.sketch
+        system,
+        start,
+        figures,
+        output,
+        settings,
+        resume,
+        c.name,
+        console.print,
+        lookahead=planner,
+        sketch=c.sketch,
     )
     after = play(system, result, cycles=20)
     console.print(
-        f"survival with no reset (20 cycles): {before.cycles_completed} -> {after.cycles_completed} cycles; "
-        f"speed {before.mean_speed_mps:.2f} -> {after.mean_speed_mps:.2f} m/s; mean squared torque "
-        f"{before.mean_squared_torque:.0f} -> {after.mean_squared_torque:.0f} (N·m)²; stance slip "
-        f"{_slip_cm(before)} -> {_slip_cm(after)}"
+        f"survival with no reset (20 cycles): {before.cycles_completed} -> "
+        f"{after.cycles_completed} cycles; speed {before.mean_speed_mps:.2f} -> "
+        f"{after.mean_speed_mps:.2f} m/s; mean squared torque {before.mean_squared_torque:.0f} -> "
+        f"{after.mean_squared_torque:.0f} (N·m)²; stance slip {_slip_cm(before)} -> "
+        f"{_slip_cm(after)}"
     )
     console.print(f"run folder: {output} (best_controller.json, log.csv, {CHECKPOINT})")
 
@@ -329,7 +392,9 @@ def gaits_command(as_json: bool = typer.Option(False, "--json", help="Print JSON
                 "character": c.character,
                 "feet": c.feet,
                 "period_s": round(c.period, 3),
-                **{k: c.metrics[k] for k in ("mean_speed_mps", "cycle_violation") if k in c.metrics},
+                **{
+                    k: c.metrics[k] for k in ("mean_speed_mps", "cycle_violation") if k in c.metrics
+                },
             }
         )
     if as_json:
@@ -350,16 +415,24 @@ def gaits_command(as_json: bool = typer.Option(False, "--json", help="Print JSON
 
 
 def demo_command(
-    output: Path = typer.Option(Path("out/demo"), "--output", help="Parent folder; each demo gets a new subfolder."),
-    evaluations: int = typer.Option(200000, "--max-evaluations", help="Optimization budget (evaluations)."),
-    minutes: float = typer.Option(6.0, "--max-minutes", help="Optimization budget (wall-clock minutes)."),
+    output: Path = typer.Option(
+        Path("out/demo"), "--output", help="Parent folder; each demo gets a new subfolder."
+    ),
+    evaluations: int = typer.Option(
+        200000, "--max-evaluations", help="Optimization budget (evaluations)."
+    ),
+    minutes: float = typer.Option(
+        6.0, "--max-minutes", help="Optimization budget (wall-clock minutes)."
+    ),
     harden_minutes: float = typer.Option(
-        2.0, "--harden-minutes", help="Survival optimization under sampled pushes after it (minutes; 0: none)."
+        2.0,
+        "--harden-minutes",
+        help="Survival optimization under sampled pushes after it (minutes; 0: none).",
     ),
     seed: int = typer.Option(1, "--seed"),
 ):
-    """The main job on the humanoid: modes -> palette -> basic-run sketch -> optimization -> hardening -> playback
-    -> video, BVH."""
+    """The main job on the humanoid: modes -> palette -> basic-run sketch -> optimization ->
+    hardening -> playback -> video, BVH."""
     from eigengait.character import load_character
     from eigengait.control.binding import gait_system
     from eigengait.control.controller import load_controller, to_parameters
@@ -384,13 +457,17 @@ def demo_command(
         write_palette(world, mode_set, folder / f"palette_{phase}.png")
     from eigengait.motion.modal_mix import build_mix, mix_trajectory, parse_mix
 
-    kinematic = build_mix(world, modes["air"], parse_mix(DEMO_KINEMATIC_MIX), base_hz=DEMO_KINEMATIC_BASE_HZ)
+    kinematic = build_mix(
+        world, modes["air"], parse_mix(DEMO_KINEMATIC_MIX), base_hz=DEMO_KINEMATIC_BASE_HZ
+    )
     _, qpos = mix_trajectory(world, kinematic, seconds=4.0, fps=30.0)
     console.print(
         f"[1/5] modes and palettes: {folder}/palette_air.png, palette_ground.png; "
         f"kinematic two-mode gait (air modes {DEMO_KINEMATIC_MIX}):"
     )
-    write_media(world, qpos, 30.0, MediaOptions(folder / "kinematic.mp4", folder / "kinematic.bvh"), console)
+    write_media(
+        world, qpos, 30.0, MediaOptions(folder / "kinematic.mp4", folder / "kinematic.bvh"), console
+    )
     sketch_path = resolve("sketch", "basic-run")
     sketch = load_sketch(sketch_path)
     state = optimize_gait(
@@ -416,18 +493,26 @@ def demo_command(
         before = play(system, params, cycles=20)
         figures = StartingFigures.of(before)
         settings = SurvivalSettings(minutes=harden_minutes, seed=seed, threads=os.cpu_count() or 1)
-        params = harden(system, params, figures, folder / "hardening", settings, progress=lambda _: None)
+        params = harden(
+            system, params, figures, folder / "hardening", settings, progress=lambda _: None
+        )
         after = play(system, params, cycles=20)
         console.print(
-            f"[3/5] hardening under sampled pushes ({harden_minutes:g} min): without lookahead it survives "
-            f"{before.cycles_completed} -> {after.cycles_completed} of 20 cycles "
+            f"[3/5] hardening under sampled pushes ({harden_minutes:g} min): without lookahead it "
+            f"survives {before.cycles_completed} -> {after.cycles_completed} of 20 cycles "
             f"({folder}/hardening/best_controller.json)"
         )
     planner = c.planner()
     result = play(system, params, cycles=20, lookahead=planner)
     write_atomically(folder / "playback.json", json_text.dumps(result.summary(), indent=2))
     console.print(f"[4/5] playback: {json_text.dumps(result.summary())}")
-    write_media(system.world, result.qpos, result.fps, MediaOptions(folder / "gait.mp4", folder / "gait.bvh"), console)
+    write_media(
+        system.world,
+        result.qpos,
+        result.fps,
+        MediaOptions(folder / "gait.mp4", folder / "gait.bvh"),
+        console,
+    )
     console.print(f"[5/5] done in {time.perf_counter() - t0:.0f} s. Outputs in {folder}")
 
 
@@ -441,7 +526,9 @@ def _new_folder(parent: Path, name: str) -> Path:
             return folder
         except FileExistsError:
             continue
-    raise UserInputError("cannot find a free name for the demo's folder", file=parent, fix="choose another --output")
+    raise UserInputError(
+        "cannot find a free name for the demo's folder", file=parent, fix="choose another --output"
+    )
 
 
 def register(app: typer.Typer) -> None:

@@ -42,15 +42,22 @@ def modes_command(
     if as_json:
         print(json_text.dumps(modes.summary()))
         return
-    title = f"{modes.character} — {modes.phase} phase" + (f", {modes.foot} toe pinned" if modes.foot else "")
-    table = Table(title=title, caption=f"{modes.dofs} internal DOF; {modes.rigid_modes} rigid-body modes dropped")
+    title = f"{modes.character} — {modes.phase} phase" + (
+        f", {modes.foot} toe pinned" if modes.foot else ""
+    )
+    table = Table(
+        title=title,
+        caption=f"{modes.dofs} internal DOF; {modes.rigid_modes} rigid-body modes dropped",
+    )
     table.add_column("mode", justify="right")
     table.add_column("frequency (Hz)", justify="right")
     table.add_column("period (s)", justify="right")
     table.add_column("largest joint motion")
     for i, f in enumerate(modes.frequencies_hz):
         col = modes.torque_basis[:, i]
-        table.add_row(str(i + 1), f"{f:.3f}", f"{1 / f:.3f}", modes.dof_labels[int(abs(col).argmax())])
+        table.add_row(
+            str(i + 1), f"{f:.3f}", f"{1 / f:.3f}", modes.dof_labels[int(abs(col).argmax())]
+        )
     console.print(table)
 
 

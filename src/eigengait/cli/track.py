@@ -1,4 +1,5 @@
-"""`eigengait track`: retarget a BVH clip onto a character and track it in physics with the balance controller."""
+"""`eigengait track`: retarget a BVH clip onto a character and track it in physics with the balance
+controller."""
 
 from __future__ import annotations
 
@@ -25,7 +26,10 @@ from eigengait.cli.media import (
 from eigengait import json_text
 from eigengait.outputs import refuse_existing
 
-PUSH_HELP = "Push the torso sideways: FORCE@TIME[,...] in N and s (e.g. 150@1.0), each held for 0.1 s along +y."
+PUSH_HELP = (
+    "Push the torso sideways: FORCE@TIME[,...] in N and s (e.g. 150@1.0), each held for 0.1 s "
+    "along +y."
+)
 
 
 def register(app: typer.Typer) -> None:
@@ -45,10 +49,16 @@ def register(app: typer.Typer) -> None:
         foot_height: float = FOOT_HEIGHT_OPTION,
         foot_friction: float = FOOT_FRICTION_OPTION,
         push: str = typer.Option(None, "--push", help=PUSH_HELP),
-        mapping: Path = typer.Option(None, "--mapping", help="YAML mapping BVH joints → MJCF joints."),
-        start_frame: int = typer.Option(1, "--start-frame", help="First clip frame used (CMU frame 0 is a T-pose)."),
+        mapping: Path = typer.Option(
+            None, "--mapping", help="YAML mapping BVH joints → MJCF joints."
+        ),
+        start_frame: int = typer.Option(
+            1, "--start-frame", help="First clip frame used (CMU frame 0 is a T-pose)."
+        ),
         tolerance: float = typer.Option(
-            0.0, "--tolerance", help="Switch balance off while the compensated fraction is below this."
+            0.0,
+            "--tolerance",
+            help="Switch balance off while the compensated fraction is below this.",
         ),
         kinematic: bool = typer.Option(
             False,
@@ -59,12 +69,20 @@ def register(app: typer.Typer) -> None:
         clean_feet: bool = typer.Option(
             True,
             "--clean-feet/--raw-feet",
-            help="Put the reference's stance feet on the floor and remove their skate by leg IK (default), or "
-            "keep the retargeted feet.",
+            help=(
+                "Put the reference's stance feet on the floor and remove their skate by leg IK "
+                "(default), or keep the retargeted feet."
+            ),
         ),
-        video: Path = typer.Option(None, "--video", help="Write the simulated motion to this .mp4 or .gif."),
+        video: Path = typer.Option(
+            None, "--video", help="Write the simulated motion to this .mp4 or .gif."
+        ),
         bvh: Path = typer.Option(
-            None, "--bvh", help="Write the simulated motion as BVH (root motion included; lengths in --bvh-units)."
+            None,
+            "--bvh",
+            help=(
+                "Write the simulated motion as BVH (root motion included; lengths in --bvh-units)."
+            ),
         ),
         fps: float = FPS_OPTION,
         speed: float = SPEED_OPTION,
@@ -77,12 +95,16 @@ def register(app: typer.Typer) -> None:
         from eigengait.motion.tracking import kinematic_summary, reference_poses, run_track
 
         foot = balance_settings(robustness, foot_radius, foot_height, foot_friction)
-        media = MediaOptions(video=video, bvh=bvh, fps=fps, speed=speed, camera=camera, bvh_units=bvh_units).check()
+        media = MediaOptions(
+            video=video, bvh=bvh, fps=fps, speed=speed, camera=camera, bvh_units=bvh_units
+        ).check()
         refuse_existing([video, bvh], force)
         units = {"bvh_units": bvh_units} if bvh else {}
         if kinematic:
             ref = reference_poses(clip, character, mapping, start_frame, clean_feet)
-            write_media(ref["world"], ref["qpos"], 1.0 / ref["frame_time"], media, status_console(as_json))
+            write_media(
+                ref["world"], ref["qpos"], 1.0 / ref["frame_time"], media, status_console(as_json)
+            )
             _print_kinematic({**kinematic_summary(ref, clean_feet), **units}, as_json)
             return
         world, reference, result = run_track(
@@ -107,14 +129,17 @@ def _print_kinematic(report: dict, as_json: bool) -> None:
         return
     source = report["source"]
     axes = (
-        f"{source['unit']} ({source['metres_per_unit']:g} m), up {source['up_axis']}, facing {source['forward_axis']}"
+        (
+            f"{source['unit']} ({source['metres_per_unit']:g} m), up {source['up_axis']}, facing "
+            f"{source['forward_axis']}"
+        )
         if source
         else "axes from the mapping file or the CMU convention"
     )
     clearance = report["ground_clearance_m"]
     typer.echo(
-        f"reference {report['duration_s']:.2f} s, {axes}; foot skate {report['foot_skate_m']:.3f} m per "
-        f"stance ({report['stances']} stances; {report['raw']['foot_skate_m']:.3f} m before cleanup), floor "
-        f"penetration {report['floor_penetration_m']:.3f} m, ground clearance "
+        f"reference {report['duration_s']:.2f} s, {axes}; foot skate {report['foot_skate_m']:.3f} "
+        f"m per stance ({report['stances']} stances; {report['raw']['foot_skate_m']:.3f} m before "
+        f"cleanup), floor penetration {report['floor_penetration_m']:.3f} m, ground clearance "
         f"{'n/a' if clearance is None else f'{clearance:.3f} m'}."
     )

@@ -1,8 +1,8 @@
 """Deformable surfaces by particle dynamics: a rebuild of Nedel's FLEX3D (1993).
 
-Read a ``.PAR`` script, build the mass–spring model, integrate it with one of four integrators, collide with
-``.OBT`` obstacles, write ``.OBT``/``.OBJ`` frames and a video, and analyse the surface's vibration modes.
-See docs/cloth.md.
+Read a ``.PAR`` script, build the mass–spring model, integrate it with one of four integrators,
+collide with ``.OBT`` obstacles, write ``.OBT``/``.OBJ`` frames and a video, and analyse the
+surface's vibration modes. See docs/cloth.md.
 """
 
 from eigengait.cloth.library import EXAMPLES, example_path, resolve_script

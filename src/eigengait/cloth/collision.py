@@ -1,19 +1,20 @@
 """Collisions of moving mass points with triangles, found over each whole step.
 
-Obstacles (static ``.OBT`` meshes): FLEX3D's test — the segment a point sweeps during the step, x(t) → x(t+h),
-against every triangle — is done for all points at once. Candidate (point, triangle) pairs come from a
-``scipy.spatial.cKDTree`` over triangle centroids queried with radius (largest triangle radius + half the segment);
-the exact segment–triangle test (Möller–Trumbore) then runs vectorized over the candidates. For each point the
-earliest hit wins.
+Obstacles (static ``.OBT`` meshes): FLEX3D's test — the segment a point sweeps during the step, x(t)
+→ x(t+h), against every triangle — is done for all points at once. Candidate (point, triangle) pairs
+come from a ``scipy.spatial.cKDTree`` over triangle centroids queried with radius (largest triangle
+radius + half the segment); the exact segment–triangle test (Möller–Trumbore) then runs vectorized
+over the candidates. For each point the earliest hit wins.
 
-Response at a hit (parameter s along the segment, triangle normal n turned towards the side the point came
-from): the point is put back on that side at ``thickness`` from the triangle, keeping the tangential part of its
-motion; its normal velocity becomes ``-e·v_n`` (restitution e: 1 is FLEX3D's elastic bounce, 0 — the
-default — a cloth-like inelastic contact); the tangential velocity is kept.
+Response at a hit (parameter s along the segment, triangle normal n turned towards the side the
+point came from): the point is put back on that side at ``thickness`` from the triangle, keeping the
+tangential part of its motion; its normal velocity becomes ``-e·v_n`` (restitution e: 1 is FLEX3D's
+elastic bounce, 0 — the default — a cloth-like inelastic contact); the tangential velocity is kept.
 
-Self-collision (optional): a point closer than ``thickness`` to a triangle of the cloth that does not contain it
-is pushed back to the side it was on at the start of the step, and the normal relative velocity is exchanged by
-an impulse that, for e = 1 and equal masses, swaps the normal velocities as in the dissertation's eq. 3.6.
+Self-collision (optional): a point closer than ``thickness`` to a triangle of the cloth that does
+not contain it is pushed back to the side it was on at the start of the step, and the normal
+relative velocity is exchanged by an impulse that, for e = 1 and equal masses, swaps the normal
+velocities as in the dissertation's eq. 3.6.
 """
 
 from __future__ import annotations
@@ -30,7 +31,9 @@ class TriangleSoup:
     def __init__(self, corners: np.ndarray):
         self.corners = np.asarray(corners, float).reshape(-1, 3, 3)
         centroids = self.corners.mean(axis=1)
-        normals = np.cross(self.corners[:, 1] - self.corners[:, 0], self.corners[:, 2] - self.corners[:, 0])
+        normals = np.cross(
+            self.corners[:, 1] - self.corners[:, 0], self.corners[:, 2] - self.corners[:, 0]
+        )
         self.normals = normals / np.maximum(np.linalg.norm(normals, axis=1), 1e-300)[:, None]
         self.offsets = (self.normals * self.corners[:, 0]).sum(axis=1)
         self.radii = np.linalg.norm(self.corners - centroids[:, None], axis=2).max(axis=1)
@@ -40,8 +43,9 @@ class TriangleSoup:
     def candidates(self, p0: np.ndarray, p1: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(point index, triangle index) pairs whose bounding spheres overlap.
 
-        The index is built over whichever set is smaller's complement: the static triangle tree when there are
-        more triangles than points, otherwise a tree over the segment midpoints queried by each triangle.
+        The index is built over whichever set is smaller's complement: the static triangle tree when
+        there are more triangles than points, otherwise a tree over the segment midpoints queried by
+        each triangle.
         """
         if self.tree is None or len(p0) == 0:
             return np.zeros(0, np.int64), np.zeros(0, np.int64)
@@ -97,7 +101,8 @@ def collide_with_obstacles(
     thickness: float,
     restitution: float,
 ) -> int:
-    """Resolve hits of the segments x0→x1 of ``movable`` points in place (x1, v); returns the number of hits."""
+    """Resolve hits of the segments x0→x1 of ``movable`` points in place (x1, v); returns the number
+    of hits."""
     idx = np.flatnonzero(movable)
     points, tris = soup.candidates(x0[idx], x1[idx])
     # Only segments whose ends lie on opposite sides of (or on) a triangle's plane can cross it.
@@ -140,7 +145,8 @@ def collide_self(
     thickness: float,
     restitution: float,
 ) -> int:
-    """Push points away from cloth triangles they come within ``thickness`` of; returns the number of contacts."""
+    """Push points away from cloth triangles they come within ``thickness`` of; returns the number
+    of contacts."""
     corners = x1[triangles]
     centroids = corners.mean(axis=1)
     reach = float(np.linalg.norm(corners - centroids[:, None], axis=2).max()) + thickness

@@ -1,21 +1,23 @@
-"""Compiled cloth–obstacle contact: swept point–triangle hits, resting contact, and obstacle edges vs cloth.
+"""Compiled cloth–obstacle contact: swept point–triangle hits, resting contact, and obstacle edges
+vs cloth.
 
 Three tests run after every step (all lengths in m, velocities in m/s):
 
-* **Crossing** — as FLEX3D, the segment a point sweeps during the step, x(t) → x(t+h), against the obstacle
-  triangles (Möller–Trumbore); the earliest hit wins. The point is put back on the side it came from at
-  ``thickness`` from the triangle, keeping the tangential part of its motion; its normal velocity becomes
-  ``-e v_n``.
-* **Resting** — a point that stays on one side but ends closer than ``thickness`` to a triangle (projected inside
-  it) is lifted to ``thickness`` and loses its approach velocity, so cloth rests *on* an obstacle at a constant
-  gap instead of sinking into it between hits.
-* **Edges** — points sampled along the obstacle's convex edges (at most half a cloth spacing apart) cast a ray
-  along the edge's outward bisector; a cloth triangle that the ray meets closer than ``thickness`` (or behind the
-  edge, up to one cloth spacing inside) is pushed out along the bisector, its three points weighted by their
-  barycentric coordinates. This is what keeps a table's edge and corners under the cloth draped over them.
+* **Crossing** — as FLEX3D, the segment a point sweeps during the step, x(t) → x(t+h), against the
+  obstacle triangles (Möller–Trumbore); the earliest hit wins. The point is put back on the side it
+  came from at ``thickness`` from the triangle, keeping the tangential part of its motion; its
+  normal velocity becomes ``-e v_n``.
+* **Resting** — a point that stays on one side but ends closer than ``thickness`` to a triangle
+  (projected inside it) is lifted to ``thickness`` and loses its approach velocity, so cloth rests
+  *on* an obstacle at a constant gap instead of sinking into it between hits.
+* **Edges** — points sampled along the obstacle's convex edges (at most half a cloth spacing apart)
+  cast a ray along the edge's outward bisector; a cloth triangle that the ray meets closer than
+  ``thickness`` (or behind the edge, up to one cloth spacing inside) is pushed out along the
+  bisector, its three points weighted by their barycentric coordinates. This is what keeps a table's
+  edge and corners under the cloth draped over them.
 
-Candidates come from uniform grids: one over the static obstacle triangles, built once, and one over the cloth
-triangles, rebuilt each step when edge samples exist.
+Candidates come from uniform grids: one over the static obstacle triangles, built once, and one over
+the cloth triangles, rebuilt each step when edge samples exist.
 """
 
 from __future__ import annotations
@@ -26,7 +28,8 @@ import numpy as np
 _MAX_CELLS = 64**3
 
 
-# Small 3-vectors are tuples inside the kernels: they live in registers, where arrays would be heap-allocated.
+# Small 3-vectors are tuples inside the kernels: they live in registers, where arrays would be
+# heap-allocated.
 @nb.njit(cache=True, inline="always")
 def _row(a, i):
     return (a[i, 0], a[i, 1], a[i, 2])
@@ -99,7 +102,8 @@ def build_grid(lo, hi, origin, cell, dims):
 
 
 def grid_layout(lo: np.ndarray, hi: np.ndarray, cell: float):
-    """(origin, cell size, dims) of a grid covering boxes [lo, hi]; the cell grows if there would be too many."""
+    """(origin, cell size, dims) of a grid covering boxes [lo, hi]; the cell grows if there would be
+    too many."""
     origin = lo.min(axis=0)
     extent = np.maximum(hi.max(axis=0) - origin, 1e-9)
     cell = max(cell, float(np.cbrt(np.prod(extent) / _MAX_CELLS)), 1e-9)
@@ -109,7 +113,8 @@ def grid_layout(lo: np.ndarray, hi: np.ndarray, cell: float):
 
 @nb.njit(cache=True)
 def _ray_triangle(p, d, a, b, c):
-    """(hit, s, u, v) for the line p + s d against triangle abc (s unbounded; u, v barycentric of b, c)."""
+    """(hit, s, u, v) for the line p + s d against triangle abc (s unbounded; u, v barycentric of b,
+    c)."""
     e1 = _sub(b, a)
     e2 = _sub(c, a)
     pvec = _cross(d, e2)
@@ -127,16 +132,27 @@ def _ray_triangle(p, d, a, b, c):
 
 
 @nb.njit(cache=True)
-def collide_points(x0, x1, v, movable, corners, normals, origin, cell, dims, start, items, thickness, restitution):
-    """Crossing and resting contacts of the points with static triangles ``corners`` (T, 3, 3); returns the count."""
+def collide_points(
+    x0, x1, v, movable, corners, normals, origin, cell, dims, start, items, thickness, restitution
+):
+    """Crossing and resting contacts of the points with static triangles ``corners`` (T, 3, 3);
+    returns the count."""
     stamp = np.full(corners.shape[0], -1, np.int64)
     contacts = 0
     for p in range(x0.shape[0]):
         if not movable[p]:
             continue
         p0, p1 = _row(x0, p), _row(x1, p)
-        lo = (min(p0[0], p1[0]) - thickness, min(p0[1], p1[1]) - thickness, min(p0[2], p1[2]) - thickness)
-        hi = (max(p0[0], p1[0]) + thickness, max(p0[1], p1[1]) + thickness, max(p0[2], p1[2]) + thickness)
+        lo = (
+            min(p0[0], p1[0]) - thickness,
+            min(p0[1], p1[1]) - thickness,
+            min(p0[2], p1[2]) - thickness,
+        )
+        hi = (
+            max(p0[0], p1[0]) + thickness,
+            max(p0[1], p1[1]) + thickness,
+            max(p0[2], p1[2]) + thickness,
+        )
         a, b = _cell_range(lo, hi, origin, cell, dims)
         best_s, best_t, rest_depth, rest_t = 2.0, -1, 0.0, -1
         step = _sub(p1, p0)
@@ -166,7 +182,9 @@ def collide_points(x0, x1, v, movable, corners, normals, origin, cell, dims, sta
             if _dot(_sub(p0, _row(corners[best_t], 0)), n) < 0.0:
                 n = _axpy(-2.0, n, n)
             tangential = _axpy(-_dot(step, n), n, step)
-            _store(x1, p, _axpy(thickness, n, _axpy(1.0 - best_s, tangential, _axpy(best_s, step, p0))))
+            _store(
+                x1, p, _axpy(thickness, n, _axpy(1.0 - best_s, tangential, _axpy(best_s, step, p0)))
+            )
         elif rest_t >= 0:
             n = _row(normals, rest_t)
             if _dot(_sub(p1, _row(corners[rest_t], 0)), n) < 0.0:
@@ -183,8 +201,23 @@ def collide_points(x0, x1, v, movable, corners, normals, origin, cell, dims, sta
 
 
 @nb.njit(cache=True)
-def collide_edges(samples, directions, x, v, movable, triangles, origin, cell, dims, start, items, thickness, depth):
-    """Push cloth triangles out of the obstacle edge samples (S, 3) along ``directions``; returns the count."""
+def collide_edges(
+    samples,
+    directions,
+    x,
+    v,
+    movable,
+    triangles,
+    origin,
+    cell,
+    dims,
+    start,
+    items,
+    thickness,
+    depth,
+):
+    """Push cloth triangles out of the obstacle edge samples (S, 3) along ``directions``; returns
+    the count."""
     contacts = 0
     for f in range(samples.shape[0]):
         p = _row(samples, f)
@@ -201,7 +234,11 @@ def collide_edges(samples, directions, x, v, movable, triangles, origin, cell, d
                     for slot in range(start[c], start[c + 1]):
                         t = items[slot]
                         hit, s, u, w = _ray_triangle(
-                            p, d, _row(x, triangles[t, 0]), _row(x, triangles[t, 1]), _row(x, triangles[t, 2])
+                            p,
+                            d,
+                            _row(x, triangles[t, 0]),
+                            _row(x, triangles[t, 1]),
+                            _row(x, triangles[t, 2]),
                         )
                         if hit and -depth <= s < best_s:
                             best_s, best_t, best_u, best_v = s, t, u, w
@@ -228,14 +265,17 @@ def collide_edges(samples, directions, x, v, movable, triangles, origin, cell, d
 
 
 @nb.njit(cache=True)
-def collide_self(x0, x1, v, mass, movable, triangles, origin, cell, dims, start, items, thickness, restitution):
+def collide_self(
+    x0, x1, v, mass, movable, triangles, origin, cell, dims, start, items, thickness, restitution
+):
     """Compiled self-collision, in place on (x1, v); returns the number of contacts.
 
-    Each movable point closer than ``thickness`` to a cloth triangle that does not contain it (its projection inside
-    the triangle) is pushed halfway back towards ``thickness`` on the side it was on at the start of the step, and
-    an impulse along the normal, shared by the triangle's points by their barycentric weights, removes the approach
-    velocity (restitution e; for e = 1 and equal masses it swaps normal velocities). Same rule as the NumPy
-    ``collision.collide_self``, applied point by point.
+    Each movable point closer than ``thickness`` to a cloth triangle that does not contain it (its
+    projection inside the triangle) is pushed halfway back towards ``thickness`` on the side it was
+    on at the start of the step, and an impulse along the normal, shared by the triangle's points by
+    their barycentric weights, removes the approach velocity (restitution e; for e = 1 and equal
+    masses it swaps normal velocities). Same rule as the NumPy ``collision.collide_self``, applied
+    point by point.
     """
     contacts = 0
     for p in range(x1.shape[0]):
@@ -250,7 +290,11 @@ def collide_self(x0, x1, v, mass, movable, triangles, origin, cell, dims, start,
                 for k in range(a[2], b[2] + 1):
                     c = (i * dims[1] + j) * dims[2] + k
                     for slot in range(start[c], start[c + 1]):
-                        t0, t1, t2 = triangles[items[slot], 0], triangles[items[slot], 1], triangles[items[slot], 2]
+                        t0, t1, t2 = (
+                            triangles[items[slot], 0],
+                            triangles[items[slot], 1],
+                            triangles[items[slot], 2],
+                        )
                         if t0 == p or t1 == p or t2 == p:
                             continue
                         point = _row(x1, p)
@@ -284,7 +328,13 @@ def collide_self(x0, x1, v, mass, movable, triangles, origin, cell, dims, start,
                             _store(v, p, _axpy(-impulse / mass[p], normal, _row(v, p)))
                             for q in range(3):
                                 _store(
-                                    v, nodes[q], _axpy(weights[q] * impulse / mass[nodes[q]], normal, _row(v, nodes[q]))
+                                    v,
+                                    nodes[q],
+                                    _axpy(
+                                        weights[q] * impulse / mass[nodes[q]],
+                                        normal,
+                                        _row(v, nodes[q]),
+                                    ),
                                 )
                         contacts += 1
     return contacts
@@ -303,11 +353,11 @@ def triangle_boxes(x, triangles, pad, lo, hi):
 
 
 def convex_edge_samples(vertices: np.ndarray, triangles: np.ndarray, spacing: float):
-    """Points along the convex edges of a closed triangle mesh, at most ``spacing`` apart (ends included), and
-    their outward directions (unit bisector of the two faces' outward normals).
+    """Points along the convex edges of a closed triangle mesh, at most ``spacing`` apart (ends
+    included), and their outward directions (unit bisector of the two faces' outward normals).
 
-    The fan diagonals inside flat polygons are skipped (their two faces are coplanar). Outward means away from the
-    enclosed volume: the normals are flipped if the mesh's signed volume is negative.
+    The fan diagonals inside flat polygons are skipped (their two faces are coplanar). Outward means
+    away from the enclosed volume: the normals are flipped if the mesh's signed volume is negative.
     """
     corners = vertices[triangles]
     normals = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
@@ -350,7 +400,11 @@ def closest_surface_point(point: np.ndarray, corners: np.ndarray) -> np.ndarray:
     candidates = [projected[inside]]
     for p, q in ((a, b), (b, c), (c, a)):
         edge = q - p
-        s = np.clip(((point - p) * edge).sum(axis=1) / np.maximum((edge * edge).sum(axis=1), 1e-300), 0.0, 1.0)
+        s = np.clip(
+            ((point - p) * edge).sum(axis=1) / np.maximum((edge * edge).sum(axis=1), 1e-300),
+            0.0,
+            1.0,
+        )
         candidates.append(p + s[:, None] * edge)
     every = np.concatenate(candidates)
     return every[np.argmin(np.linalg.norm(every - point, axis=1))]

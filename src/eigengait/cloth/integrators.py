@@ -1,19 +1,22 @@
 """Time integrators for ``ẋ = v, v̇ = a(x, v, t)``; positions m, velocities m/s, steps s.
 
-* ``euler`` — forward (explicit) Euler exactly as FLEX3D: ``x⁺ = x + h v``, ``v⁺ = v + h a`` (old velocity in
-  the position update). Reproduces the dissertation's Table 4.1; gains energy on undamped springs.
-* ``symplectic`` — semi-implicit Euler: ``v⁺ = v + h a``, ``x⁺ = x + h v⁺``. Same cost, bounded energy error,
-  stable for ``h ω_max < 2``.
+* ``euler`` — forward (explicit) Euler exactly as FLEX3D: ``x⁺ = x + h v``, ``v⁺ = v + h a`` (old
+  velocity in the position update). Reproduces the dissertation's Table 4.1; gains energy on
+  undamped springs.
+* ``symplectic`` — semi-implicit Euler: ``v⁺ = v + h a``, ``x⁺ = x + h v⁺``. Same cost, bounded
+  energy error, stable for ``h ω_max < 2``.
 * ``rk4`` — classical Runge–Kutta, four force evaluations, stable for ``h ω_max < 2.78``.
 * ``implicit`` — backward Euler linearized once per step (Baraff & Witkin 1998):
-  ``(M + h C - h² K) Δv = h (F + h K v)``, ``v⁺ = v + Δv``, ``x⁺ = x + h v⁺``, with K the clamped spring Jacobian
-  and C the friction drag linearized as a per-point viscous coefficient ``c = μ|F| / max(|v|, h|F|/m)``.
-  Solved by conjugate gradients (Jacobi preconditioner, warm start); fixed points are removed by replacing
-  their rows and columns with the identity. Unconditionally stable, numerically damped.
+  ``(M + h C - h² K) Δv = h (F + h K v)``, ``v⁺ = v + Δv``, ``x⁺ = x + h v⁺``, with K the clamped
+spring Jacobian and C the friction drag linearized as a per-point viscous coefficient
+``c = μ|F| / max(|v|, h|F|/m)``. Solved by conjugate gradients (Jacobi preconditioner, warm start);
+fixed points are removed by replacing their rows and columns with the identity. Unconditionally
+stable, numerically damped.
 
-With ``model.compiled`` (the default) the explicit methods run as one fused numba kernel per step and the implicit
-step solves matrix-free: K is kept as one 3×3 block per spring and the preconditioned conjugate gradients run in
-numba, warm-started from the last step's Δv. With it off, the NumPy/scipy.sparse reference path below runs.
+With ``model.compiled`` (the default) the explicit methods run as one fused numba kernel per step
+and the implicit step solves matrix-free: K is kept as one 3×3 block per spring and the
+preconditioned conjugate gradients run in numba, warm-started from the last step's Δv. With it off,
+the NumPy/scipy.sparse reference path below runs.
 """
 
 from __future__ import annotations
@@ -46,7 +49,10 @@ def rk4(accel: Acceleration, x, v, t: float, h: float):
     k2x, k2v = v + 0.5 * h * k1v, accel(x + 0.5 * h * k1x, v + 0.5 * h * k1v, t + 0.5 * h)
     k3x, k3v = v + 0.5 * h * k2v, accel(x + 0.5 * h * k2x, v + 0.5 * h * k2v, t + 0.5 * h)
     k4x, k4v = v + h * k3v, accel(x + h * k3x, v + h * k3v, t + h)
-    return (x + h / 6.0 * (k1x + 2 * k2x + 2 * k3x + k4x), v + h / 6.0 * (k1v + 2 * k2v + 2 * k3v + k4v))
+    return (
+        x + h / 6.0 * (k1x + 2 * k2x + 2 * k3x + k4x),
+        v + h / 6.0 * (k1v + 2 * k2v + 2 * k3v + k4v),
+    )
 
 
 EXPLICIT = {"euler": forward_euler, "symplectic": symplectic_euler, "rk4": rk4}
@@ -84,15 +90,21 @@ class CompiledExplicit:
 
 
 def friction_drag(model: ClothModel, force: np.ndarray, v: np.ndarray, h: float) -> np.ndarray:
-    """Per-point drag coefficient (kg/s) of the friction term, treated implicitly in a step of h seconds: the
-    friction force's magnitude over the speed it acts on, floored so a resting point is not divided by zero."""
+    """Per-point drag coefficient (kg/s) of the friction term, treated implicitly in a step of h
+    seconds: the friction force's magnitude over the speed it acts on, floored so a resting point is
+    not divided by zero."""
     speed = np.linalg.norm(v, axis=1)
     magnitude = np.linalg.norm(force, axis=1)
-    return model.friction * magnitude / np.maximum(np.maximum(speed, h * magnitude / model.mass), 1e-300)
+    return (
+        model.friction
+        * magnitude
+        / np.maximum(np.maximum(speed, h * magnitude / model.mass), 1e-300)
+    )
 
 
 class CompiledBackwardEuler:
-    """Matrix-free backward Euler: per-spring Jacobian blocks and warm-started Jacobi-PCG, all compiled."""
+    """Matrix-free backward Euler: per-spring Jacobian blocks and warm-started Jacobi-PCG, all
+    compiled."""
 
     def __init__(self, model: ClothModel, tolerance: float = 1e-6, max_iterations: int = 500):
         n = model.size
@@ -116,7 +128,9 @@ class CompiledBackwardEuler:
         if m.fixed.any():
             _, v_target = m.prescribed(t + h)
             dv_fixed = np.where(m.fixed[:, None], v_target - v, 0.0)
-            kernels.jacobian_times(dv_fixed, m.springs, self._blocks, m.bend, self._bend_quarter, self._kv)
+            kernels.jacobian_times(
+                dv_fixed, m.springs, self._blocks, m.bend, self._bend_quarter, self._kv
+            )
             rhs = np.where(m.fixed[:, None], dv_fixed, rhs + (h * h) * self._kv)
             self._guess[m.fixed] = dv_fixed[m.fixed]
         self.cg_iterations += kernels.solve_backward_euler(
@@ -138,7 +152,8 @@ class CompiledBackwardEuler:
 
 
 class BackwardEuler:
-    """NumPy/scipy reference: one linearized backward-Euler step per call, warm-started sparse CG."""
+    """NumPy/scipy reference: one linearized backward-Euler step per call, warm-started sparse
+    CG."""
 
     def __init__(self, model: ClothModel, tolerance: float = 1e-6):
         self.model = model
@@ -169,7 +184,9 @@ class BackwardEuler:
         def tally(_):
             count[0] += 1
 
-        dv, info = spla.cg(A, rhs, x0=guess, rtol=self.tolerance, atol=0.0, M=preconditioner, callback=tally)
+        dv, info = spla.cg(
+            A, rhs, x0=guess, rtol=self.tolerance, atol=0.0, M=preconditioner, callback=tally
+        )
         if info != 0:
             dv = spla.spsolve(A.tocsc(), rhs)
         self.cg_iterations += count[0]

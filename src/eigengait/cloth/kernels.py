@@ -1,9 +1,11 @@
-"""Compiled (numba) kernels for the mass–spring model: forces, explicit steps, the spring Jacobian's action.
+"""Compiled (numba) kernels for the mass–spring model: forces, explicit steps, the spring Jacobian's
+action.
 
 Each kernel computes exactly what the NumPy reference in :mod:`eigengait.cloth.model`,
-:mod:`eigengait.cloth.integrators` and :mod:`eigengait.cloth.stiffness` computes (the tests compare them), but in
-one pass over the springs instead of many temporary arrays. Positions in m, velocities in m/s, forces in N,
-spring constants in N/m, masses in kg, steps in s. Kernels are compiled on first use and cached on disk.
+:mod:`eigengait.cloth.integrators` and :mod:`eigengait.cloth.stiffness` computes (the tests compare
+them), but in one pass over the springs instead of many temporary arrays. Positions in m, velocities
+in m/s, forces in N, spring constants in N/m, masses in kg, steps in s. Kernels are compiled on
+first use and cached on disk.
 """
 
 from __future__ import annotations
@@ -48,11 +50,28 @@ def internal_forces(x, springs, rest, k, bend, bend_coef, out):
 
 
 @nb.njit(cache=True)
-def explicit_step(x, v, h, method, mass, springs, rest, k, bend, bend_coef, gravity, external, friction, fixed, force):
+def explicit_step(
+    x,
+    v,
+    h,
+    method,
+    mass,
+    springs,
+    rest,
+    k,
+    bend,
+    bend_coef,
+    gravity,
+    external,
+    friction,
+    fixed,
+    force,
+):
     """One forward-Euler (``method`` 0) or symplectic-Euler (1) step of every free point, in place.
 
-    Forces include gravity, the external force and FLEX3D's friction ``-min(μ|F|, m|v|/h) v̂``; fixed points are
-    left untouched (their prescribed motion is imposed afterwards). ``force`` (N, 3) is scratch space.
+    Forces include gravity, the external force and FLEX3D's friction ``-min(μ|F|, m|v|/h) v̂``; fixed
+    points are left untouched (their prescribed motion is imposed afterwards). ``force`` (N, 3) is
+    scratch space.
     """
     internal_forces(x, springs, rest, k, bend, bend_coef, force)
     inv_h = 1.0 / h
@@ -67,7 +86,9 @@ def explicit_step(x, v, h, method, mass, springs, rest, k, bend, bend_coef, grav
         if friction != 0.0:
             speed = np.sqrt(v0 * v0 + v1 * v1 + v2 * v2)
             if speed > 0.0:
-                drag = min(friction * np.sqrt(f0 * f0 + f1 * f1 + f2 * f2), m * speed * inv_h) / speed
+                drag = (
+                    min(friction * np.sqrt(f0 * f0 + f1 * f1 + f2 * f2), m * speed * inv_h) / speed
+                )
                 f0 -= drag * v0
                 f1 -= drag * v1
                 f2 -= drag * v2
@@ -88,8 +109,9 @@ def explicit_step(x, v, h, method, mass, springs, rest, k, bend, bend_coef, grav
 
 @nb.njit(cache=True)
 def _run_forces(X, runs, rest, k, T, F):
-    """Add the forces of the springs of ``runs`` to ``F`` (3, N) N at positions ``X`` (3, N) m; ``T`` (3, L) is
-    scratch space for the longest run. Each run is taken as slices so that its loops run in SIMD lanes."""
+    """Add the forces of the springs of ``runs`` to ``F`` (3, N) N at positions ``X`` (3, N) m;
+    ``T`` (3, L) is scratch space for the longest run. Each run is taken as slices so that its loops
+    run in SIMD lanes."""
     t0, t1, t2 = T[0], T[1], T[2]
     for run in range(runs.shape[0]):
         s0, a0, b0, count = runs[run, 0], runs[run, 1], runs[run, 2], runs[run, 3]
@@ -113,7 +135,8 @@ def _run_forces(X, runs, rest, k, T, F):
 
 @nb.njit(cache=True)
 def _bend_forces(X, bend, bend_coef, F):
-    """Add the angular springs' forces (``bend_coef`` = k_c r / 2, N) on their middle points to ``F`` (3, N)."""
+    """Add the angular springs' forces (``bend_coef`` = k_c r / 2, N) on their middle points to
+    ``F`` (3, N)."""
     for b in range(bend.shape[0]):
         a, c, e = bend[b, 0], bend[b, 1], bend[b, 2]
         a0, a1, a2 = X[0, a] - X[0, c], X[1, a] - X[1, c], X[2, a] - X[2, c]
@@ -127,8 +150,8 @@ def _bend_forces(X, bend, bend_coef, F):
 
 @nb.njit(cache=True)
 def _integrate(X, V, F, h, method, mass, gravity, external, friction, free):
-    """The Euler update of :func:`explicit_step` on (3, N) arrays, branch-free so that it runs in SIMD lanes;
-    fixed points keep their state. Zeroes ``F`` for the next step."""
+    """The Euler update of :func:`explicit_step` on (3, N) arrays, branch-free so that it runs in
+    SIMD lanes; fixed points keep their state. Zeroes ``F`` for the next step."""
     inv_h = 1.0 / h
     lagged = method == EULER
     g0, g1, g2 = gravity[0], gravity[1], gravity[2]
@@ -161,7 +184,8 @@ def _integrate(X, V, F, h, method, mass, gravity, external, friction, free):
 
 @nb.njit(cache=True)
 def _overstretched(X, runs, rest, bound, flags):
-    """Set ``flags[s]`` to whether spring ``s`` is longer than ``(1 + bound)·rest`` at ``X`` (3, N) m."""
+    """Set ``flags[s]`` to whether spring ``s`` is longer than ``(1 + bound)·rest`` at ``X`` (3, N)
+    m."""
     for run in range(runs.shape[0]):
         s0, a0, b0, count = runs[run, 0], runs[run, 1], runs[run, 2], runs[run, 3]
         xa0, xa1, xa2 = X[0, a0 : a0 + count], X[1, a0 : a0 + count], X[2, a0 : a0 + count]
@@ -177,9 +201,10 @@ def _overstretched(X, runs, rest, bound, flags):
 
 @nb.njit(cache=True)
 def _sweep(X, V, springs, rest, weights, bound, h, flags, touch_start, touching):
-    """The strain-limiting sweep of :func:`~eigengait.cloth.strain.limit_strain` on (3, N) arrays, visiting only the
-    flagged springs: a spring is flagged when it was overstretched before the sweep or when an earlier spring of the
-    sweep moved one of its ends (``touching[touch_start[p]:touch_start[p + 1]]``: the springs at point p)."""
+    """The strain-limiting sweep of :func:`~eigengait.cloth.strain.limit_strain` on (3, N) arrays,
+    visiting only the flagged springs: a spring is flagged when it was overstretched before the
+    sweep or when an earlier spring of the sweep moved one of its ends
+    (``touching[touch_start[p]:touch_start[p + 1]]``: the springs at point p)."""
     for s in range(springs.shape[0]):
         if not flags[s]:
             continue
@@ -230,13 +255,14 @@ def explicit_steps(
     touch_start,
     touching,
 ):
-    """``steps`` forward- (``method`` 0) or symplectic-Euler (1) steps, each followed by a strain-limiting sweep
-    when ``bound`` ≥ 0, in one compiled loop, in place on ``x`` (N, 3) m and ``v`` m/s.
+    """``steps`` forward- (``method`` 0) or symplectic-Euler (1) steps, each followed by a
+    strain-limiting sweep when ``bound`` ≥ 0, in one compiled loop, in place on ``x`` (N, 3) m and
+    ``v`` m/s.
 
     The springs (``springs``, ``rest``, ``k``, ``weights``) come in the sweep order of
-    :func:`~eigengait.cloth.strain.projection_order`, described by :class:`SpringRuns`. Gives the result of
-    :func:`explicit_step` followed by :func:`~eigengait.cloth.strain.limit_strain`, up to the order in which the
-    spring forces are summed.
+    :func:`~eigengait.cloth.strain.projection_order`, described by :class:`SpringRuns`. Gives the
+    result of :func:`explicit_step` followed by :func:`~eigengait.cloth.strain.limit_strain`, up to
+    the order in which the spring forces are summed.
     """
     X, V = x.T.copy(), v.T.copy()
     F = np.zeros_like(X)
@@ -254,8 +280,9 @@ def explicit_steps(
 
 
 class SpringRuns:
-    """Springs in sweep order cut into runs of consecutive point pairs (a+r, b+r), r < count, so that the compiled
-    loops over them run in SIMD lanes; plus, for each point, the sweep positions of the springs at it."""
+    """Springs in sweep order cut into runs of consecutive point pairs (a+r, b+r), r < count, so
+    that the compiled loops over them run in SIMD lanes; plus, for each point, the sweep positions
+    of the springs at it."""
 
     def __init__(self, springs: np.ndarray, size: int):
         first = (
@@ -265,7 +292,9 @@ class SpringRuns:
         )
         starts = np.flatnonzero(first)
         counts = np.diff(np.r_[starts, len(springs)])
-        self.runs = np.stack([starts, springs[starts, 0], springs[starts, 1], counts], axis=1).astype(np.int64)
+        self.runs = np.stack(
+            [starts, springs[starts, 0], springs[starts, 1], counts], axis=1
+        ).astype(np.int64)
         ends = springs.ravel()
         order = np.argsort(ends, kind="stable")
         self.touching = (order // 2).astype(np.int64)
@@ -274,9 +303,11 @@ class SpringRuns:
 
 @nb.njit(cache=True)
 def spring_blocks(x, springs, rest, k, clamp, blocks):
-    """Fill ``blocks`` (S, 3, 3) with each spring's ``k [d̂d̂ᵀ + α(I - d̂d̂ᵀ)]``, α = 1 - rest/|d| (N/m).
+    """Fill ``blocks`` (S, 3, 3) with each spring's ``k [d̂d̂ᵀ + α(I - d̂d̂ᵀ)]``, α = 1 - rest/|d|
+    (N/m).
 
-    ``clamp`` drops α < 0 (compressed springs) so that the assembled Jacobian stays negative semi-definite.
+    ``clamp`` drops α < 0 (compressed springs) so that the assembled Jacobian stays negative
+    semi-definite.
     """
     for s in range(springs.shape[0]):
         i, j = springs[s, 0], springs[s, 1]
@@ -297,8 +328,8 @@ def spring_blocks(x, springs, rest, k, clamp, blocks):
 def jacobian_times(v, springs, blocks, bend, bend_quarter, out):
     """``out = K v`` for the spring Jacobian K (3N × 3N, N/m) given by its spring ``blocks``.
 
-    Angular springs add ``-(k_c/4) s sᵀ ⊗ I₃`` on each triple (s = (1, -2, 1)); ``bend_quarter`` is ``k_c/4``.
-    ``v`` and ``out`` are (N, 3).
+    Angular springs add ``-(k_c/4) s sᵀ ⊗ I₃`` on each triple (s = (1, -2, 1)); ``bend_quarter`` is
+    ``k_c/4``. ``v`` and ``out`` are (N, 3).
     """
     out[:] = 0.0
     for s in range(springs.shape[0]):
@@ -336,7 +367,8 @@ def jacobian_diagonal(springs, blocks, bend, bend_quarter, out):
 
 @nb.njit(cache=True)
 def _system_times(z, diag_mass, h2, springs, blocks, bend, bend_quarter, free, out):
-    """``out = P (M' - h² K) P z + (I - P) z``: the backward-Euler matrix with fixed points as identity rows."""
+    """``out = P (M' - h² K) P z + (I - P) z``: the backward-Euler matrix with fixed points as
+    identity rows."""
     jacobian_times(z, springs, blocks, bend, bend_quarter, out)
     for i in range(z.shape[0]):
         for q in range(3):
@@ -347,12 +379,15 @@ def _system_times(z, diag_mass, h2, springs, blocks, bend, bend_quarter, free, o
 
 
 @nb.njit(cache=True)
-def solve_backward_euler(rhs, guess, diag_mass, h2, springs, blocks, bend, bend_quarter, free, rtol, max_iter, scratch):
-    """Solve ``(M' - h²K) Δv = rhs`` on the free points by Jacobi-preconditioned conjugate gradients.
+def solve_backward_euler(
+    rhs, guess, diag_mass, h2, springs, blocks, bend, bend_quarter, free, rtol, max_iter, scratch
+):
+    """Solve ``(M' - h²K) Δv = rhs`` on the free points by Jacobi-preconditioned conjugate
+    gradients.
 
-    ``diag_mass`` (N,) is m + h·drag (kg); fixed rows are identity, so their ``rhs`` entries are returned as is.
-    Starts from ``guess`` (N, 3), overwritten with the solution; returns the iteration count.
-    ``scratch`` is (5, N, 3) work space.
+    ``diag_mass`` (N,) is m + h·drag (kg); fixed rows are identity, so their ``rhs`` entries are
+    returned as is. Starts from ``guess`` (N, 3), overwritten with the solution; returns the
+    iteration count. ``scratch`` is (5, N, 3) work space.
     """
     r, z, p, ap, inv_diag = scratch[0], scratch[1], scratch[2], scratch[3], scratch[4]
     jacobian_diagonal(springs, blocks, bend, bend_quarter, inv_diag)

@@ -1,4 +1,5 @@
-"""The dissertation's six example scenes, shipped as ``.PAR`` scripts (and the table ``mesa.obt``)."""
+"""The dissertation's six example scenes, shipped as ``.PAR`` scripts (and the table
+``mesa.obt``)."""
 
 from __future__ import annotations
 

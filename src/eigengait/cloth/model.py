@@ -2,21 +2,24 @@
 
 All surfaces of a scene are packed into one particle system (positions (N, 3) in m, z-up world).
 
-* Elastic springs join each mass point to its 8 neighbours: horizontal (k_h, rest r), vertical (k_v, rest r) and
-  diagonal (k_d, rest r√2). The force on the end i of a spring i→j is ``k (|d| - rest) d/|d|``, d = x_j - x_i.
-* Angular springs (FLEX3D's bending): for each opposite neighbour pair (a, b) of a point c, with unit vectors
-  u_a, u_b from c towards a and b, ``F_c = k_c (r/2)(u_a + u_b)`` — the pull towards the midpoint of the two
-  points at distance r along the neighbours. It acts on c only, as in FLEX3D, and vanishes when a, c, b are
-  collinear. Horizontal, vertical and diagonal pairs take the three CONST_CURVATURA values.
+* Elastic springs join each mass point to its 8 neighbours: horizontal (k_h, rest r), vertical
+  (k_v, rest r) and diagonal (k_d, rest r√2). The force on the end i of a spring i→j is
+  ``k (|d| - rest) d/|d|``, d = x_j - x_i.
+* Angular springs (FLEX3D's bending): for each opposite neighbour pair (a, b) of a point c, with
+  unit vectors u_a, u_b from c towards a and b, ``F_c = k_c (r/2)(u_a + u_b)`` — the pull towards
+  the midpoint of the two points at distance r along the neighbours. It acts on c only, as in
+  FLEX3D, and vanishes when a, c, b are collinear. Horizontal, vertical and diagonal pairs take the
+  three CONST_CURVATURA values.
 * Gravity ``m g`` and one external force vector (N per point) act on every point.
 * Friction removes a fraction μ (ATRITO) of the resultant force, opposite to the velocity:
-  ``F_fric = -min(μ |F|, m |v| / h) v/|v|``. The cap stops friction from reversing a velocity within one step,
-  so the friction power ``F_fric · v`` is never positive.
-* Point constraints: fixed points (with timed translations), ``targets`` that become fixed on reaching a position
-  (within ``target_radius`` m), and ``links`` (pairs of points of two surfaces held together).
+  ``F_fric = -min(μ |F|, m |v| / h) v/|v|``. The cap stops friction from reversing a velocity within
+one step, so the friction power ``F_fric · v`` is never positive.
+* Point constraints: fixed points (with timed translations), ``targets`` that become fixed on
+  reaching a position (within ``target_radius`` m), and ``links`` (pairs of points of two surfaces
+  held together).
 
-Forces are computed by the compiled kernels of :mod:`eigengait.cloth.kernels`; with ``compiled`` off, the NumPy
-reference path (:meth:`ClothModel.internal_forces_reference`) runs instead.
+Forces are computed by the compiled kernels of :mod:`eigengait.cloth.kernels`; with ``compiled``
+off, the NumPy reference path (:meth:`ClothModel.internal_forces_reference`) runs instead.
 """
 
 from __future__ import annotations
@@ -31,13 +34,15 @@ from eigengait.cloth.obt import Mesh
 from eigengait.cloth.par import Script, SurfaceSpec
 from eigengait.errors import UserInputError
 
-#: (row step, col step, stiffness class) for the 4 spring directions that cover the 8-neighbourhood once.
+#: (row step, col step, stiffness class) for the 4 spring directions that cover the 8-neighbourhood
+#: once.
 _SPRING_DIRECTIONS = ((0, 1, 0), (1, 0, 1), (1, 1, 2), (1, -1, 2))
 
 
 @dataclass(frozen=True)
 class SurfaceLayout:
-    """Where one surface's ``rows × cols`` points live in the packed arrays (row-major from ``start``)."""
+    """Where one surface's ``rows × cols`` points live in the packed arrays (row-major from
+    ``start``)."""
 
     name: str
     start: int
@@ -64,7 +69,8 @@ class SurfaceLayout:
 
 @dataclass(frozen=True)
 class KinematicMotion:
-    """Prescribed translation of ``indices``: ``velocity`` (K, 3) m/s active on [start_k, end_k] s."""
+    """Prescribed translation of ``indices``: ``velocity`` (K, 3) m/s active on [start_k, end_k]
+    s."""
 
     indices: np.ndarray
     velocity: np.ndarray
@@ -72,7 +78,9 @@ class KinematicMotion:
     end: np.ndarray
 
     def displacement(self, t: float) -> np.ndarray:
-        return (self.velocity * np.clip(t - self.start, 0.0, self.end - self.start)[:, None]).sum(axis=0)
+        return (self.velocity * np.clip(t - self.start, 0.0, self.end - self.start)[:, None]).sum(
+            axis=0
+        )
 
     def velocity_at(self, t: float) -> np.ndarray:
         active = (t >= self.start) & (t < self.end)
@@ -106,11 +114,18 @@ class ClothModel:
 
     def __post_init__(self):
         n, s, b = len(self.mass), len(self.springs), len(self.bend)
-        # Incidence matrices scatter per-spring / per-angular-spring forces onto points with one sparse product.
+        # Incidence matrices scatter per-spring / per-angular-spring forces onto points with one
+        # sparse product.
         self._spring_scatter = sp.csr_matrix(
-            (np.r_[np.ones(s), -np.ones(s)], (self.springs.T.ravel(), np.r_[np.arange(s), np.arange(s)])), shape=(n, s)
+            (
+                np.r_[np.ones(s), -np.ones(s)],
+                (self.springs.T.ravel(), np.r_[np.arange(s), np.arange(s)]),
+            ),
+            shape=(n, s),
         )
-        self._bend_scatter = sp.csr_matrix((np.ones(b), (self.bend[:, 1], np.arange(b))), shape=(n, b))
+        self._bend_scatter = sp.csr_matrix(
+            (np.ones(b), (self.bend[:, 1], np.arange(b))), shape=(n, b)
+        )
         self.free = ~self.fixed
         self.bend_coef = 0.5 * self.bend_k * self.bend_r
 
@@ -120,19 +135,26 @@ class ClothModel:
 
     @property
     def triangles(self) -> np.ndarray:
-        return np.concatenate([s.triangles for s in self.surfaces]) if self.surfaces else np.zeros((0, 3), int)
+        return (
+            np.concatenate([s.triangles for s in self.surfaces])
+            if self.surfaces
+            else np.zeros((0, 3), int)
+        )
 
     def internal_forces(self, x: np.ndarray) -> np.ndarray:
-        """Elastic + angular-spring forces (N, 3) in N at positions ``x`` (compiled kernel unless ``compiled`` is
-        off, then the NumPy reference below)."""
+        """Elastic + angular-spring forces (N, 3) in N at positions ``x`` (compiled kernel unless
+        ``compiled`` is off, then the NumPy reference below)."""
         if self.compiled:
             force = np.empty_like(x)
-            kernels.internal_forces(x, self.springs, self.spring_rest, self.spring_k, self.bend, self.bend_coef, force)
+            kernels.internal_forces(
+                x, self.springs, self.spring_rest, self.spring_k, self.bend, self.bend_coef, force
+            )
             return force
         return self.internal_forces_reference(x)
 
     def internal_forces_reference(self, x: np.ndarray) -> np.ndarray:
-        """NumPy reference of :meth:`internal_forces`: vectorized over springs, scattered by sparse products."""
+        """NumPy reference of :meth:`internal_forces`: vectorized over springs, scattered by sparse
+        products."""
         d = x[self.springs[:, 1]] - x[self.springs[:, 0]]
         length = np.linalg.norm(d, axis=1)
         tension = self.spring_k * (length - self.spring_rest) / np.maximum(length, 1e-12)
@@ -166,7 +188,8 @@ class ClothModel:
         return a
 
     def prescribed(self, t: float) -> tuple[np.ndarray, np.ndarray]:
-        """Positions and velocities (N, 3) of the constrained points at time t (rows of free points unused)."""
+        """Positions and velocities (N, 3) of the constrained points at time t (rows of free points
+        unused)."""
         x = self.rest_positions.copy()
         v = np.zeros_like(x)
         for motion in self.motions:
@@ -184,8 +207,8 @@ class ClothModel:
             v[motion.indices] = motion.velocity_at(t)
 
     def join_links(self, x: np.ndarray, v: np.ndarray) -> None:
-        """Give both points of every link their common mass-weighted position and velocity, in place; a fixed
-        point keeps its own and the other follows it."""
+        """Give both points of every link their common mass-weighted position and velocity, in
+        place; a fixed point keeps its own and the other follows it."""
         a, b = self.links[:, 0], self.links[:, 1]
         wa = np.where(self.fixed[a], 1.0, np.where(self.fixed[b], 0.0, self.mass[a]))
         wb = np.where(self.fixed[b], 1.0, np.where(self.fixed[a], 0.0, self.mass[b]))
@@ -196,19 +219,22 @@ class ClothModel:
             state[b] = common
 
     def energy(self, x: np.ndarray, v: np.ndarray) -> float:
-        """Kinetic + spring + gravity + external-force potential energy in J (angular springs excluded)."""
+        """Kinetic + spring + gravity + external-force potential energy in J (angular springs
+        excluded)."""
         length = np.linalg.norm(x[self.springs[:, 1]] - x[self.springs[:, 0]], axis=1)
         kinetic = 0.5 * float((self.mass * (v**2).sum(axis=1)).sum())
         elastic = 0.5 * float((self.spring_k * (length - self.spring_rest) ** 2).sum())
-        potential = -float((self.mass[:, None] * self.gravity * x).sum()) - float((self.external_force * x).sum())
+        potential = -float((self.mass[:, None] * self.gravity * x).sum()) - float(
+            (self.external_force * x).sum()
+        )
         return kinetic + elastic + potential
 
 
 def surface_frame(normal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """(row direction, column direction) of a grid with unit ``normal`` (z-up).
 
-    Rows run "down" the surface (world -z projected on its plane), so FLEX3D's row 0 is the top edge of a
-    vertical surface; a horizontal surface's rows run along -y. Columns are ``normal × row``.
+    Rows run "down" the surface (world -z projected on its plane), so FLEX3D's row 0 is the top edge
+    of a vertical surface; a horizontal surface's rows run along -y. Columns are ``normal × row``.
     """
     down = np.array([0.0, 0.0, -1.0]) - normal * -normal[2]
     if np.linalg.norm(down) < 1e-9:
@@ -219,13 +245,20 @@ def surface_frame(normal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def grid_positions(rows: int, cols: int, spacing: float, position, normal) -> np.ndarray:
-    """(rows·cols, 3) row-major points ``spacing`` m apart, centred on ``position``, facing ``normal``."""
+    """(rows·cols, 3) row-major points ``spacing`` m apart, centred on ``position``, facing
+    ``normal``."""
     row_dir, col_dir = surface_frame(np.asarray(normal, float) / np.linalg.norm(normal))
-    i, j = np.meshgrid(np.arange(rows) - (rows - 1) / 2, np.arange(cols) - (cols - 1) / 2, indexing="ij")
-    return np.asarray(position, float) + spacing * (i.ravel()[:, None] * row_dir + j.ravel()[:, None] * col_dir)
+    i, j = np.meshgrid(
+        np.arange(rows) - (rows - 1) / 2, np.arange(cols) - (cols - 1) / 2, indexing="ij"
+    )
+    return np.asarray(position, float) + spacing * (
+        i.ravel()[:, None] * row_dir + j.ravel()[:, None] * col_dir
+    )
 
 
-def grid_springs(rows: int, cols: int, start: int, spacing: float, stiffness) -> tuple[np.ndarray, ...]:
+def grid_springs(
+    rows: int, cols: int, start: int, spacing: float, stiffness
+) -> tuple[np.ndarray, ...]:
     """Springs of a grid: (S, 2) point pairs, rest lengths (S,) m and constants (S,) N/m."""
     idx = start + np.arange(rows * cols).reshape(rows, cols)
     pairs, rest, k = [], [], []
@@ -273,25 +306,37 @@ def surface_model(
 ) -> ClothModel:
     """Pack ``surfaces`` into one :class:`ClothModel`.
 
-    ``stretch`` scales the initial spacing (1.05 starts every spring 5 % longer than rest: a pre-tensioned
-    surface); translations are per frame, so ``frames_per_second`` turns them into velocities. A target point is
-    reached when its path passes within 10 % of its surface's spacing of the target. A point attached to an
-    obstacle is moved to the nearest point of the obstacle's surface and fixed there (obstacles are static).
+    ``stretch`` scales the initial spacing (1.05 starts every spring 5 % longer than rest: a
+    pre-tensioned surface); translations are per frame, so ``frames_per_second`` turns them into
+    velocities. A target point is reached when its path passes within 10 % of its surface's spacing
+    of the target. A point attached to an obstacle is moved to the nearest point of the obstacle's
+    surface and fixed there (obstacles are static).
 
     Raises:
-        UserInputError: an attachment names no surface or obstacle of the scene (``source`` names the file).
+        UserInputError: an attachment names no surface or obstacle of the scene (``source`` names
+            the file).
     """
-    positions, mass, springs, rest, k, bend, bend_k, bend_r, fixed, layouts, motions = ([] for _ in range(11))
+    positions, mass, springs, rest, k, bend, bend_k, bend_r, fixed, layouts, motions = (
+        [] for _ in range(11)
+    )
     start = 0
     for spec in surfaces:
         count = spec.rows * spec.cols
-        positions.append(grid_positions(spec.rows, spec.cols, spec.spacing * stretch, spec.position, spec.normal))
+        positions.append(
+            grid_positions(spec.rows, spec.cols, spec.spacing * stretch, spec.position, spec.normal)
+        )
         mass.append(np.full(count, spec.mass))
-        s_pairs, s_rest, s_k = grid_springs(spec.rows, spec.cols, start, spec.spacing, spec.stiffness)
+        s_pairs, s_rest, s_k = grid_springs(
+            spec.rows, spec.cols, start, spec.spacing, spec.stiffness
+        )
         springs.append(s_pairs), rest.append(s_rest), k.append(s_k)
         b_triples, b_k = grid_bending(spec.rows, spec.cols, start, spec.bending)
         keep = b_k != 0
-        bend.append(b_triples[keep]), bend_k.append(b_k[keep]), bend_r.append(np.full(keep.sum(), spec.spacing))
+        (
+            bend.append(b_triples[keep]),
+            bend_k.append(b_k[keep]),
+            bend_r.append(np.full(keep.sum(), spec.spacing)),
+        )
         mask = np.zeros(count, bool)
         for i, j in spec.fixed:
             mask[i * spec.cols + j] = True
@@ -329,7 +374,8 @@ def surface_model(
 
 
 def _add_point_constraints(model: ClothModel, surfaces: list[SurfaceSpec], source: str) -> None:
-    """Targets and attachments of ``surfaces`` into ``model`` (in place; rebuilds its derived arrays)."""
+    """Targets and attachments of ``surfaces`` into ``model`` (in place; rebuilds its derived
+    arrays)."""
     starts = {layout.name: layout.start for layout in model.surfaces}
     meshes = {mesh.name: mesh for mesh in model.obstacles}
     targets, positions, radius, links = [], [], [], []
@@ -345,7 +391,8 @@ def _add_point_constraints(model: ClothModel, surfaces: list[SurfaceSpec], sourc
                 k, l_ = attached.point
                 if not (0 <= k < other.rows and 0 <= l_ < other.cols):
                     raise UserInputError(
-                        f"point ({k} {l_}) is outside surface '{other.name}' ({other.rows}x{other.cols}).",
+                        f"point ({k} {l_}) is outside surface '{other.name}' "
+                        f"({other.rows}x{other.cols}).",
                         file=source,
                         field=f"line {attached.line}: {attached.body}",
                     )
@@ -372,8 +419,11 @@ def _add_point_constraints(model: ClothModel, surfaces: list[SurfaceSpec], sourc
     model.__post_init__()
 
 
-def script_model(script: Script, obstacles: list[Mesh] | None = None, *, gravity: bool = True) -> ClothModel:
-    """The model a ``.PAR`` script describes; ``gravity=False`` drops gravity whatever GRAVIDADE says."""
+def script_model(
+    script: Script, obstacles: list[Mesh] | None = None, *, gravity: bool = True
+) -> ClothModel:
+    """The model a ``.PAR`` script describes; ``gravity=False`` drops gravity whatever GRAVIDADE
+    says."""
     g = np.array([0.0, 0.0, -script.gravity]) if gravity else np.zeros(3)
     return surface_model(
         script.surfaces,

@@ -1,10 +1,11 @@
 """Vibration modes of a surface about an equilibrium: ``K φ = ω² M φ`` on the free points.
 
-K is the exact (unclamped) spring-network stiffness of :mod:`eigengait.cloth.stiffness`, including the tension
-(geometric) term that makes a taut surface stiff out of its plane — so the surface must be under tension: pinned
-and pre-stretched (:func:`membrane`, :func:`string`) or hanging in equilibrium under load (:func:`equilibrium`).
-Modes are sorted by frequency; zero (rigid or mechanism) modes are dropped and counted; shapes are
-mass-normalized (φᵀMφ = 1); numbering shown to users starts at 1.
+K is the exact (unclamped) spring-network stiffness of :mod:`eigengait.cloth.stiffness`, including
+the tension (geometric) term that makes a taut surface stiff out of its plane — so the surface must
+be under tension: pinned and pre-stretched (:func:`membrane`, :func:`string`) or hanging in
+equilibrium under load (:func:`equilibrium`). Modes are sorted by frequency; zero (rigid or
+mechanism) modes are dropped and counted; shapes are mass-normalized (φᵀMφ = 1); numbering shown to
+users starts at 1.
 """
 
 from __future__ import annotations
@@ -27,7 +28,8 @@ DENSE_LIMIT = 3000
 
 @dataclass
 class SurfaceModes:
-    """``frequencies`` (K,) Hz, ``shapes`` (K, N, 3) mass-normalized (zero at fixed points), about ``positions``."""
+    """``frequencies`` (K,) Hz, ``shapes`` (K, N, 3) mass-normalized (zero at fixed points), about
+    ``positions``."""
 
     frequencies: np.ndarray
     shapes: np.ndarray
@@ -36,9 +38,15 @@ class SurfaceModes:
 
 
 def string(
-    points: int, *, spacing: float = 1.0, mass: float = 0.01, stiffness: float = 100.0, stretch: float = 1.1
+    points: int,
+    *,
+    spacing: float = 1.0,
+    mass: float = 0.01,
+    stiffness: float = 100.0,
+    stretch: float = 1.1,
 ) -> ClothModel:
-    """A 1×``points`` chain along x, ends pinned, every spring stretched by ``stretch`` (tension k r (s-1) N)."""
+    """A 1×``points`` chain along x, ends pinned, every spring stretched by ``stretch`` (tension k r
+    (s-1) N)."""
     spec = SurfaceSpec(
         "string",
         1,
@@ -55,10 +63,18 @@ def string(
 
 
 def membrane(
-    rows: int, cols: int, *, spacing: float = 1.0, mass: float = 0.01, stiffness: float = 100.0, stretch: float = 1.05
+    rows: int,
+    cols: int,
+    *,
+    spacing: float = 1.0,
+    mass: float = 0.01,
+    stiffness: float = 100.0,
+    stretch: float = 1.05,
 ) -> ClothModel:
     """A horizontal rows×cols grid, boundary pinned, uniformly pre-stretched by ``stretch``."""
-    fixed = [(i, j) for i in range(rows) for j in range(cols) if i in (0, rows - 1) or j in (0, cols - 1)]
+    fixed = [
+        (i, j) for i in range(rows) for j in range(cols) if i in (0, rows - 1) or j in (0, cols - 1)
+    ]
     spec = SurfaceSpec(
         "membrane",
         rows,
@@ -75,10 +91,12 @@ def membrane(
 
 
 def equilibrium(model: ClothModel, *, iterations: int = 400, tolerance: float = 1e-7) -> np.ndarray:
-    """Static equilibrium positions (N, 3) under the model's loads, by damped Newton (pseudo-time) steps.
+    """Static equilibrium positions (N, 3) under the model's loads, by damped Newton (pseudo-time)
+    steps.
 
     Raises:
-        UserInputError: when no equilibrium is reached (e.g. a surface with no fixed point falls forever).
+        UserInputError: when no equilibrium is reached (e.g. a surface with no fixed point falls
+            forever).
     """
     if not model.fixed.any():
         raise UserInputError(
@@ -105,8 +123,11 @@ def equilibrium(model: ClothModel, *, iterations: int = 400, tolerance: float = 
     )
 
 
-def vibration_modes(model: ClothModel, positions: np.ndarray | None = None, count: int = 12) -> SurfaceModes:
-    """The ``count`` lowest non-zero modes of ``model`` linearized about ``positions`` (default: rest)."""
+def vibration_modes(
+    model: ClothModel, positions: np.ndarray | None = None, count: int = 12
+) -> SurfaceModes:
+    """The ``count`` lowest non-zero modes of ``model`` linearized about ``positions`` (default:
+    rest)."""
     x = model.rest_positions if positions is None else positions
     free = np.repeat(model.free, 3)
     K = -StiffnessAssembler(model).matrix(x, clamp=False)[free][:, free]
@@ -128,7 +149,9 @@ def vibration_modes(model: ClothModel, positions: np.ndarray | None = None, coun
     vec = vec / np.sqrt((m[:, None] * vec**2).sum(axis=0))
     shapes = np.zeros((len(w2), model.size * 3))
     shapes[:, free] = vec.T
-    return SurfaceModes(np.sqrt(w2) / (2 * np.pi), shapes.reshape(len(w2), model.size, 3), x.copy(), zero_modes)
+    return SurfaceModes(
+        np.sqrt(w2) / (2 * np.pi), shapes.reshape(len(w2), model.size, 3), x.copy(), zero_modes
+    )
 
 
 def out_of_plane_fraction(modes: SurfaceModes, normal=(0.0, 0.0, 1.0)) -> np.ndarray:
@@ -138,7 +161,9 @@ def out_of_plane_fraction(modes: SurfaceModes, normal=(0.0, 0.0, 1.0)) -> np.nda
     return along / np.maximum((modes.shapes**2).sum(axis=(1, 2)), 1e-300)
 
 
-def draw_palette(model: ClothModel, modes: SurfaceModes, path: str | Path, *, columns: int | None = None) -> None:
+def draw_palette(
+    model: ClothModel, modes: SurfaceModes, path: str | Path, *, columns: int | None = None
+) -> None:
     """Save a PNG with one tile per mode: the displaced surface, its number and frequency (Hz)."""
     import matplotlib
     from mpl_toolkits.mplot3d.art3d import Poly3DCollection
@@ -149,7 +174,9 @@ def draw_palette(model: ClothModel, modes: SurfaceModes, path: str | Path, *, co
 
     count = len(modes.frequencies)
     if count == 0:
-        raise UserInputError("there is no non-zero mode to draw.", fix="pin or pre-stretch the surface.")
+        raise UserInputError(
+            "there is no non-zero mode to draw.", fix="pin or pre-stretch the surface."
+        )
     columns = columns or int(np.ceil(np.sqrt(count)))
     rows = int(np.ceil(count / columns))
     fig = agg_figure(3.2 * columns, 3.0 * rows)
@@ -167,10 +194,16 @@ def draw_palette(model: ClothModel, modes: SurfaceModes, path: str | Path, *, co
                 continue
             quads = shown[layout.quads]
             amplitude = np.linalg.norm(shape[layout.quads], axis=2).mean(axis=1)
-            base = matplotlib.colormaps["viridis"](amplitude / max(float(amplitude.max()), 1e-300))[:, :3]
+            base = matplotlib.colormaps["viridis"](amplitude / max(float(amplitude.max()), 1e-300))[
+                :, :3
+            ]
             colours = shade(quads, (1.0, 1.0, 1.0))
             colours[:, :3] *= base
-            ax.add_collection3d(Poly3DCollection(quads, facecolors=colours, edgecolors=(0, 0, 0, 0.1), linewidths=0.2))
+            ax.add_collection3d(
+                Poly3DCollection(
+                    quads, facecolors=colours, edgecolors=(0, 0, 0, 0.1), linewidths=0.2
+                )
+            )
         ax.set_xlim(lo[0], hi[0]), ax.set_ylim(lo[1], hi[1]), ax.set_zlim(lo[2], hi[2])
         ax.set_box_aspect(np.maximum(hi - lo, 1e-3 * size), zoom=1.5)
         ax.view_init(25, -60)

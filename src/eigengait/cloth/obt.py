@@ -1,7 +1,8 @@
 """The UFRGS ``.OBT`` polygon format (Nedel 1993, annex A-1): reader and writer.
 
-Files are y-up like FLEX3D; :class:`Mesh` holds z-up coordinates (converted here, once). Faces may be any
-polygon; :attr:`Mesh.triangles` fans them into triangles for collision. Colours are kept for rendering.
+Files are y-up like FLEX3D; :class:`Mesh` holds z-up coordinates (converted here, once). Faces may
+be any polygon; :attr:`Mesh.triangles` fans them into triangles for collision. Colours are kept for
+rendering.
 """
 
 from __future__ import annotations
@@ -19,7 +20,8 @@ from eigengait.errors import UserInputError
 @dataclass
 class Mesh:
     """A named polygon mesh. ``vertices`` (V, 3) m, z-up; ``faces`` polygons of vertex indices;
-    ``face_material`` one index per face into ``materials`` (R, G, B, diffuse, specular, ambient)."""
+    ``face_material`` one index per face into ``materials`` (R, G, B, diffuse, specular,
+    ambient)."""
 
     name: str
     vertices: np.ndarray
@@ -39,7 +41,11 @@ class Mesh:
 
     @property
     def radius(self) -> float:
-        return float(np.linalg.norm(self.vertices - self.center, axis=1).max()) if len(self.vertices) else 0.0
+        return (
+            float(np.linalg.norm(self.vertices - self.center, axis=1).max())
+            if len(self.vertices)
+            else 0.0
+        )
 
 
 def _plain(word: str) -> str:
@@ -55,7 +61,9 @@ def read_obt(path: str | Path) -> Mesh:
     """
     path = Path(path)
     text = read_legacy_text(
-        path, "the obstacle file", "put the .OBT file next to the script or fix its name in OBJETOS_NA_CENA."
+        path,
+        "the obstacle file",
+        "put the .OBT file next to the script or fix its name in OBJETOS_NA_CENA.",
     )
     rows = [(n, line.split()) for n, line in enumerate(text.splitlines(), start=1) if line.split()]
     cursor = 0
@@ -67,7 +75,9 @@ def read_obt(path: str | Path) -> Mesh:
         nonlocal cursor
         if cursor >= len(rows):
             last = rows[-1][0] if rows else 1
-            raise fail(f"the file ends where ${name} was expected.", last, fix=f"add the ${name} section.")
+            raise fail(
+                f"the file ends where ${name} was expected.", last, fix=f"add the ${name} section."
+            )
         n, words = rows[cursor]
         if _plain(words[0]) != "$" + name:
             raise fail(f"expected ${name}, found '{words[0]}'.", n)
@@ -107,7 +117,11 @@ def read_obt(path: str | Path) -> Mesh:
             raise fail("a face is '<nv> <v1> ... <vn> <material>' with nv >= 3.", fn)
         polygon = ints[1 : nv + 1]
         if min(polygon) < 0 or max(polygon) >= len(vertices):
-            raise fail(f"a face uses vertex {max(polygon)} but there are {len(vertices)} vertices (0-based).", fn)
+            raise fail(
+                f"a face uses vertex {max(polygon)} but there are {len(vertices)} vertices "
+                "(0-based).",
+                fn,
+            )
         faces.append(polygon)
         face_material.append(ints[nv + 1] if len(ints) > nv + 1 else 0)
         cursor += 1
@@ -121,11 +135,14 @@ def read_obt(path: str | Path) -> Mesh:
             cursor += 1
     section("END_OBJ")
     verts = yup_to_zup(np.array(vertices, dtype=float).reshape(-1, 3))
-    return Mesh(name=name, vertices=verts, faces=faces, face_material=face_material, materials=materials)
+    return Mesh(
+        name=name, vertices=verts, faces=faces, face_material=face_material, materials=materials
+    )
 
 
 def _rows(template: str, columns: np.ndarray) -> list[str]:
-    """One formatted line per row of ``columns`` (formatting Python numbers, far faster than NumPy scalars)."""
+    """One formatted line per row of ``columns`` (formatting Python numbers, far faster than NumPy
+    scalars)."""
     return list(map(template.format, *np.asarray(columns).T.tolist()))
 
 
@@ -138,19 +155,28 @@ def _face_rows(mesh: Mesh, prefix_count: bool, offset: int) -> list[str]:
             return _rows("3 {} {} {} {}", np.column_stack([tri, materials]))
         return _rows("f {} {} {}", tri)
     if prefix_count:
-        return [" ".join(map(str, [len(f), *(i + offset for i in f), m])) for f, m in zip(mesh.faces, materials)]
+        return [
+            " ".join(map(str, [len(f), *(i + offset for i in f), m]))
+            for f, m in zip(mesh.faces, materials)
+        ]
     return ["f " + " ".join(str(i + offset) for i in f) for f in mesh.faces]
 
 
 def format_obt(mesh: Mesh) -> str:
     """The ``.OBT`` text of ``mesh`` (written y-up, as FLEX3D did)."""
     c = zup_to_yup(mesh.center)
-    out = [f"$OBJETO {mesh.name} {c[0]:.6f} {c[1]:.6f} {c[2]:.6f} {mesh.radius:.6f}", f"$VERTICES {len(mesh.vertices)}"]
+    out = [
+        f"$OBJETO {mesh.name} {c[0]:.6f} {c[1]:.6f} {c[2]:.6f} {mesh.radius:.6f}",
+        f"$VERTICES {len(mesh.vertices)}",
+    ]
     out += _rows("{:.6f} {:.6f} {:.6f}", zup_to_yup(mesh.vertices))
     out.append(f"$FACES {len(mesh.faces)}")
     out += _face_rows(mesh, prefix_count=True, offset=0)
     out.append("$DESCRICAO")
-    out += [f"#{k} " + " ".join(f"{v:g}" for v in values) for k, values in sorted(mesh.materials.items())]
+    out += [
+        f"#{k} " + " ".join(f"{v:g}" for v in values)
+        for k, values in sorted(mesh.materials.items())
+    ]
     out.append("$END_OBJ")
     return "\n".join(out) + "\n"
 

@@ -1,9 +1,10 @@
-"""Writing a run's frame set: ``<NAME>_<frame>.OBT`` (as FLEX3D), ``obj/<NAME>_<frame>.obj``, PNGs, a video and
-``run.json``, all in one output folder that belongs to the run.
+"""Writing a run's frame set: ``<NAME>_<frame>.OBT`` (as FLEX3D), ``obj/<NAME>_<frame>.obj``, PNGs,
+a video and ``run.json``, all in one output folder that belongs to the run.
 
-The set is written into a staging folder beside the output folder and swapped in only once the whole run
-(simulation and rendering) has succeeded, replacing any earlier set as a whole; a failed or interrupted run removes
-the staging folder, so the output folder always holds exactly one complete run.
+The set is written into a staging folder beside the output folder and swapped in only once the whole
+run (simulation and rendering) has succeeded, replacing any earlier set as a whole; a failed or
+interrupted run removes the staging folder, so the output folder always holds exactly one complete
+run.
 """
 
 from __future__ import annotations
@@ -32,7 +33,9 @@ def surface_meshes(model: ClothModel, positions: np.ndarray) -> list[Mesh]:
     meshes = []
     for layout in model.surfaces:
         triangles = (layout.triangles - layout.start).tolist()
-        meshes.append(Mesh(layout.name, positions[layout.indices], triangles, [0] * len(triangles), _MATERIAL))
+        meshes.append(
+            Mesh(layout.name, positions[layout.indices], triangles, [0] * len(triangles), _MATERIAL)
+        )
     return meshes
 
 
@@ -55,13 +58,16 @@ def check_replaceable(directory: Path, force: bool) -> None:
         return
     if not directory.is_dir():
         raise UserInputError(
-            "the output path is a file, not a folder.", file=directory, fix="name a new folder for the frames."
+            "the output path is a file, not a folder.",
+            file=directory,
+            fix="name a new folder for the frames.",
         )
     if not any(directory.iterdir()):
         return
     if not (directory / MANIFEST).is_file():
         raise UserInputError(
-            f"the output folder holds files that are not a frame set (no {MANIFEST}); it was left untouched.",
+            f"the output folder holds files that are not a frame set (no {MANIFEST}); it was left "
+            "untouched.",
             file=directory,
             fix="name a new or empty folder for the frames.",
         )
@@ -78,7 +84,8 @@ def staged_output(directory: Path, force: bool = False):
     """Yield a staging folder beside ``directory``; on success it replaces ``directory`` as a whole.
 
     Raises:
-        UserInputError: ``directory`` holds an earlier frame set and ``force`` is off, or holds other files.
+        UserInputError: ``directory`` holds an earlier frame set and ``force`` is off, or holds
+            other files.
     """
     directory = directory.resolve()
     check_replaceable(directory, force)
@@ -93,7 +100,8 @@ def staged_output(directory: Path, force: bool = False):
 
 
 def swap_in(staging: Path, directory: Path) -> None:
-    """Rename ``staging`` to ``directory``; an earlier non-empty ``directory`` is renamed aside first, then deleted."""
+    """Rename ``staging`` to ``directory``; an earlier non-empty ``directory`` is renamed aside
+    first, then deleted."""
     old = None
     if directory.exists() and any(directory.iterdir()):
         old = directory.parent / f".{directory.name}.old-{secrets.token_hex(4)}"
@@ -105,7 +113,8 @@ def swap_in(staging: Path, directory: Path) -> None:
 
 @contextmanager
 def staged_file(path: Path):
-    """Yield a temporary path beside ``path``; on success it is renamed to ``path``, on failure deleted."""
+    """Yield a temporary path beside ``path``; on success it is renamed to ``path``, on failure
+    deleted."""
     path.parent.mkdir(parents=True, exist_ok=True)
     fd, name = tempfile.mkstemp(prefix=f".{path.name}.", suffix=path.suffix, dir=path.parent)
     os.close(fd)

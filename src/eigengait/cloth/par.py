@@ -1,18 +1,20 @@
 """Lenient reader for FLEX3D animation scripts (``.PAR``).
 
-The grammar is the one printed in Nedel (1993), section 5.2, read leniently as the dissertation's own examples
-require: accents are optional (``DURAÇÃO`` = ``DURACAO``), ``=``, ``(``, ``)`` and ``,`` are separators, the
-spellings ``RESTRICÇÕES`` / ``FIM_RESTRICÇÕES`` / ``INL_TRANSL`` are accepted, ``CONST_CURVATURA`` may be one
-number or a triple (horizontal, vertical, diagonal), ``TRANSLAÇÃO`` blocks may repeat, a surface name may be empty,
-and a fixed point may be written ``i j`` or as one row-major index ``i*n + j`` on its own line (the paper example
-prints ``90`` for ``9 0``). ``#`` starts a comment. One extension: ``GRAVIDADE = <m/s²>`` sets the gravity
+The grammar is the one printed in Nedel (1993), section 5.2, read leniently as the dissertation's
+own examples require: accents are optional (``DURAÇÃO`` = ``DURACAO``), ``=``, ``(``, ``)`` and
+``,`` are separators, the spellings ``RESTRICÇÕES`` / ``FIM_RESTRICÇÕES`` / ``INL_TRANSL`` are
+accepted, ``CONST_CURVATURA`` may be one number or a triple (horizontal, vertical, diagonal),
+``TRANSLAÇÃO`` blocks may repeat, a surface name may be empty, and a fixed point may be written
+``i j`` or as one row-major index ``i*n + j`` on its own line (the paper example prints ``90`` for
+``9 0``). ``#`` starts a comment. One extension: ``GRAVIDADE = <m/s²>`` sets the gravity
 acceleration (default 9.81, pointing down).
 
-Further extensions (FLEX3D's §3.2.6 constraints that its script language lacked, and two scene switches):
-``PONTOS_ALVO = <n>`` then n lines ``i j (x y z)`` — point (i, j) is fixed once it reaches (x, y, z);
-``PONTOS_PRESOS = <n>`` then n lines ``i j <surface> k l`` (held to point (k, l) of that surface) or
-``i j <obstacle>`` (held where it is nearest that obstacle's surface), both inside ``RESTRIÇÕES``;
-``PISO = <y>`` adds a floor plane at height y; ``AUTOCOLISAO = 1`` turns self-collision on.
+Further extensions (FLEX3D's §3.2.6 constraints that its script language lacked, and two scene
+switches): ``PONTOS_ALVO = <n>`` then n lines ``i j (x y z)`` — point (i, j) is fixed once it
+reaches (x, y, z); ``PONTOS_PRESOS = <n>`` then n lines ``i j <surface> k l`` (held to point (k, l)
+of that surface) or ``i j <obstacle>`` (held where it is nearest that obstacle's surface), both
+inside ``RESTRIÇÕES``; ``PISO = <y>`` adds a floor plane at height y; ``AUTOCOLISAO = 1`` turns
+self-collision on.
 
 FLEX3D is y-up; everything returned here is already converted to eigengait's z-up world,
 ``(x, y, z)_flex3d -> (x, -z, y)``. Numbers are read as SI units (m, kg, s, N).
@@ -44,19 +46,22 @@ def zup_to_yup(vector) -> np.ndarray:
     return np.stack([v[..., 0], v[..., 2], -v[..., 1]], axis=-1)
 
 
-MAX_NODES = 250_000  # nodes per surface (about 500×500): beyond this a run needs gigabytes and hours
+# nodes per surface (about 500×500): beyond this a run needs gigabytes and hours
+MAX_NODES = 250_000
 
 _WORD = re.compile(r"[A-Za-z0-9_.+-]{1,32}")
 
 
 def shown(text: str) -> str:
-    """A token as it may appear in an error: a short word or number, never a line of some other file."""
+    """A token as it may appear in an error: a short word or number, never a line of some other
+    file."""
     return text if _WORD.fullmatch(text) else "(not a FLEX3D word)"
 
 
 @dataclass(frozen=True)
 class Translation:
-    """Kinematic motion of a surface's fixed points: ``step`` metres per frame (z-up) from ``start`` to ``end`` s."""
+    """Kinematic motion of a surface's fixed points: ``step`` metres per frame (z-up) from ``start``
+    to ``end`` s."""
 
     step: np.ndarray
     start: float
@@ -74,7 +79,8 @@ class Target:
 
 @dataclass(frozen=True)
 class Attachment:
-    """Point (i, j) held to point ``point`` of surface ``body``, or (``point`` None) to the obstacle ``body``."""
+    """Point (i, j) held to point ``point`` of surface ``body``, or (``point`` None) to the obstacle
+    ``body``."""
 
     i: int
     j: int
@@ -85,7 +91,8 @@ class Attachment:
 
 @dataclass
 class SurfaceSpec:
-    """One ``SUPERFÍCIE`` block. Vectors are z-up; ``rows`` × ``cols`` mass points ``spacing`` m apart."""
+    """One ``SUPERFÍCIE`` block. Vectors are z-up; ``rows`` × ``cols`` mass points ``spacing`` m
+    apart."""
 
     name: str
     rows: int
@@ -105,7 +112,8 @@ class SurfaceSpec:
 
 @dataclass
 class Script:
-    """A whole ``.PAR`` script. ``external_force`` is in N per mass point, gravity in m/s² (z-up)."""
+    """A whole ``.PAR`` script. ``external_force`` is in N per mass point, gravity in m/s²
+    (z-up)."""
 
     duration: float
     frames_per_second: float
@@ -128,7 +136,15 @@ _SYNONYMS = {
     "NUM_SUPERFICIE": "NUM_SUPERFICIES",
     "GRAVITY": "GRAVIDADE",
 }
-_GLOBAL_SCALARS = {"DURACAO", "QUADROS_SEG", "DELTA_T", "ATRITO", "GRAVIDADE", "PISO", "AUTOCOLISAO"}
+_GLOBAL_SCALARS = {
+    "DURACAO",
+    "QUADROS_SEG",
+    "DELTA_T",
+    "ATRITO",
+    "GRAVIDADE",
+    "PISO",
+    "AUTOCOLISAO",
+}
 _SURFACE_KEYWORDS = {
     "MALHA",
     "DENSIDADE",
@@ -161,7 +177,8 @@ _REQUIRED_GLOBALS = ("DURACAO", "QUADROS_SEG", "DELTA_T")
 
 
 def normalize_keyword(word: str) -> str:
-    """Upper-case ``word``, drop accents and markdown escapes, and map spelling variants to one spelling."""
+    """Upper-case ``word``, drop accents and markdown escapes, and map spelling variants to one
+    spelling."""
     plain = unicodedata.normalize("NFKD", word.replace("\\", ""))
     plain = "".join(c for c in plain if not unicodedata.combining(c)).upper()
     return _SYNONYMS.get(plain, plain)
@@ -193,9 +210,15 @@ class _Reader:
         self.pos = 0
         self.path = path
 
-    def error(self, message: str, token: _Token | None = None, fix: str | None = None) -> UserInputError:
-        token = token or (self.tokens[min(self.pos, len(self.tokens) - 1)] if self.tokens else _Token("", 1))
-        return UserInputError(message, file=self.path, field=f"line {token.line}: {shown(token.text)}", fix=fix)
+    def error(
+        self, message: str, token: _Token | None = None, fix: str | None = None
+    ) -> UserInputError:
+        token = token or (
+            self.tokens[min(self.pos, len(self.tokens) - 1)] if self.tokens else _Token("", 1)
+        )
+        return UserInputError(
+            message, file=self.path, field=f"line {token.line}: {shown(token.text)}", fix=fix
+        )
 
     def peek(self) -> _Token | None:
         return self.tokens[self.pos] if self.pos < len(self.tokens) else None
@@ -219,7 +242,8 @@ class _Reader:
             value = kind(token.text)
         except ValueError:
             raise self.error(
-                f"{keyword.text} expects {'an integer' if kind is int else 'a number'}, got '{shown(token.text)}'.",
+                f"{keyword.text} expects {'an integer' if kind is int else 'a number'}, got "
+                f"'{shown(token.text)}'.",
                 token,
             ) from None
         if not np.isfinite(value):
@@ -238,7 +262,8 @@ class _Reader:
 
 
 def parse_par(text: str, path: str | Path = "<script>") -> Script:
-    """Parse the text of a ``.PAR`` script; obstacle files are resolved relative to ``path``'s folder.
+    """Parse the text of a ``.PAR`` script; obstacle files are resolved relative to ``path``'s
+    folder.
 
     Raises:
         UserInputError: naming the file and the line of the first problem.
@@ -262,7 +287,9 @@ def parse_par(text: str, path: str | Path = "<script>") -> Script:
             force = yup_to_zup(reader.numbers(token, 3))
         elif key == "OBJETOS_NA_CENA":
             count = reader.number(token, int)
-            obstacles += [base / reader.next("an obstacle .OBT file name").text for _ in range(count)]
+            obstacles += [
+                base / reader.next("an obstacle .OBT file name").text for _ in range(count)
+            ]
         elif key == "NUM_SUPERFICIES":
             expected_surfaces = (reader.number(token, int), token)
         elif key == "SUPERFICIE":
@@ -283,7 +310,8 @@ def parse_par(text: str, path: str | Path = "<script>") -> Script:
             )
     if expected_surfaces is not None and expected_surfaces[0] != len(surfaces):
         raise reader.error(
-            f"NUM_SUPERFICIES says {expected_surfaces[0]} but {len(surfaces)} SUPERFICIE blocks follow.",
+            f"NUM_SUPERFICIES says {expected_surfaces[0]} but {len(surfaces)} SUPERFICIE blocks "
+            "follow.",
             expected_surfaces[1],
         )
     if not surfaces:
@@ -296,10 +324,14 @@ def parse_par(text: str, path: str | Path = "<script>") -> Script:
     for key, low in (("DURACAO", 0.0), ("QUADROS_SEG", 0.0), ("DELTA_T", 0.0)):
         if values[key] <= low:
             raise UserInputError(
-                f"{key} must be positive, got {values[key]}.", file=path, field=f"line {lines[key]}: {key}"
+                f"{key} must be positive, got {values[key]}.",
+                file=path,
+                field=f"line {lines[key]}: {key}",
             )
     if values.get("ATRITO", 0.0) < 0:
-        raise UserInputError("ATRITO must not be negative.", file=path, field=f"line {lines['ATRITO']}: ATRITO")
+        raise UserInputError(
+            "ATRITO must not be negative.", file=path, field=f"line {lines['ATRITO']}: ATRITO"
+        )
     return Script(
         duration=values["DURACAO"],
         frames_per_second=values["QUADROS_SEG"],
@@ -319,7 +351,11 @@ def parse_par(text: str, path: str | Path = "<script>") -> Script:
 def _parse_surface(reader: _Reader, opener: _Token, index: int) -> SurfaceSpec:
     name_token = reader.peek()
     name = ""
-    if name_token is not None and name_token.line == opener.line and name_token.keyword not in _KEYWORDS:
+    if (
+        name_token is not None
+        and name_token.line == opener.line
+        and name_token.keyword not in _KEYWORDS
+    ):
         name = reader.next("a surface name").text
     fields: dict[str, object] = {}
     spec_fixed: list[tuple[int, int]] = []
@@ -336,8 +372,8 @@ def _parse_surface(reader: _Reader, opener: _Token, index: int) -> SurfaceSpec:
             nodes = fields[key][0] * fields[key][1]
             if nodes > MAX_NODES:
                 raise reader.error(
-                    f"a {fields[key][0]}×{fields[key][1]} mesh has {nodes:,} nodes; one surface may "
-                    f"have at most {MAX_NODES:,}.",
+                    f"a {fields[key][0]}×{fields[key][1]} mesh has {nodes:,} nodes; one surface "
+                    f"may have at most {MAX_NODES:,}.",
                     token,
                     fix="use a coarser MALHA (e.g. 300 300).",
                 )
@@ -349,7 +385,9 @@ def _parse_surface(reader: _Reader, opener: _Token, index: int) -> SurfaceSpec:
             k = reader.numbers_on_line(token, 3)
             fields[key] = tuple(k * 3 if len(k) == 1 else k)
             if len(fields[key]) != 3:
-                raise reader.error("CONST_ELASTICIDADE expects one number or three (kh kv kd).", token)
+                raise reader.error(
+                    "CONST_ELASTICIDADE expects one number or three (kh kv kd).", token
+                )
         elif key == "CONST_CURVATURA":
             k = reader.numbers_on_line(token, 3)
             if len(k) == 2:
@@ -371,7 +409,9 @@ def _parse_surface(reader: _Reader, opener: _Token, index: int) -> SurfaceSpec:
             )
     for key in ("MALHA", "DENSIDADE", "MASSA", "CONST_ELASTICIDADE"):
         if key not in fields:
-            raise reader.error(f"surface '{name}' has no {key}.", opener, fix=f"add {key} to the surface block.")
+            raise reader.error(
+                f"surface '{name}' has no {key}.", opener, fix=f"add {key} to the surface block."
+            )
     rows, cols, grid_token = fields["MALHA"]
     if rows < 1 or cols < 1 or rows * cols < 2:
         raise reader.error(f"MALHA must have at least two points, got ({rows} {cols}).", grid_token)
@@ -399,7 +439,9 @@ def _parse_surface(reader: _Reader, opener: _Token, index: int) -> SurfaceSpec:
     )
 
 
-def _grid_point(reader: _Reader, keyword: _Token, rows: int, cols: int, what: str) -> tuple[int, int, _Token]:
+def _grid_point(
+    reader: _Reader, keyword: _Token, rows: int, cols: int, what: str
+) -> tuple[int, int, _Token]:
     """An 'i j' pair inside a (rows x cols) grid."""
     first = reader.next(f"the point 'i j' of {keyword.text}")
     try:
@@ -430,7 +472,9 @@ def _parse_constraints(
         if pending:
             translations.append(
                 Translation(
-                    step=pending["step"], start=pending.get("INI_TRANSL", 0.0), end=pending.get("FIM_TRANSL", 0.0)
+                    step=pending["step"],
+                    start=pending.get("INI_TRANSL", 0.0),
+                    end=pending.get("FIM_TRANSL", 0.0),
                 )
             )
             pending.clear()
@@ -445,7 +489,11 @@ def _parse_constraints(
             for _ in range(reader.number(token, int)):
                 first = reader.next("a fixed point 'i j'")
                 second = reader.peek()
-                pair = second is not None and second.line == first.line and second.keyword not in _KEYWORDS
+                pair = (
+                    second is not None
+                    and second.line == first.line
+                    and second.keyword not in _KEYWORDS
+                )
                 try:
                     if pair:
                         reader.pos += 1
@@ -477,13 +525,18 @@ def _parse_constraints(
                 body = reader.next("the name of a surface or obstacle")
                 if body.line != first.line or body.keyword in _KEYWORDS:
                     raise reader.error(
-                        "an attached point needs 'i j <surface> k l' or 'i j <obstacle>' on one line.",
+                        "an attached point needs 'i j <surface> k l' or 'i j <obstacle>' on one "
+                        "line.",
                         first,
                         fix="name the surface or obstacle it is held to.",
                     )
                 point = None
                 following = reader.peek()
-                if following is not None and following.line == first.line and following.keyword not in _KEYWORDS:
+                if (
+                    following is not None
+                    and following.line == first.line
+                    and following.keyword not in _KEYWORDS
+                ):
                     point = (reader.number(token, int), reader.number(token, int))
                 attachments.append(Attachment(i, j, body.text, point, body.line))
         elif key == "TRANSLACAO":
@@ -503,16 +556,22 @@ def _parse_constraints(
             raise reader.error(
                 f"unknown keyword '{shown(token.text)}' inside RESTRICOES.",
                 token,
-                fix="only PONTOS_FIXOS, PONTOS_ALVO, PONTOS_PRESOS, TRANSLACAO, INI_TRANSL and FIM_TRANSL belong here.",
+                fix=(
+                    "only PONTOS_FIXOS, PONTOS_ALVO, PONTOS_PRESOS, TRANSLACAO, INI_TRANSL and "
+                    "FIM_TRANSL belong here."
+                ),
             )
 
 
 def read_legacy_text(path: Path, what: str, fix: str) -> str:
-    """Text of a FLEX3D-era file, UTF-8 or Latin-1; UserInputError naming `what` if it cannot be read."""
+    """Text of a FLEX3D-era file, UTF-8 or Latin-1; UserInputError naming `what` if it cannot be
+    read."""
     try:
         raw = path.read_bytes()
     except OSError as exc:
-        raise UserInputError(f"cannot read {what}: {exc.strerror}.", file=str(path), fix=fix) from None
+        raise UserInputError(
+            f"cannot read {what}: {exc.strerror}.", file=str(path), fix=fix
+        ) from None
     try:
         return raw.decode("utf-8")
     except UnicodeDecodeError:
@@ -523,6 +582,8 @@ def read_par(path: str | Path) -> Script:
     """Read a ``.PAR`` file (UTF-8 or Latin-1)."""
     path = Path(path)
     text = read_legacy_text(
-        path, "the script", "check the path, or run 'eigengait cloth examples' for the shipped ones."
+        path,
+        "the script",
+        "check the path, or run 'eigengait cloth examples' for the shipped ones.",
     )
     return parse_par(text, path)

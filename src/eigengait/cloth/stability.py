@@ -1,13 +1,14 @@
-"""Stable-step estimates for the explicit integrators, and the warning issued before a run that would blow up.
+"""Stable-step estimates for the explicit integrators, and the warning issued before a run that
+would blow up.
 
 The highest natural frequency is bounded by Gershgorin's theorem on M⁻¹K:
 ``ω_max² ≤ max_i (2 Σ k_springs(i) + 2 Σ k_c(i)) / m_i`` (rad²/s²). Then
 
 * symplectic Euler is stable for ``h ω_max < 2``, RK4 for ``h ω_max < 2.785``;
-* forward Euler amplifies a mode of frequency ω with damping ratio ζ by ``√(1 - 2hζω + h²ω²)`` per step.
-  FLEX3D's friction behaves like ``ζ ≈ μ/π`` (it removes ``4μ`` of an oscillator's energy per cycle), so the
-  amplitude grows over a run of T seconds by ``(1 - 2hζω + h²ω²)^(T/2h)``. The estimate is the largest h for
-  which that growth stays below :data:`GROWTH_LIMIT` at ω_max.
+* forward Euler amplifies a mode of frequency ω with damping ratio ζ by ``√(1 - 2hζω + h²ω²)`` per
+  step. FLEX3D's friction behaves like ``ζ ≈ μ/π`` (it removes ``4μ`` of an oscillator's energy per
+  cycle), so the amplitude grows over a run of T seconds by ``(1 - 2hζω + h²ω²)^(T/2h)``. The
+  estimate is the largest h for which that growth stays below :data:`GROWTH_LIMIT` at ω_max.
 * backward Euler has no limit.
 """
 
@@ -32,7 +33,11 @@ def max_frequency(model: ClothModel) -> float:
     """Upper bound on the highest natural frequency ω_max (rad/s) of the free points."""
     row = np.zeros(model.size)
     np.add.at(row, model.springs.ravel(), np.repeat(2.0 * model.spring_k, 2))
-    np.add.at(row, model.bend.ravel(), np.repeat(model.bend_k, 3) * np.tile([1.0, 2.0, 1.0], len(model.bend_k)))
+    np.add.at(
+        row,
+        model.bend.ravel(),
+        np.repeat(model.bend_k, 3) * np.tile([1.0, 2.0, 1.0], len(model.bend_k)),
+    )
     free = model.free if model.free.any() else np.ones(model.size, bool)
     return float(np.sqrt((row[free] / model.mass[free]).max()))
 
@@ -44,7 +49,8 @@ def euler_growth(h: float, omega: float, damping_ratio: float, duration: float) 
 
 
 def stable_step(model: ClothModel, integrator: str, duration: float) -> float:
-    """Largest step (s) the estimate considers stable for ``integrator`` over a run of ``duration`` s."""
+    """Largest step (s) the estimate considers stable for ``integrator`` over a run of ``duration``
+    s."""
     if integrator == "implicit":
         return math.inf
     omega = max_frequency(model)
@@ -56,18 +62,23 @@ def stable_step(model: ClothModel, integrator: str, duration: float) -> float:
         return hi
     for _ in range(60):
         mid = 0.5 * (lo + hi)
-        lo, hi = (mid, hi) if mid > 0 and euler_growth(mid, omega, zeta, duration) <= GROWTH_LIMIT else (lo, mid)
+        lo, hi = (
+            (mid, hi)
+            if mid > 0 and euler_growth(mid, omega, zeta, duration) <= GROWTH_LIMIT
+            else (lo, mid)
+        )
     return lo
 
 
 def check_step(model: ClothModel, integrator: str, h: float, duration: float) -> float:
-    """Warn with :class:`StepSizeWarning` when ``h`` exceeds :func:`stable_step`; returns the estimate."""
+    """Warn with :class:`StepSizeWarning` when ``h`` exceeds :func:`stable_step`; returns the
+    estimate."""
     limit = stable_step(model, integrator, duration)
     if h > limit:
         warnings.warn(
-            f"DELTA_t = {h:g} s is above the estimated stable step {limit:.3g} s for the '{integrator}' "
-            f"integrator (ω_max ≈ {max_frequency(model):.3g} rad/s); the run will likely blow up. Use a "
-            "smaller DELTA_t or integrator='implicit'.",
+            f"DELTA_t = {h:g} s is above the estimated stable step {limit:.3g} s for the "
+            f"'{integrator}' integrator (ω_max ≈ {max_frequency(model):.3g} rad/s); the run will "
+            "likely blow up. Use a smaller DELTA_t or integrator='implicit'.",
             StepSizeWarning,
             stacklevel=2,
         )

@@ -1,13 +1,15 @@
 """The force Jacobian ``K = ∂F/∂x`` (3N × 3N, sparse, N/m) of a :class:`ClothModel`'s springs.
 
 Spring i–j with unit direction d̂, length l and rest r contributes the block
-``K_s = k [d̂d̂ᵀ + (1 - r/l)(I - d̂d̂ᵀ)]`` with ``∂F_i/∂x_j = K_s`` and ``∂F_i/∂x_i = -K_s``; the second term is
-the geometric (tension) stiffness. For implicit steps it is clamped at zero for compressed springs so that K
-stays negative semi-definite (Baraff & Witkin 1998); for vibration modes it is kept exact.
+``K_s = k [d̂d̂ᵀ + (1 - r/l)(I - d̂d̂ᵀ)]`` with ``∂F_i/∂x_j = K_s`` and ``∂F_i/∂x_i = -K_s``; the second
+term is the geometric (tension) stiffness. For implicit steps it is clamped at zero for compressed
+springs so that K stays negative semi-definite (Baraff & Witkin 1998); for vibration modes it is
+kept exact.
 
-Angular springs enter through the symmetric Hessian of the energy ``(k_c/8)|x_a - 2x_c + x_b|²`` whose force on
-the centre equals FLEX3D's angular spring at small angles: ``-(k_c/4) s sᵀ ⊗ I₃`` with ``s = (1, -2, 1)``.
-The sparsity pattern is computed once; each assembly only scatters new values into it.
+Angular springs enter through the symmetric Hessian of the energy ``(k_c/8)|x_a - 2x_c + x_b|²``
+whose force on the centre equals FLEX3D's angular spring at small angles: ``-(k_c/4) s sᵀ ⊗ I₃``
+with ``s = (1, -2, 1)``. The sparsity pattern is computed once; each assembly only scatters new
+values into it.
 """
 
 from __future__ import annotations
@@ -41,7 +43,9 @@ class StiffnessAssembler:
         bend_rows = (3 * pr[:, :, None] + np.arange(3)).ravel()
         bend_cols = (3 * pc[:, :, None] + np.arange(3)).ravel()
         self._bend_values = (
-            -(model.bend_k / 4.0)[:, None, None] * np.outer(_BEND_S, _BEND_S).ravel()[None, :, None] * np.ones(3)
+            -(model.bend_k / 4.0)[:, None, None]
+            * np.outer(_BEND_S, _BEND_S).ravel()[None, :, None]
+            * np.ones(3)
         ).ravel()
         all_rows = np.r_[rows, bend_rows]
         all_cols = np.r_[cols, bend_cols]
@@ -64,5 +68,9 @@ class StiffnessAssembler:
         outer = u[:, :, None] * u[:, None, :]
         block = m.spring_k[:, None, None] * (outer + alpha[:, None, None] * (np.eye(3) - outer))
         spring_values = (self._spring_sign[None, :, None, None] * block[:, None, :, :]).ravel()
-        values = np.bincount(self._slot, weights=np.r_[spring_values, self._bend_values], minlength=len(self._indices))
+        values = np.bincount(
+            self._slot,
+            weights=np.r_[spring_values, self._bend_values],
+            minlength=len(self._indices),
+        )
         return sp.csr_matrix((values, self._indices, self._indptr), shape=self._shape)

@@ -1,8 +1,9 @@
-"""Mode numbers and activations ψ: the one place that turns 1-based mode numbers into 0-based columns and back.
+"""Mode numbers and activations ψ: the one place that turns 1-based mode numbers into 0-based
+columns and back.
 
-Files, sketches and the optimizer's parameter names number modes from 1 (mode 1 is the lowest); a basis's columns
-and a dense ψ array (N·m per mode, one per (foot, phase)) count from 0. A sparse ψ maps mode number -> value and
-leaves out the zeros.
+Files, sketches and the optimizer's parameter names number modes from 1 (mode 1 is the lowest); a
+basis's columns and a dense ψ array (N·m per mode, one per (foot, phase)) count from 0. A sparse ψ
+maps mode number -> value and leaves out the zeros.
 """
 
 from __future__ import annotations
@@ -21,7 +22,8 @@ def mode_index(m: int) -> int:
 
 
 def mode_indices(modes: Iterable[int]) -> list[int]:
-    """Columns (0-based) of 1-based mode numbers, in their order: a fancy index into a basis's columns."""
+    """Columns (0-based) of 1-based mode numbers, in their order: a fancy index into a basis's
+    columns."""
     return [mode_index(m) for m in modes]
 
 
@@ -33,8 +35,8 @@ def mode_number(i: int) -> int:
 def sparse_to_dense(
     sparse: Mapping[int, float], size: int, file: str | Path | None = None, field: str | None = None
 ) -> np.ndarray:
-    """ψ over all `size` modes (zeros elsewhere) from mode number -> ψ; a mode number outside 1..size is an error
-    naming `file` and `field`."""
+    """ψ over all `size` modes (zeros elsewhere) from mode number -> ψ; a mode number outside
+    1..size is an error naming `file` and `field`."""
     psi = np.zeros(size)
     for m, v in sparse.items():
         if not 1 <= m <= size:

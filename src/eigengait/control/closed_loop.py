@@ -1,12 +1,14 @@
-"""Play many pulse controllers with balance feedback as one batch, stepping in C between feedback readings.
+"""Play many pulse controllers with balance feedback as one batch, stepping in C between feedback
+readings.
 
-The horizon is cut into chunks of `FEEDBACK_DT`; each chunk is one `mujoco.rollout` call over the candidates still
-standing. At each chunk boundary the features of every candidate are read from its last state (NumPy, whole
-batch), recorded as the reference during the first cycle, and turned into feedback torques afterwards (see
-`feedback.py`). Sideways pushes are generalized forces on the root's y translation. A candidate falls when its
-COM drops below half the standing height, its root turns upside down, or it blows up (`sim/falls.py`'s
-`failed_steps` and `sim/stepping.py`: a non-finite or runaway state, or a torque MuJoCo would refuse; recorded as
-`blow_up`); it is not simulated further.
+The horizon is cut into chunks of `FEEDBACK_DT`; each chunk is one `mujoco.rollout` call over the
+candidates still standing. At each chunk boundary the features of every candidate are read from its
+last state (NumPy, whole batch), recorded as the reference during the first cycle, and turned into
+feedback torques afterwards (see `feedback.py`). Sideways pushes are generalized forces on the
+root's y translation. A candidate falls when its COM drops below half the standing height, its root
+turns upside down, or it blows up (`sim/falls.py`'s `failed_steps` and `sim/stepping.py`: a
+non-finite or runaway state, or a torque MuJoCo would refuse; recorded as `blow_up`); it is not
+simulated further.
 """
 
 from __future__ import annotations
@@ -56,10 +58,12 @@ class BatchRun:
     cycle_ends: list = None  # per candidate: index of the last step of each completed cycle
 
 
-def add_pushes(control: np.ndarray, pushes: tuple[Push, ...], first_step: int, dt: float, nu: int) -> None:
-    """Write the pushes active during a chunk into its applied generalized forces, in place: `control` is
-    candidates × steps × (nu + nv), its first row the physics step `first_step`; a push is a force (N) on qvel 1,
-    the root's sideways translation."""
+def add_pushes(
+    control: np.ndarray, pushes: tuple[Push, ...], first_step: int, dt: float, nu: int
+) -> None:
+    """Write the pushes active during a chunk into its applied generalized forces, in place:
+    `control` is candidates × steps × (nu + nv), its first row the physics step `first_step`; a push
+    is a force (N) on qvel 1, the root's sideways translation."""
     times = (first_step + np.arange(control.shape[1])) * dt
     for push in pushes:
         on = (times >= push.time) & (times < push.time + PUSH_SECONDS)
@@ -72,13 +76,17 @@ def clock_cycle_ends(period: float, timestep: float, cycles: int) -> list[int]:
 
 
 def cycle_errors(
-    system: GaitSystem, p: GaitParameters, states: np.ndarray, cycles: int, ends: list[int] | None = None
+    system: GaitSystem,
+    p: GaitParameters,
+    states: np.ndarray,
+    cycles: int,
+    ends: list[int] | None = None,
 ) -> np.ndarray:
-    """Hard cyclic constraint over `cycles` played cycles (states: steps × MuJoCo full physics state; `ends`: the
-    last step of each cycle, by default the fixed clock's).
+    """Hard cyclic constraint over `cycles` played cycles (states: steps × MuJoCo full physics
+    state; `ends`: the last step of each cycle, by default the fixed clock's).
 
-    One block per cycle k: the state at its end against the state at its start ((q₀, q̇₀) for the first); for
-    symmetric gaits one more block: the mirrored state half a cycle in against (q₀, q̇₀).
+    One block per cycle k: the state at its end against the state at its start ((q₀, q̇₀) for the
+    first); for symmetric gaits one more block: the mirrored state half a cycle in against (q₀, q̇₀).
     """
     view, dt = system.world.view, system.world.model.opt.timestep
     q = lambda k: view.qpos(states[k])  # noqa: E731
@@ -96,7 +104,8 @@ def cycle_errors(
 
 
 class FeedbackPlan:
-    """One candidate's per-state feedback matrices G (n_states × n_motor × 8) and its reference recorder."""
+    """One candidate's per-state feedback matrices G (n_states × n_motor × 8) and its reference
+    recorder."""
 
     def __init__(self, system: GaitSystem, p: GaitParameters, motors: dict[str, tuple[int, int]]):
         self.states = system.states(p)
@@ -110,7 +119,9 @@ class FeedbackPlan:
         for k, s in enumerate(self.states):
             mirrored = system.mirror is not None and s.foot != first
             canon = k - len(self.states) // 2 if mirrored else k
-            G[k] = _canonical_matrix(system, gains, self.states[canon], self.roles[canon], motors, n_motor)
+            G[k] = _canonical_matrix(
+                system, gains, self.states[canon], self.roles[canon], motors, n_motor
+            )
             if mirrored:
                 G[k] = system.mirror.dofs(G[k].T).T * MIRROR_SIGNS
         self.G = G
@@ -119,10 +130,15 @@ class FeedbackPlan:
         self.ref_value: list[np.ndarray] = []
 
     def torque(
-        self, reader: FeatureReader, cycle: int, phase: float, state: np.ndarray, sensors: np.ndarray
+        self,
+        reader: FeatureReader,
+        cycle: int,
+        phase: float,
+        state: np.ndarray,
+        sensors: np.ndarray,
     ) -> np.ndarray | float:
-        """Feedback torque (n_motor,) at a cycle's `phase` (s) from the current state and sensors; 0 while the first
-        cycle is recorded as the reference, or with no mechanism enabled."""
+        """Feedback torque (n_motor,) at a cycle's `phase` (s) from the current state and sensors; 0
+        while the first cycle is recorded as the reference, or with no mechanism enabled."""
         k = self.state_index(phase)
         features = reader.read(state, sensors, self.roles[k].support)
         if self.record(cycle, phase, features) or not self.enabled:
@@ -130,12 +146,13 @@ class FeedbackPlan:
         return self.response(k, features, phase)
 
     def response(self, k: int, features: np.ndarray, phase: float) -> np.ndarray:
-        """Torque (…×n_motor) of state k's gains for features (…×8) read at a cycle's `phase` (s), once the
-        reference cycle is recorded."""
+        """Torque (…×n_motor) of state k's gains for features (…×8) read at a cycle's `phase` (s),
+        once the reference cycle is recorded."""
         return (features - self.reference(phase)) @ self.G[k].T
 
     def record(self, cycle: int, phase: float, features: np.ndarray) -> bool:
-        """Store a first-cycle reading (phase in s); True while the reference is still being recorded."""
+        """Store a first-cycle reading (phase in s); True while the reference is still being
+        recorded."""
         if cycle == 0:
             self.ref_phase.append(phase)
             self.ref_value.append(features)
@@ -146,7 +163,8 @@ class FeedbackPlan:
         return int(np.searchsorted(self.starts, phase, side="right") - 1)
 
     def reference(self, phase: float) -> np.ndarray:
-        """Reference features at a cycle phase (s), interpolated between the reference cycle's readings."""
+        """Reference features at a cycle phase (s), interpolated between the reference cycle's
+        readings."""
         ph = np.asarray(self.ref_phase)
         k = int(np.searchsorted(ph, phase))
         if k == 0:
@@ -157,7 +175,9 @@ class FeedbackPlan:
         return (1 - w) * self.ref_value[k - 1] + w * self.ref_value[k]
 
 
-def _canonical_matrix(system: GaitSystem, gains: FeedbackGains, state, role, motors, n_motor: int) -> np.ndarray:
+def _canonical_matrix(
+    system: GaitSystem, gains: FeedbackGains, state, role, motors, n_motor: int
+) -> np.ndarray:
     G = np.zeros((n_motor, 8))
     if gains.hip is not None:
         for i in range(8):
@@ -170,14 +190,16 @@ def _canonical_matrix(system: GaitSystem, gains: FeedbackGains, state, role, mot
 
 
 class ClosedLoopRunner:
-    """Simulates pulse controllers with feedback for several cycles, as one batch on a C thread pool."""
+    """Simulates pulse controllers with feedback for several cycles, as one batch on a C thread
+    pool."""
 
     def __init__(self, system: GaitSystem, threads: int = 1):
         self.system = system
         world = system.world
         self.model = world.model
         self.datas = [mujoco.MjData(self.model) for _ in range(max(1, threads))]
-        self.pool = rollout.Rollout(nthread=threads if threads > 1 else 0)  # this runner's own threads
+        # this runner's own threads
+        self.pool = rollout.Rollout(nthread=threads if threads > 1 else 0)
         self.reader = FeatureReader(world)
         self.motors = hip_motors_by_foot(world, system.feet)
         self.standing_com = world.standing_com_height
@@ -189,18 +211,23 @@ class ClosedLoopRunner:
         """Stop this runner's threads (other runners and MuJoCo's shared pool are not touched)."""
         self.pool.close()
 
-    def run(self, params: list[GaitParameters], cycles: float, pushes: tuple[Push, ...] = ()) -> BatchRun:
+    def run(
+        self, params: list[GaitParameters], cycles: float, pushes: tuple[Push, ...] = ()
+    ) -> BatchRun:
         model, system, dt = self.model, self.system, self.model.opt.timestep
         nv, nu, n_motor = model.nv, model.nu, system.world.nmotor
         P = len(params)
         ff = [system.controls(p, span=cycles * p.period) for p in params]
-        # a touchdown-timed gait plays until it completes `cycles` cycles, its late touchdowns allowed for
+        # a touchdown-timed gait plays until it completes `cycles` cycles, its late touchdowns
+        # allowed for
         stretch = [1.0 if p.trigger == "clock" else 1.0 + MAX_WAIT for p in params]
         steps = np.array([int(len(u) * k) for u, k in zip(ff, stretch)])
         N = int(steps.max())
         plans = [FeedbackPlan(system, p, self.motors) for p in params]
         clocks = [
-            PhaseClock(system.states(p), system.controls(p, cycles=1), dt) if p.trigger == "touchdown" else None
+            PhaseClock(system.states(p), system.controls(p, cycles=1), dt)
+            if p.trigger == "touchdown"
+            else None
             for p in params
         ]
         state = np.stack([system.initial_state(p) for p in params])
@@ -212,7 +239,9 @@ class ClosedLoopRunner:
         ended, fell, alive = steps.copy(), np.zeros(P, bool), np.ones(P, bool)
         fell_time = np.full(P, np.nan)
         blow_up: list = [None] * P
-        spec = mujoco.mjtState.mjSTATE_CTRL | (mujoco.mjtState.mjSTATE_QFRC_APPLIED if pushes else 0)
+        spec = mujoco.mjtState.mjSTATE_CTRL | (
+            mujoco.mjtState.mjSTATE_QFRC_APPLIED if pushes else 0
+        )
         width = nu + (nv if pushes else 0)
         limit = system.torque_limits
 
@@ -234,10 +263,14 @@ class ClosedLoopRunner:
                     continue
                 clock, period = clocks[i], params[i].period
                 if clock is None:
-                    tau_fb = plans[i].torque(self.reader, int(t // period), t % period, state[i], sensors_now[i])
+                    tau_fb = plans[i].torque(
+                        self.reader, int(t // period), t % period, state[i], sensors_now[i]
+                    )
                     u = ff[i][a:upto].copy()
                 else:
-                    tau_fb = plans[i].torque(self.reader, clock.cycle, clock.phase_time, state[i], sensors_now[i])
+                    tau_fb = plans[i].torque(
+                        self.reader, clock.cycle, clock.phase_time, state[i], sensors_now[i]
+                    )
                     u = clock.controls(upto - a)
                 u[:, :n_motor] = np.clip(u[:, :n_motor] + tau_fb, -limit, limit)
                 control[k, : upto - a, :nu] = u
@@ -256,7 +289,9 @@ class ClosedLoopRunner:
             states[idx, a:b], sensors[idx, a:b] = s, d
             torques[idx, a:b] = system.world.applied_motor_torques(s, control[:, :, :n_motor])
             state[idx], sensors_now[idx] = s[:, -1], d[:, -1]
-            bad, blown, qvel = failed_steps(system.world.view, s, d, time_before, self.standing_com, dt)
+            bad, blown, qvel = failed_steps(
+                system.world.view, s, d, time_before, self.standing_com, dt
+            )
             for k, i in enumerate(idx):
                 upto = min(b, steps[i]) - a
                 hit = np.flatnonzero(bad[k, :upto])
@@ -264,11 +299,18 @@ class ClosedLoopRunner:
                     end(i, a + hit[0] + 1)
                     diverged = np.flatnonzero(blown[k, :upto])
                     if diverged.size:
-                        blow_up[i] = ((a + diverged[0] + 1) * dt, blown_up_dof(qvel[k], diverged[0]))
+                        blow_up[i] = (
+                            (a + diverged[0] + 1) * dt,
+                            blown_up_dof(qvel[k], diverged[0]),
+                        )
                 elif steps[i] <= b:
                     alive[i] = False
                 elif clocks[i] is not None and clocks[i].cycle >= cycles:
-                    alive[i], ended[i], steps[i] = False, clocks[i].cycle_ends[int(np.ceil(cycles)) - 1] + 1, b
+                    alive[i], ended[i], steps[i] = (
+                        False,
+                        clocks[i].cycle_ends[int(np.ceil(cycles)) - 1] + 1,
+                        b,
+                    )
                 if clocks[i] is not None:
                     clocks[i].observe(self._touching(sensors_now[i]))
         return BatchRun(
@@ -289,5 +331,6 @@ class ClosedLoopRunner:
         )
 
     def _touching(self, sensors: np.ndarray) -> dict[str, bool]:
-        """Whether each foot touches the ground (`sim/contacts.py`), from its contact spheres' centre sensors."""
+        """Whether each foot touches the ground (`sim/contacts.py`), from its contact spheres'
+        centre sensors."""
         return {f: bool(on) for f, on in self.system.world.view.feet_touching(sensors).items()}

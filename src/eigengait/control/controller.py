@@ -1,8 +1,9 @@
 """The controller file: a versioned JSON document that names its character and relax pose.
 
-It holds the pulse state machine's values (period T s, air ratio α, pulse durations δ s, activations ψ in N·m
-per foot, phase and mode number), the initial state (q₀, q̇₀ in MuJoCo's coordinates) and a fingerprint of the
-lowest mode frequencies, so a controller applied to another character or relax pose is refused.
+It holds the pulse state machine's values (period T s, air ratio α, pulse durations δ s, activations
+ψ in N·m per foot, phase and mode number), the initial state (q₀, q̇₀ in MuJoCo's coordinates) and a
+fingerprint of the lowest mode frequencies, so a controller applied to another character or relax
+pose is refused.
 """
 
 from __future__ import annotations
@@ -27,11 +28,13 @@ from eigengait.sim.world import MAX_ACTIVATION_TIME
 
 FORMAT_VERSION = 1
 FINGERPRINT_MODES = 6
-MODES_AT_MOST = 10_000  # a sketch phase's `allowed: null` means every mode: the plans keep those that exist
+# a sketch phase's `allowed: null` means every mode: the plans keep those that exist
+MODES_AT_MOST = 10_000
 
 
 class FeedbackFile(BaseModel):
-    """Balance-feedback gains (N·m per normalized feature unit, see control/feedback.py); empty: open loop."""
+    """Balance-feedback gains (N·m per normalized feature unit, see control/feedback.py); empty:
+    open loop."""
 
     model_config = ConfigDict(extra="forbid", allow_inf_nan=False)
     hip: dict[Literal[HIP_GAINS], float] | None = None
@@ -50,11 +53,16 @@ class FeedbackFile(BaseModel):
         for phase, rows in v.items():
             for m, row in rows.items():
                 if len(row) != len(FEATURES):
-                    raise ValueError(f"{phase} mode {m} needs {len(FEATURES)} gains ({', '.join(FEATURES)})")
+                    raise ValueError(
+                        f"{phase} mode {m} needs {len(FEATURES)} gains ({', '.join(FEATURES)})"
+                    )
         return v
 
     def gains(self) -> FeedbackGains:
-        modal = {ph: (sorted(rows), np.array([rows[m] for m in sorted(rows)])) for ph, rows in self.modal.items()}
+        modal = {
+            ph: (sorted(rows), np.array([rows[m] for m in sorted(rows)]))
+            for ph, rows in self.modal.items()
+        }
         hip = np.array([self.hip[g] for g in HIP_GAINS]) if self.hip is not None else None
         return FeedbackGains(hip=hip, modal=modal)
 
@@ -62,13 +70,15 @@ class FeedbackFile(BaseModel):
     def of(cls, gains: FeedbackGains) -> "FeedbackFile":
         hip = {g: float(x) for g, x in zip(HIP_GAINS, gains.hip)} if gains.hip is not None else None
         modal = {
-            ph: {int(m): [float(x) for x in row] for m, row in zip(modes, K)} for ph, (modes, K) in gains.modal.items()
+            ph: {int(m): [float(x) for x in row] for m, row in zip(modes, K)}
+            for ph, (modes, K) in gains.modal.items()
         }
         return cls(hip=hip, modal=modal)
 
 
 class LookaheadFile(BaseModel):
-    """How `play` searches each state start's pulses (see control/lookahead.py); absent: the gait plays as is."""
+    """How `play` searches each state start's pulses (see control/lookahead.py); absent: the gait
+    plays as is."""
 
     model_config = ConfigDict(extra="forbid", allow_inf_nan=False)
     speed: float = Field(ge=-MAX_SPEED, le=MAX_SPEED)  # m/s, target forward COM speed
@@ -80,13 +90,17 @@ class LookaheadFile(BaseModel):
     plan_substeps: int = Field(2, ge=1, le=16)
     seed: int = 0
     feedback: bool = False  # plans and played motion add the controller's balance feedback
-    in_sketch: bool = False  # plans move only the sketch's priority and allowed modes (the file's `sketch`)
+    # plans move only the sketch's priority and allowed modes (the file's `sketch`)
+    in_sketch: bool = False
 
     def settings(self, sketch: dict[str, PhaseSketch] | None = None) -> LookaheadSettings:
-        """The runner's settings; with `in_sketch`, the modes of `sketch` (the controller file's) per phase."""
+        """The runner's settings; with `in_sketch`, the modes of `sketch` (the controller file's)
+        per phase."""
         values = self.model_dump(exclude={"in_sketch"})
         if self.in_sketch:
-            values["chosen"] = {ph: tuple(sketch[ph].optimized_modes(MODES_AT_MOST)) for ph in ("air", "ground")}
+            values["chosen"] = {
+                ph: tuple(sketch[ph].optimized_modes(MODES_AT_MOST)) for ph in ("air", "ground")
+            }
         return LookaheadSettings(**values)
 
     @classmethod
@@ -123,24 +137,31 @@ class ControllerFile(BaseModel):
     air_frequencies_hz: list[float]  # fingerprint of the character at its relax pose
     feedback: FeedbackFile = Field(default_factory=lambda: FeedbackFile())
     lookahead: LookaheadFile | None = None
-    sketch: dict[Literal["air", "ground"], PhaseSketch] | None = None  # the modes of the sketch it was made from
+    # the modes of the sketch it was made from
+    sketch: dict[Literal["air", "ground"], PhaseSketch] | None = None
     metrics: dict[str, float | bool | int] = Field(default_factory=dict)
-    measured_on: dict[str, str | list[str]] | None = None  # the build the metrics were played on (sim/build.py)
+    # the build the metrics were played on (sim/build.py)
+    measured_on: dict[str, str | list[str]] | None = None
 
     def planner(self) -> LookaheadSettings | None:
-        """The lookahead settings `play` uses, or None when the controller plays its pulses as they are."""
+        """The lookahead settings `play` uses, or None when the controller plays its pulses as they
+        are."""
         return None if self.lookahead is None else self.lookahead.settings(self.sketch)
 
     @model_validator(mode="after")
     def _sketch_for_in_sketch_plans(self):
         if self.lookahead is not None and self.lookahead.in_sketch and self.sketch is None:
-            raise ValueError("lookahead.in_sketch needs the sketch's modes: add 'sketch' or set in_sketch: false")
+            raise ValueError(
+                "lookahead.in_sketch needs the sketch's modes: add 'sketch' or set in_sketch: false"
+            )
         return self
 
     @model_validator(mode="after")
     def _lookahead_on_the_clock(self):
         if self.lookahead is not None and self.trigger != "clock":
-            raise ValueError("lookahead plays the states on the clock: remove 'lookahead' or set trigger: clock")
+            raise ValueError(
+                "lookahead plays the states on the clock: remove 'lookahead' or set trigger: clock"
+            )
         return self
 
 
@@ -152,13 +173,16 @@ def to_file(
     lookahead: LookaheadSettings | None = None,
     sketch: dict[str, PhaseSketch] | None = None,
 ) -> ControllerFile:
-    """The file of controller `p`; `sketch` (its sketch's modes, `sketch_modes`) is kept for `play`'s figures."""
+    """The file of controller `p`; `sketch` (its sketch's modes, `sketch_modes`) is kept for
+    `play`'s figures."""
     acts: dict[str, dict[str, dict[int, float]]] = {}
     for (foot, phase), psi in p.activations.items():
         acts.setdefault(foot, {})[phase] = dense_to_sparse(psi)
     return ControllerFile(
         name=name,
-        character=system.character.name if _is_builtin(system) else str(system.character.reference.resolve()),
+        character=system.character.name
+        if _is_builtin(system)
+        else str(system.character.reference.resolve()),
         relax_pose=system.pose,
         feet=system.feet,
         symmetric=system.mirror is not None,
@@ -182,7 +206,8 @@ def to_file(
 
 
 def sketch_modes(sketch: Sketch) -> dict[str, PhaseSketch]:
-    """The priority/allowed/excluded modes of each phase of a sketch, as a controller file keeps them."""
+    """The priority/allowed/excluded modes of each phase of a sketch, as a controller file keeps
+    them."""
     return {"air": sketch.air, "ground": sketch.ground}
 
 
@@ -208,8 +233,11 @@ def load_controller(path: str | Path) -> ControllerFile:
     return validate(ControllerFile, data, path, "regenerate it with `eigengait optimize`")
 
 
-def to_parameters(controller: ControllerFile, system: GaitSystem, source: str | Path = "controller") -> GaitParameters:
-    """Check the controller fits the system (character, relax pose, sizes) and return its parameters."""
+def to_parameters(
+    controller: ControllerFile, system: GaitSystem, source: str | Path = "controller"
+) -> GaitParameters:
+    """Check the controller fits the system (character, relax pose, sizes) and return its
+    parameters."""
     model = system.world.model
     freqs = system.air_modes.frequencies_hz[:FINGERPRINT_MODES]
     same_pose = controller.relax_pose == system.pose
@@ -227,7 +255,8 @@ def to_parameters(controller: ControllerFile, system: GaitSystem, source: str | 
     ):
         if len(values) != size:
             raise UserInputError(
-                f"{field} has {len(values)} values; character '{system.character.name}' needs {size}",
+                f"{field} has {len(values)} values; character '{system.character.name}' needs "
+                f"{size}",
                 file=source,
                 field=field,
                 fix="regenerate the controller with `eigengait optimize`",

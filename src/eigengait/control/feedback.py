@@ -1,27 +1,33 @@
-"""Balance feedback inside the pulse controller: linear feedback on the deviation from the gait's own first cycle.
+"""Balance feedback inside the pulse controller: linear feedback on the deviation from the gait's
+own first cycle.
 
-Every `FEEDBACK_DT` seconds the controller reads eight **features** of the creature (world frame, x forward):
+Every `FEEDBACK_DT` seconds the controller reads eight **features** of the creature (world frame, x
+forward):
 
     s = (dx, dy, vx, vy, pitch, roll, ω_pitch, ω_roll)
 
-dx, dy: the COM's horizontal offset from the support toe (the stance foot in a ground state, the foot that last
-pushed off in an air state), divided by the standing COM height h; vx, vy: the COM velocity divided by √(g h);
-pitch, roll: the root body's tilt (rad; pitch > 0 nose down, roll > 0 right side down); ω: the root's angular
-velocity about world y and x, divided by √(g/h). The reference s* is what the same features read at the same
-phase of the **first cycle**, which is played open loop; from the second cycle on, the torque
+dx, dy: the COM's horizontal offset from the support toe (the stance foot in a ground state, the
+foot that last pushed off in an air state), divided by the standing COM height h; vx, vy: the COM
+velocity divided by √(g h); pitch, roll: the root body's tilt (rad; pitch > 0 nose down, roll > 0
+right side down); ω: the root's angular velocity about world y and x, divided by √(g/h). The
+reference s* is what the same features read at the same phase of the **first cycle**, which is
+played open loop; from the second cycle on, the torque
 
     τ_fb = B_state K (s − s*)
 
-is added to the pulses and held until the next reading. Two families of output directions B (mechanisms):
+is added to the pulses and held until the next reading. Two families of output directions B
+(mechanisms):
 
-* ``hip`` (SIMBICON-style, Yin et al. 2007): the swing hip places the foot from the COM offset and velocity
-  (sagittal: dx, vx → hip pitch; coronal: dy, vy → hip roll) and the stance hip holds the root's pitch and roll
-  (pitch, ω_pitch → hip pitch; roll, ω_roll → hip roll). Eight gains, in N·m per normalized feature unit.
-* ``modal``: the priority modes of the state's phase get Δψ = K (s − s*) (Ding, Liu & Yin 2015's event-based
-  linear feedback, in the mode basis); K is (priority modes × 8) per phase, in N·m per normalized unit.
+* ``hip`` (SIMBICON-style, Yin et al. 2007): the swing hip places the foot from the COM offset and
+  velocity (sagittal: dx, vx → hip pitch; coronal: dy, vy → hip roll) and the stance hip holds the
+  root's pitch and roll (pitch, ω_pitch → hip pitch; roll, ω_roll → hip roll). Eight gains, in N·m
+  per normalized feature unit.
+* ``modal``: the priority modes of the state's phase get Δψ = K (s − s*) (Ding, Liu & Yin 2015's
+  event-based linear feedback, in the mode basis); K is (priority modes × 8) per phase, in N·m per
+  normalized unit.
 
-For symmetric gaits the second foot's states use the first foot's gains on mirrored features (dy, vy, roll, ω_roll
-change sign) and mirrored torques.
+For symmetric gaits the second foot's states use the first foot's gains on mirrored features
+(dy, vy, roll, ω_roll change sign) and mirrored torques.
 """
 
 from __future__ import annotations
@@ -52,10 +58,12 @@ HIP_GAINS = (
 
 @dataclass
 class FeedbackGains:
-    """Gains of the enabled mechanisms (empty: open loop). Units: N·m per normalized feature unit."""
+    """Gains of the enabled mechanisms (empty: open loop). Units: N·m per normalized feature
+    unit."""
 
     hip: np.ndarray | None = None  # (8,) in HIP_GAINS order
-    modal: dict[str, tuple[list[int], np.ndarray]] = field(default_factory=dict)  # phase -> (modes, K m×8)
+    # phase -> (modes, K m×8)
+    modal: dict[str, tuple[list[int], np.ndarray]] = field(default_factory=dict)
 
     @property
     def enabled(self) -> bool:
@@ -63,8 +71,9 @@ class FeedbackGains:
 
 
 def root_tilt(quat: np.ndarray, angvel_local: np.ndarray) -> np.ndarray:
-    """(pitch, roll, ω_pitch, ω_roll) of root quaternions (…×4, wxyz) and local angular velocities (…×3); pitch and
-    roll as `sim.root.quat_pitch_roll` reads them (rad), ω about world y and x (rad/s)."""
+    """(pitch, roll, ω_pitch, ω_roll) of root quaternions (…×4, wxyz) and local angular velocities
+    (…×3); pitch and roll as `sim.root.quat_pitch_roll` reads them (rad), ω about world y and x
+    (rad/s)."""
     pitch, roll = quat_pitch_roll(quat)
     rotation = quat_to_mat(quat)  # world angular velocity = R ω_local; its x and y rows
     wx, wy = (sum(rotation[..., row, k] * angvel_local[..., k] for k in range(3)) for row in (0, 1))
@@ -72,34 +81,49 @@ def root_tilt(quat: np.ndarray, angvel_local: np.ndarray) -> np.ndarray:
 
 
 class FeatureReader:
-    """Reads normalized features from rollout states and sensors (last axis: MuJoCo state / sensordata)."""
+    """Reads normalized features from rollout states and sensors (last axis: MuJoCo state
+    / sensordata)."""
 
     def __init__(self, world: World):
         self.view, self.root = world.view, world.root
         h = world.standing_com_height
         self.scale = np.array(
-            [h, h, np.sqrt(GRAVITY * h), np.sqrt(GRAVITY * h), 1, 1, np.sqrt(GRAVITY / h), np.sqrt(GRAVITY / h)]
+            [
+                h,
+                h,
+                np.sqrt(GRAVITY * h),
+                np.sqrt(GRAVITY * h),
+                1,
+                1,
+                np.sqrt(GRAVITY / h),
+                np.sqrt(GRAVITY / h),
+            ]
         )
 
     def _tilt(self, state: np.ndarray) -> np.ndarray:
         qpos, qvel = self.view.qpos(state), self.view.qvel(state)
         if self.root.quat_qpos is not None:
             a = self.root.quat_qpos
-            return root_tilt(qpos[..., a : a + 4], qvel[..., 3:6])  # a free root's angular velocity: its qvel 3-5
+            # a free root's angular velocity: its qvel 3-5
+            return root_tilt(qpos[..., a : a + 4], qvel[..., 3:6])
         return planar_tilt(self.root, qpos, qvel)
 
     def read(self, state: np.ndarray, sensors: np.ndarray, support: str) -> np.ndarray:
         """Features (…×8) with the COM offset taken from `support`'s toe."""
-        com, toe, vel = self.view.com(sensors), self.view.toe(sensors, support), self.view.com_velocity(sensors)
+        com, toe, vel = (
+            self.view.com(sensors),
+            self.view.toe(sensors, support),
+            self.view.com_velocity(sensors),
+        )
         tilt = self._tilt(state)
         raw = np.concatenate([com[..., :2] - toe[..., :2], vel[..., :2], tilt], axis=-1)
         return raw / self.scale
 
 
 def planar_tilt(root, qpos: np.ndarray, qvel: np.ndarray) -> np.ndarray:
-    """(pitch, 0, ω_pitch, 0) of a planar root from its hinge about y (rad, rad/s), for qpos (…, nq) and qvel
-    (…, nv); zeros without one. The root's joints come first and each has one coordinate, so the hinge's qvel
-    address equals its qpos address."""
+    """(pitch, 0, ω_pitch, 0) of a planar root from its hinge about y (rad, rad/s), for qpos (…, nq)
+    and qvel (…, nv); zeros without one. The root's joints come first and each has one coordinate,
+    so the hinge's qvel address equals its qpos address."""
     out = np.zeros(qpos.shape[:-1] + (4,))
     if root.pitch_qpos is not None:
         out[..., 0] = root.pitch_sign * qpos[..., root.pitch_qpos]
@@ -108,7 +132,8 @@ def planar_tilt(root, qpos: np.ndarray, qvel: np.ndarray) -> np.ndarray:
 
 
 def leg_root_joint(world: World, foot: str) -> str:
-    """The internal joint nearest the root on the chain from the root to `foot`'s toe (the hip of a leg)."""
+    """The internal joint nearest the root on the chain from the root to `foot`'s toe (the hip of a
+    leg)."""
     model = world.model
     body = int(model.site(world.character.feet[foot].toe).bodyid[0])
     chain = []
@@ -124,7 +149,8 @@ def leg_root_joint(world: World, foot: str) -> str:
 
 
 def hip_motors(world: World, foot: str) -> tuple[int, int]:
-    """Motor indices of the hip dofs whose axes lie closest to world y (pitch) and world x (roll) at rest."""
+    """Motor indices of the hip dofs whose axes lie closest to world y (pitch) and world x (roll) at
+    rest."""
     model, data = world.model, world.new_data()
     j = model.joint(leg_root_joint(world, foot)).id
     body = model.jnt_bodyid[j]
@@ -153,7 +179,8 @@ def steps_per_reading(timestep: float) -> int:
 
 @dataclass
 class StateRole:
-    """Which feet a state reads and drives: support toe for features, swing and stance hips for `hip`."""
+    """Which feet a state reads and drives: support toe for features, swing and stance hips for
+    `hip`."""
 
     support: str
     swing: str | None
@@ -161,7 +188,8 @@ class StateRole:
 
 
 def state_roles(states: list[State]) -> list[StateRole]:
-    """Roles of each state of one cycle (air: the previous state's foot supports, its own foot swings)."""
+    """Roles of each state of one cycle (air: the previous state's foot supports, its own foot
+    swings)."""
     roles = []
     for i, s in enumerate(states):
         prev = states[i - 1].foot
@@ -169,14 +197,21 @@ def state_roles(states: list[State]) -> list[StateRole]:
         if s.phase == "air":
             roles.append(StateRole(support=prev, swing=s.foot, stance=None))
         else:
-            roles.append(StateRole(support=s.foot, swing=nxt if nxt != s.foot else None, stance=s.foot))
+            roles.append(
+                StateRole(support=s.foot, swing=nxt if nxt != s.foot else None, stance=s.foot)
+            )
     return roles
 
 
 def hip_torque(
-    gains: np.ndarray, dev: np.ndarray, role: StateRole, motors: dict[str, tuple[int, int]], n_motor: int
+    gains: np.ndarray,
+    dev: np.ndarray,
+    role: StateRole,
+    motors: dict[str, tuple[int, int]],
+    n_motor: int,
 ) -> np.ndarray:
-    """SIMBICON-style torque (n_motor,) from a feature deviation `dev` (8,) and the state's roles."""
+    """SIMBICON-style torque (n_motor,) from a feature deviation `dev` (8,) and the state's
+    roles."""
     tau = np.zeros(n_motor)
     if role.swing is not None:
         pitch, roll = motors[role.swing]

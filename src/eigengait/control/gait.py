@@ -1,7 +1,8 @@
-"""A gait system: a character's world with gravity, its mode bases per phase and foot, and the pulse controller.
+"""A gait system: a character's world with gravity, its mode bases per phase and foot, and the pulse
+controller.
 
-`GaitParameters` holds one controller's values; `GaitSystem` turns them into per-step motor controls and
-initial states for MuJoCo.
+`GaitParameters` holds one controller's values; `GaitSystem` turns them into per-step motor controls
+and initial states for MuJoCo.
 """
 
 from __future__ import annotations
@@ -23,13 +24,15 @@ from eigengait.modal.analysis import compute_modes
 from eigengait.sim.world import World, WorldOptions, build_world
 
 
-VELOCITY_WEIGHT = 0.1  # s: a velocity mismatch of 1 rad/s counts as 0.1 rad in the cyclic constraint
+# s: a velocity mismatch of 1 rad/s counts as 0.1 rad in the cyclic constraint
+VELOCITY_WEIGHT = 0.1
 
 
 @dataclass
 class GaitParameters:
-    """One controller: timing (s), activations ψ (N·m) per (foot, phase) over ALL modes of that basis, q₀, q̇₀,
-    the balance-feedback gains (none: open loop) and what starts a ground state (the clock or a touchdown)."""
+    """One controller: timing (s), activations ψ (N·m) per (foot, phase) over ALL modes of that
+    basis, q₀, q̇₀, the balance-feedback gains (none: open loop) and what starts a ground state
+    (the clock or a touchdown)."""
 
     period: float
     air_ratio: float
@@ -39,7 +42,8 @@ class GaitParameters:
     qpos0: np.ndarray
     qvel0: np.ndarray
     feedback: FeedbackGains = field(default_factory=FeedbackGains)
-    trigger: str = "clock"  # what starts a ground state: "clock" (fixed times) or "touchdown" (phase_clock.py)
+    # what starts a ground state: "clock" (fixed times) or "touchdown" (phase_clock.py)
+    trigger: str = "clock"
 
 
 @dataclass
@@ -51,7 +55,8 @@ class GaitSystem:
     basis: str = "modal"
     torque_limit: float = 400.0
     options: WorldOptions = field(default_factory=WorldOptions)
-    source: str | Path | None = None  # the sketch or controller file that chose the feet: their errors name it
+    # the sketch or controller file that chose the feet: their errors name it
+    source: str | Path | None = None
 
     def __post_init__(self):
         blamed = self.source or self.character.path
@@ -66,9 +71,13 @@ class GaitSystem:
         if not self.feet:
             raise UserInputError("a gait needs at least one foot", file=blamed, field="feet")
         self.world: World = build_world(self.character, self.pose, self.options)
-        modal_world = build_world(self.character, self.pose, WorldOptions(gravity=False, floor=False))
+        modal_world = build_world(
+            self.character, self.pose, WorldOptions(gravity=False, floor=False)
+        )
         self.air_modes = compute_modes(modal_world, "air")
-        self.ground_modes = {f: compute_modes(modal_world, "ground", f) for f in dict.fromkeys(self.feet)}
+        self.ground_modes = {
+            f: compute_modes(modal_world, "ground", f) for f in dict.fromkeys(self.feet)
+        }
         self.mirror = Mirror(self.world) if self.symmetric and len(self.feet) > 1 else None
         if self.mirror is not None and len(self.feet) != 2:
             raise UserInputError(
@@ -85,14 +94,18 @@ class GaitSystem:
 
     @property
     def torque_limits(self) -> np.ndarray:
-        """Largest torque (N·m) of each motor: the character's motor limits, capped at `torque_limit`."""
+        """Largest torque (N·m) of each motor: the character's motor limits, capped at
+        `torque_limit`."""
         return np.minimum(self.torque_limit, self.world.motor_limits)
 
     def basis_matrix(self, foot: str, phase: str) -> np.ndarray:
-        """Torque basis (n_internal × m) of a state: unit-norm mode columns, or the identity (canonical)."""
+        """Torque basis (n_internal × m) of a state: unit-norm mode columns, or the identity
+        (canonical)."""
         if self.basis == "canonical":
             return np.eye(self.world.nmotor)
-        return self.air_modes.torque_basis if phase == "air" else self.ground_modes[foot].torque_basis
+        return (
+            self.air_modes.torque_basis if phase == "air" else self.ground_modes[foot].torque_basis
+        )
 
     def mode_count(self, phase: str) -> int:
         return self.basis_matrix(self.feet[0], phase).shape[1]
@@ -100,13 +113,17 @@ class GaitSystem:
     def dense_activations(
         self, sparse: Callable[[str, str], dict[int, float]], source: str | Path | None = None
     ) -> dict[tuple[str, str], np.ndarray]:
-        """ψ (N·m) per (active foot, phase) over every mode of its basis, from `sparse(foot, phase)`: 1-based mode
-        number -> ψ. A mode number the basis lacks is an error naming `source`."""
+        """ψ (N·m) per (active foot, phase) over every mode of its basis, from
+        `sparse(foot, phase)`: 1-based mode number -> ψ. A mode number the basis lacks is an error
+        naming `source`."""
         out = {}
         for foot in self.active_feet:
             for phase in ("air", "ground"):
                 out[(foot, phase)] = sparse_to_dense(
-                    sparse(foot, phase), self.mode_count(phase), source, f"activations.{foot}.{phase}"
+                    sparse(foot, phase),
+                    self.mode_count(phase),
+                    source,
+                    f"activations.{foot}.{phase}",
                 )
         return out
 
@@ -148,17 +165,23 @@ class GaitSystem:
         mujoco.mj_comPos(self.world.model, data)
         return data.subtree_com[self.world.root_body].copy()
 
-    def state_error(self, qpos_ref: np.ndarray, qvel_ref: np.ndarray, qpos: np.ndarray, qvel: np.ndarray) -> np.ndarray:
+    def state_error(
+        self, qpos_ref: np.ndarray, qvel_ref: np.ndarray, qpos: np.ndarray, qvel: np.ndarray
+    ) -> np.ndarray:
         """φ = (Δq, τ_v·Δq̇) of a state against a reference state, root x excluded (2·nv − 1 values).
 
-        Positions in m and rad; velocities weighted by τ_v = VELOCITY_WEIGHT s so both read as displacements.
+        Positions in m and rad; velocities weighted by τ_v = VELOCITY_WEIGHT s so both read as
+        displacements.
         """
         dq = np.zeros(self.world.model.nv)
         mujoco.mj_differentiatePos(self.world.model, dq, 1.0, qpos_ref, qpos)
         forward = self.world.root.forward_qvel
-        return np.concatenate([np.delete(dq, [] if forward is None else forward), VELOCITY_WEIGHT * (qvel - qvel_ref)])
+        return np.concatenate(
+            [np.delete(dq, [] if forward is None else forward), VELOCITY_WEIGHT * (qvel - qvel_ref)]
+        )
 
     def half_cycle_error(self, p: GaitParameters, qpos: np.ndarray, qvel: np.ndarray) -> np.ndarray:
-        """The thesis's constraint for symmetric gaits: the mirrored state at T/2 against (q₀, q̇₀)."""
+        """The thesis's constraint for symmetric gaits: the mirrored state at T/2 against
+        (q₀, q̇₀)."""
         qt, vt = self.mirror.state(qpos, qvel)
         return self.state_error(p.qpos0, p.qvel0, qt, vt)

@@ -23,7 +23,9 @@ def gait_names() -> list[str]:
 def resolve(kind: str, name_or_path: str) -> Path:
     """A shipped preset/gait by name, or a user file path."""
     folder, suffix, names = (
-        (_data("sketches"), ".yaml", preset_names()) if kind == "sketch" else (_data("gaits"), ".json", gait_names())
+        (_data("sketches"), ".yaml", preset_names())
+        if kind == "sketch"
+        else (_data("gaits"), ".json", gait_names())
     )
     if name_or_path in names:
         return folder / f"{name_or_path}{suffix}"

@@ -1,20 +1,23 @@
 """Lookahead: predictive sampling in the mode basis, one decision at each state start.
 
-At the start of every pulse state the controller draws `samples` plans. A plan adds a constant torque Δτ = Φ Δψ
-to each of the states in the next `horizon_cycles` cycles, with Δψ in the mode basis Φ of that state (its phase and
-stance foot, as the pulses themselves): the gait is still a sequence of modal pulses, only their amplitudes move.
-Every plan is simulated from the current state (`mujoco.rollout`, all plans in one call, at `plan_substeps` times
-the physics timestep) and scored by `TaskCost`; the best plan's first state is played with the full physics, and
-the rest of it seeds the next decision (warm start, as in MuJoCo MPC's predictive sampling; Howell et al. 2022).
-Plan 0 is always the warm start and plan 1 the unmodified gait, so a decision is never worse, by the model, than
-playing the pulses as they are. `refinements` more rounds then draw plans around the best one at half the spread
-each; when every plan still falls, the spread is doubled (twice at most) and plans are drawn again.
+At the start of every pulse state the controller draws `samples` plans. A plan adds a constant
+torque Δτ = Φ Δψ to each of the states in the next `horizon_cycles` cycles, with Δψ in the mode
+basis Φ of that state (its phase and stance foot, as the pulses themselves): the gait is still a
+sequence of modal pulses, only their amplitudes move. Every plan is simulated from the current state
+(`mujoco.rollout`, all plans in one call, at `plan_substeps` times the physics timestep) and scored
+by `TaskCost`; the best plan's first state is played with the full physics, and the rest of it seeds
+the next decision (warm start, as in MuJoCo MPC's predictive sampling; Howell et al. 2022). Plan 0
+is always the warm start and plan 1 the unmodified gait, so a decision is never worse, by the model,
+than playing the pulses as they are. `refinements` more rounds then draw plans around the best one
+at half the spread each; when every plan still falls, the spread is doubled (twice at most) and
+plans are drawn again.
 
-Pushes act on the played motion only: the planner does not foresee them and answers them at the next state start.
-The state machine runs on the clock (a touchdown-triggered gait is refused by the controller file). With `feedback`
-on, the controller's own balance feedback (`feedback.py`: read every 10 ms against the first played cycle) is added
-to the played motion and, once that reference cycle is recorded, to every plan, simulated in 10 ms chunks as the
-optimizer does; off (the default: measured in docs/locomotion.md), plans and played motion are the pulses alone.
+Pushes act on the played motion only: the planner does not foresee them and answers them at the next
+state start. The state machine runs on the clock (a touchdown-triggered gait is refused by the
+controller file). With `feedback` on, the controller's own balance feedback (`feedback.py`: read
+every 10 ms against the first played cycle) is added to the played motion and, once that reference
+cycle is recorded, to every plan, simulated in 10 ms chunks as the optimizer does; off (the default:
+measured in docs/locomotion.md), plans and played motion are the pulses alone.
 """
 
 from __future__ import annotations
@@ -36,7 +39,8 @@ from eigengait.sim.falls import failed_steps, fallen
 from eigengait.sim.stepping import blown_up_dof
 from eigengait.sim.world import GRAVITY
 
-# Cost weights; every term is dimensionless (lengths over the standing COM height h, speeds over √(g h)).
+# Cost weights; every term is dimensionless (lengths over the standing COM height h, speeds over
+# √(g h)).
 UPRIGHT_WEIGHT = 4.0  # × (1 − z of the root's up axis)
 HEADING_WEIGHT = 4.0  # × (root yaw − its starting yaw)², rad²
 HEIGHT_WEIGHT = 10.0  # × ((COM z − the first cycle's mean COM z) / h)²
@@ -55,19 +59,31 @@ class LookaheadSettings:
     speed: float
     samples: int = 32  # plans per decision
     horizon_cycles: float = 2.0  # how far each plan reaches (cycles)
-    spread: float = 0.5  # std of each Δψ, as a share of the gait's mean |ψ| over its non-zero activations
-    refinements: int = 1  # further rounds of plans around the best so far, each at half the previous spread
-    modes: int | None = None  # the lowest modes of each state's basis that the plans move (None: all)
-    chosen: dict[str, tuple[int, ...]] | None = None  # or: per phase, the mode numbers they move (the sketch's)
+    # std of each Δψ, as a share of the gait's mean |ψ| over its non-zero activations
+    spread: float = 0.5
+    # further rounds of plans around the best so far, each at half the previous spread
+    refinements: int = 1
+    # the lowest modes of each state's basis that the plans move (None: all)
+    modes: int | None = None
+    # or: per phase, the mode numbers they move (the sketch's)
+    chosen: dict[str, tuple[int, ...]] | None = None
     plan_substeps: int = 2  # planning timestep = plan_substeps × the physics timestep
     seed: int = 0
     feedback: bool = False  # plans and played motion add the controller's balance feedback
 
 
 class TaskCost:
-    """Scores simulated plans: stay upright, keep the heading, height and speed, do not drift sideways or fall."""
+    """Scores simulated plans: stay upright, keep the heading, height and speed, do not drift
+    sideways or fall."""
 
-    def __init__(self, system: GaitSystem, speed: float, height: float, start_qpos: np.ndarray, start_com: np.ndarray):
+    def __init__(
+        self,
+        system: GaitSystem,
+        speed: float,
+        height: float,
+        start_qpos: np.ndarray,
+        start_com: np.ndarray,
+    ):
         world = system.world
         self.root, self.view = world.root, world.view
         self.h = world.standing_com_height  # m, the standing COM height
@@ -77,7 +93,8 @@ class TaskCost:
         self.side = float(start_com[1])
 
     def __call__(self, states: np.ndarray, sensors: np.ndarray, every: int) -> np.ndarray:
-        """Cost per plan of rollout states and sensors (plans × steps × …), sampled every `every` steps."""
+        """Cost per plan of rollout states and sensors (plans × steps × …), sampled every `every`
+        steps."""
         bad = fallen(self.view, states, sensors, self.h)
         s, d = states[:, every - 1 :: every], sensors[:, every - 1 :: every]
         qpos = self.view.qpos(s)
@@ -99,8 +116,9 @@ class TaskCost:
 
 
 def plan_directions(system: GaitSystem, state: State, settings: LookaheadSettings) -> np.ndarray:
-    """Torque columns (n_internal × k) a plan's Δψ moves in `state`: the lowest `settings.modes` of its basis, or
-    the `settings.chosen` modes of its phase (a symmetric gait's second foot: the first foot's, mirrored)."""
+    """Torque columns (n_internal × k) a plan's Δψ moves in `state`: the lowest `settings.modes` of
+    its basis, or the `settings.chosen` modes of its phase (a symmetric gait's second foot: the
+    first foot's, mirrored)."""
     if settings.chosen is None:
         return system.basis_matrix(state.foot, state.phase)[:, : settings.modes]
     foot = state.foot if state.foot in system.active_feet else system.active_feet[0]
@@ -110,7 +128,8 @@ def plan_directions(system: GaitSystem, state: State, settings: LookaheadSetting
 
 
 class LookaheadRunner:
-    """Plays one gait with lookahead decisions for a number of cycles, optionally pushed sideways."""
+    """Plays one gait with lookahead decisions for a number of cycles, optionally pushed
+    sideways."""
 
     def __init__(self, system: GaitSystem, settings: LookaheadSettings, threads: int = 2):
         self.system, self.settings = system, settings
@@ -136,7 +155,8 @@ class LookaheadRunner:
         pushes: tuple[Push, ...] = (),
         progress: Callable[[int, int], None] | None = None,
     ) -> BatchRun:
-        """Play `cycles` cycles from (q₀, q̇₀); `progress(cycle, cycles)` is called after each completed cycle."""
+        """Play `cycles` cycles from (q₀, q̇₀); `progress(cycle, cycles)` is called after each
+        completed cycle."""
         system, model, settings = self.system, self.model, self.settings
         dt, nv, nu, n_motor = model.opt.timestep, model.nv, model.nu, system.world.nmotor
         view = system.world.view
@@ -151,10 +171,16 @@ class LookaheadRunner:
         plan = np.zeros((knots, n_motor))
         x, x_sensors = system.initial_state(p), system.initial_sensors(p)
         cost = self._task_cost(p, x, cycle_controls)
-        feedback = FeedbackPlan(system, p, self.motors) if p.feedback.enabled and settings.feedback else None
+        feedback = (
+            FeedbackPlan(system, p, self.motors)
+            if p.feedback.enabled and settings.feedback
+            else None
+        )
         chunk = self.chunk if feedback is not None else n_cycle
         limit = system.torque_limits
-        spec = mujoco.mjtState.mjSTATE_CTRL | (mujoco.mjtState.mjSTATE_QFRC_APPLIED if pushes else 0)
+        spec = mujoco.mjtState.mjSTATE_CTRL | (
+            mujoco.mjtState.mjSTATE_QFRC_APPLIED if pushes else 0
+        )
         width = nu + (nv if pushes else 0)
         out_states = np.zeros((1, total, x.size))
         out_sensors = np.zeros((1, total, model.nsensordata))
@@ -163,27 +189,34 @@ class LookaheadRunner:
         while n < total and not fell:
             state = k % len(states_of_cycle)
             lengths = [
-                starts[(state + j) % len(states_of_cycle) + 1] - starts[(state + j) % len(states_of_cycle)]
+                starts[(state + j) % len(states_of_cycle) + 1]
+                - starts[(state + j) % len(states_of_cycle)]
                 for j in range(knots)
             ]
             horizon = min(sum(lengths), int(round(settings.horizon_cycles * n_cycle)))
             nominal = cycle_controls[(n + np.arange(horizon)) % n_cycle]
             start = (n * dt, x_sensors, feedback)
-            plan, controls = self._decide(x, plan, nominal, lengths, horizon, state, directions, scale, cost, start)
+            plan, controls = self._decide(
+                x, plan, nominal, lengths, horizon, state, directions, scale, cost, start
+            )
             segment = min(lengths[0], total - n)
             for a in range(0, segment, chunk):
                 b = min(segment, a + chunk)
                 u = controls[a:b].copy()
                 if feedback is not None:
                     t = (n + a) * dt
-                    tau = feedback.torque(self.reader, int(t // p.period), t % p.period, x, x_sensors)
+                    tau = feedback.torque(
+                        self.reader, int(t // p.period), t % p.period, x, x_sensors
+                    )
                     u[:, :n_motor] = np.clip(u[:, :n_motor] + tau, -limit, limit)
                 control = np.zeros((1, b - a, width))
                 control[0, :, :nu] = u
                 add_pushes(control, pushes, n + a, dt, nu)
                 s, d = self.pool.rollout(model, self.datas, x[None], control, control_spec=spec)
                 out_states[0, n + a : n + b], out_sensors[0, n + a : n + b] = s[0], d[0]
-                out_torques[0, n + a : n + b] = system.world.applied_motor_torques(s[0], control[0, :, :n_motor])
+                out_torques[0, n + a : n + b] = system.world.applied_motor_torques(
+                    s[0], control[0, :, :n_motor]
+                )
                 bad, blown, qvel = failed_steps(view, s, d, view.time(x)[None, None], cost.h, dt)
                 bad, blown, qvel = bad[0], blown[0], qvel[0]
                 if bad.any():
@@ -213,15 +246,17 @@ class LookaheadRunner:
         )
 
     def _task_cost(self, p: GaitParameters, x: np.ndarray, cycle_controls: np.ndarray) -> TaskCost:
-        """The cost with the first cycle's mean COM height (played as the pulses are) as its height target."""
+        """The cost with the first cycle's mean COM height (played as the pulses are) as its height
+        target."""
         system = self.system
         _, d = self.pool.rollout(self.model, self.datas, x[None], cycle_controls[None])
         height = float(np.mean(system.world.view.com(d[0])[:, 2]))
         return TaskCost(system, self.settings.speed, height, p.qpos0, system.initial_com(p))
 
     def _decide(self, x, plan, nominal, lengths, horizon, state, directions, scale, cost, start):
-        """Best plan (knots × motors) and its controls (horizon × nu) from state `x`; the plan comes back shifted
-        by one state, ready to warm-start the next decision. `start`: (time s, sensors, feedback plan or None)."""
+        """Best plan (knots × motors) and its controls (horizon × nu) from state `x`; the plan comes
+        back shifted by one state, ready to warm-start the next decision. `start`: (time s, sensors,
+        feedback plan or None)."""
         settings, n_motor = self.settings, self.system.world.nmotor
         K, knots, sub = settings.samples, len(lengths), settings.plan_substeps
         bounds = np.concatenate([[0], np.cumsum(lengths)])
@@ -242,7 +277,9 @@ class LookaheadRunner:
                 if lo < hi:
                     controls[:, lo:hi, :n_motor] += candidates[:, j, None]
             controls[..., :n_motor] = np.clip(controls[..., :n_motor], -limit, limit)
-            s, d = self._simulate_plans(x, np.ascontiguousarray(controls[:, sub - 1 :: sub]), *start)
+            s, d = self._simulate_plans(
+                x, np.ascontiguousarray(controls[:, sub - 1 :: sub]), *start
+            )
             self.rollouts += K
             scores = cost(s, d, max(1, int(round(COST_EVERY / self.plan_model.opt.timestep))))
             i = int(np.argmin(scores))
@@ -255,9 +292,10 @@ class LookaheadRunner:
         return shifted, best_controls
 
     def _simulate_plans(self, x, controls, time, sensors, feedback):
-        """Rollout states and sensors of plans (controls: plans × plan steps × nu) from state `x` at `time` (s).
-        Once the feedback's reference cycle is recorded, the plans add the controller's feedback as the played
-        motion will, read every `FEEDBACK_DT` of plan time; before that, or with none, one rollout call."""
+        """Rollout states and sensors of plans (controls: plans × plan steps × nu) from state `x` at
+        `time` (s). Once the feedback's reference cycle is recorded, the plans add the controller's
+        feedback as the played motion will, read every `FEEDBACK_DT` of plan time; before that, or
+        with none, one rollout call."""
         K, steps = controls.shape[:2]
         now = np.repeat(x[None], K, axis=0)
         if feedback is None or time < feedback.period:
@@ -273,7 +311,9 @@ class LookaheadRunner:
             k = feedback.state_index(phase)
             with np.errstate(invalid="ignore", over="ignore"):
                 features = self.reader.read(now, now_sensors, feedback.roles[k].support)
-                tau = np.nan_to_num(feedback.response(k, features, phase), nan=0.0, posinf=0.0, neginf=0.0)
+                tau = np.nan_to_num(
+                    feedback.response(k, features, phase), nan=0.0, posinf=0.0, neginf=0.0
+                )
             u = controls[:, a:b].copy()
             u[..., :n_motor] = np.clip(u[..., :n_motor] + tau[:, None], -limit, limit)
             s, d = self.pool.rollout(self.plan_model, self.plan_datas, now, u)

@@ -1,8 +1,10 @@
-"""Left/right mirroring through the character's sagittal plane (normal = the mirror axis, y by default).
+"""Left/right mirroring through the character's sagittal plane (normal = the mirror axis, y by
+default).
 
-Assumes the relax pose is symmetric and paired bodies have mirror-image frames (true for the built-ins, whose
-body frames are aligned with the world at the relax pose). Under a reflection S (det −1), positions and linear
-velocities map as S v; rotations, angular velocities and joint torques are axial vectors and map as −S v.
+Assumes the relax pose is symmetric and paired bodies have mirror-image frames (true for the
+built-ins, whose body frames are aligned with the world at the relax pose). Under a reflection S
+(det −1), positions and linear velocities map as S v; rotations, angular velocities and joint
+torques are axial vectors and map as −S v.
 """
 
 from __future__ import annotations
@@ -53,7 +55,8 @@ class Mirror:
             ball = model.jnt_type[j] == mujoco.mjtJoint.mjJNT_BALL
             s = 1.0 if ball else float(-self.S @ model.jnt_axis[j] @ model.jnt_axis[jo])
             self.joint_maps.append((int(model.jnt_qposadr[j]), int(model.jnt_qposadr[jo]), ball, s))
-        # a planar root (slides along x/z, hinge about y) lies in the mirror plane: mirroring leaves it unchanged
+        # a planar root (slides along x/z, hinge about y) lies in the mirror plane: mirroring leaves
+        # it unchanged
         self.root_qpos = world.root.forward_qpos if world.root.kind == "free" else None
         self.root_qvel = world.root.forward_qvel
         self.sign = np.array(sign)

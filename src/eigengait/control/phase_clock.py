@@ -1,15 +1,17 @@
-"""Touchdown-triggered timing of the pulse state machine (the SIMBICON and Raibert-hopper convention).
+"""Touchdown-triggered timing of the pulse state machine (the SIMBICON and Raibert-hopper
+convention).
 
-With the thesis's fixed clock a cycle of period T plays its states at fixed times, whatever the body does. With
-touchdown timing the clock follows the feet: when the foot of an air state is seen to leave the ground and then
-touch it again, the state machine jumps to that foot's ground state at once (an early touchdown cuts the air
-state short); when the air state's scheduled end comes before the touchdown, the clock waits at that instant for
-at most `MAX_WAIT` of the air state's duration (a late touchdown stretches it). Ground states always last their
-scheduled duration. The controls of each phase are the same one-cycle pulse table as with the clock, so a gait
-whose touchdowns come on schedule plays exactly as before.
+With the thesis's fixed clock a cycle of period T plays its states at fixed times, whatever the body
+does. With touchdown timing the clock follows the feet: when the foot of an air state is seen to
+leave the ground and then touch it again, the state machine jumps to that foot's ground state at
+once (an early touchdown cuts the air state short); when the air state's scheduled end comes before
+the touchdown, the clock waits at that instant for at most `MAX_WAIT` of the air state's duration
+(a late touchdown stretches it). Ground states always last their scheduled duration. The controls of
+each phase are the same one-cycle pulse table as with the clock, so a gait whose touchdowns come on
+schedule plays exactly as before.
 
-Contacts (`sim/contacts.py`) are read every feedback interval (`FEEDBACK_DT`), so a touchdown is seen at most
-10 ms late.
+Contacts (`sim/contacts.py`) are read every feedback interval (`FEEDBACK_DT`), so a touchdown is
+seen at most 10 ms late.
 """
 
 from __future__ import annotations
@@ -22,7 +24,8 @@ MAX_WAIT = 0.5  # a late touchdown may stretch an air state by at most this shar
 
 
 class PhaseClock:
-    """The phase of one candidate's pulse state machine, in physics steps; `table` holds one cycle of controls."""
+    """The phase of one candidate's pulse state machine, in physics steps; `table` holds one cycle
+    of controls."""
 
     def __init__(self, states: list[State], table: np.ndarray, timestep: float):
         self.states, self.table, self.timestep = states, table, timestep
@@ -31,7 +34,9 @@ class PhaseClock:
         self.start_step = starts[:-1]
         self.end_step = starts[1:]
         self.state_of = np.repeat(np.arange(len(states)), np.diff(starts))
-        self.max_wait = [int(MAX_WAIT * s.duration / timestep) if s.phase == "air" else 0 for s in states]
+        self.max_wait = [
+            int(MAX_WAIT * s.duration / timestep) if s.phase == "air" else 0 for s in states
+        ]
         self.step = 0  # position in the cycle table
         self.cycle = 0  # completed cycles
         self.elapsed = 0  # physics steps played

@@ -1,9 +1,9 @@
 """Play a pulse controller on the ground with gravity: physics only, its balance feedback included.
 
-The gait runs on its own for the asked number of cycles (`control/closed_loop.py`), optionally pushed sideways.
-`snap=True` reproduces the thesis's "simple and effective, but physically incorrect" reset instead: each cycle
-is played open loop from (q₀, q̇₀), keeping only the root's forward position. Frames are sampled at exactly
-`fps` (the nearest physics step to each frame time).
+The gait runs on its own for the asked number of cycles (`control/closed_loop.py`), optionally
+pushed sideways. `snap=True` reproduces the thesis's "simple and effective, but physically
+incorrect" reset instead: each cycle is played open loop from (q₀, q̇₀), keeping only the root's
+forward position. Frames are sampled at exactly `fps` (the nearest physics step to each frame time).
 """
 
 from __future__ import annotations
@@ -12,7 +12,13 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from eigengait.control.closed_loop import PUSH_SECONDS, BatchRun, ClosedLoopRunner, Push, cycle_errors
+from eigengait.control.closed_loop import (
+    PUSH_SECONDS,
+    BatchRun,
+    ClosedLoopRunner,
+    Push,
+    cycle_errors,
+)
 from eigengait.control.gait import GaitParameters, GaitSystem
 from eigengait.control.gait_metrics import PLAYBACK_FPS, GaitRecording, gait_metrics
 from eigengait.control.gait_signatures import gait_signatures
@@ -38,8 +44,10 @@ class PlaybackResult:
     cycle_violation: float  # max |φ_i| over the played cycles (each cycle's end against its start)
     snapped: bool = False
     lookahead: bool = False
-    quality: dict = field(default_factory=dict)  # gait_metrics() and gait_signatures() of the played motion
-    torques: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))  # steps × n_internal applied active N·m
+    # gait_metrics() and gait_signatures() of the played motion
+    quality: dict = field(default_factory=dict)
+    # steps × n_internal applied active N·m
+    torques: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
     pushes: tuple[Push, ...] = ()
     pushes_survived: int | None = None
 
@@ -50,8 +58,12 @@ class PlaybackResult:
             "mean_speed_mps": round(float(self.mean_speed_mps), 4),
             "active_energy": round(self.active_energy, 3),
             "mean_squared_torque": round(float(self.mean_squared_torque), 3),
-            "cost_of_transport": round(self.cost_of_transport, 4) if np.isfinite(self.cost_of_transport) else None,
-            "cycle_violation": round(self.cycle_violation, 5) if np.isfinite(self.cycle_violation) else None,
+            "cost_of_transport": round(self.cost_of_transport, 4)
+            if np.isfinite(self.cost_of_transport)
+            else None,
+            "cycle_violation": round(self.cycle_violation, 5)
+            if np.isfinite(self.cycle_violation)
+            else None,
             "snap": self.snapped,
             "lookahead": self.lookahead,
             **self.quality,
@@ -94,9 +106,9 @@ def play(
     lookahead: LookaheadSettings | None = None,
     progress=None,
 ) -> PlaybackResult:
-    """Play `cycles` cycles, with `lookahead` decisions at each state start if given (`progress(cycle, cycles)`
-    after each cycle); a blow-up raises `SimulationBlowUp` naming the time, the body and `source` (the controller
-    file)."""
+    """Play `cycles` cycles, with `lookahead` decisions at each state start if given
+    (`progress(cycle, cycles)` after each cycle); a blow-up raises `SimulationBlowUp` naming the
+    time, the body and `source` (the controller file)."""
     if snap:
         run, completed = _play_snapped(ClosedLoopRunner(system), p, cycles)
     else:
@@ -104,11 +116,14 @@ def play(
         completed = min(len(run.cycle_ends[0]), cycles)
     if run.blow_up[0] is not None:
         raise_blow_up(system.world, *run.blow_up[0], file=source)
-    return _result(system, p, run, completed, snap, fps, pushes, planned=lookahead is not None and not snap)
+    return _result(
+        system, p, run, completed, snap, fps, pushes, planned=lookahead is not None and not snap
+    )
 
 
 def _run(system, p, cycles, pushes, lookahead: LookaheadSettings | None, progress=None) -> BatchRun:
-    """One playback with no reset: with lookahead decisions, or the pulses and their feedback as they are."""
+    """One playback with no reset: with lookahead decisions, or the pulses and their feedback as
+    they are."""
     if lookahead is None:
         return ClosedLoopRunner(system).run([p], cycles, pushes)
     runner = LookaheadRunner(system, lookahead)
@@ -119,7 +134,8 @@ def _run(system, p, cycles, pushes, lookahead: LookaheadSettings | None, progres
 
 
 def _play_snapped(runner: ClosedLoopRunner, p: GaitParameters, cycles: int) -> tuple[BatchRun, int]:
-    """Cycle by cycle from (q₀, q̇₀), open loop, keeping the root's forward position: the thesis's reset."""
+    """Cycle by cycle from (q₀, q̇₀), open loop, keeping the root's forward position: the thesis's
+    reset."""
     parts, completed, blow_up = [], 0, None
     view = runner.system.world.view
     forward = view.root.forward_qpos
@@ -164,7 +180,9 @@ def _result(
     end = int(run.ended[0])
     states, sensors, torques = run.states[0, :end], run.sensors[0, :end], run.torques[0, :end]
     qvel = view.qvel(states)
-    work = float(np.sum(np.clip(np.sum(torques * qvel[:, world.internal_qvel], axis=1), 0, None)) * dt)
+    work = float(
+        np.sum(np.clip(np.sum(torques * qvel[:, world.internal_qvel], axis=1), 0, None)) * dt
+    )
     duration = end * dt
     distance = float(view.com(sensors[-1])[0] - system.initial_com(p)[0])
     states = np.vstack([system.initial_state(p), states])
@@ -178,8 +196,14 @@ def _result(
         foot_points={f: view.foot_points(sensors[frames], f) for f in world.character.feet},
         foot_radius=dict(view.foot_radius),
     )
-    quality = {**gait_metrics(model, recording), **gait_signatures(model, recording)} if len(frames) > 1 else {}
-    violation = _violation(system, p, run, completed) if not snap else _snapped_violation(system, p, run)
+    quality = (
+        {**gait_metrics(model, recording), **gait_signatures(model, recording)}
+        if len(frames) > 1
+        else {}
+    )
+    violation = (
+        _violation(system, p, run, completed) if not snap else _snapped_violation(system, p, run)
+    )
     mass = world.mass()
     return PlaybackResult(
         qpos=recording.qpos,
@@ -214,21 +238,25 @@ def _snapped_violation(system: GaitSystem, p: GaitParameters, run: BatchRun) -> 
 
 
 def _pushes_survived(pushes: tuple[Push, ...], run: BatchRun) -> int:
-    """A push is survived when the gait does not fall before the next push (or the end of the playback)."""
-    return pushes_survived([p.time for p in pushes], float(run.fell_time[0]) if run.fell[0] else None)
+    """A push is survived when the gait does not fall before the next push (or the end of the
+    playback)."""
+    return pushes_survived(
+        [p.time for p in pushes], float(run.fell_time[0]) if run.fell[0] else None
+    )
 
 
 def pushes_survived(times_s: list[float], fall_time_s: float | None) -> int:
-    """How many pushes (start times in s, each lasting PUSH_SECONDS) were survived, given when the character fell
-    (None: it did not): a push is survived when the fall, if any, comes after the next push (or after the end of
-    the run for the last one)."""
+    """How many pushes (start times in s, each lasting PUSH_SECONDS) were survived, given when the
+    character fell (None: it did not): a push is survived when the fall, if any, comes after the
+    next push (or after the end of the run for the last one)."""
     if fall_time_s is None:
         return len(times_s)
     times = sorted(times_s)
     return sum(
         1
         for k, t in enumerate(times)
-        if (times[k + 1] if k + 1 < len(times) else np.inf) <= fall_time_s and t + PUSH_SECONDS <= fall_time_s
+        if (times[k + 1] if k + 1 < len(times) else np.inf) <= fall_time_s
+        and t + PUSH_SECONDS <= fall_time_s
     )
 
 
@@ -241,8 +269,9 @@ def push_robustness(
     cycles_after: int = 10,
     lookahead: LookaheadSettings | None = None,
 ) -> list[bool]:
-    """Survival of one sideways push of `impulse_per_kg` N·s/kg (over 0.1 s) given at each of `phases` evenly
-    spaced phases of cycle `cycle` (1-based), the gait then playing `cycles_after` more cycles."""
+    """Survival of one sideways push of `impulse_per_kg` N·s/kg (over 0.1 s) given at each of
+    `phases` evenly spaced phases of cycle `cycle` (1-based), the gait then playing `cycles_after`
+    more cycles."""
     force = impulse_per_kg * system.world.mass() / PUSH_SECONDS
     start = (cycle - 1) * p.period
     survived = []

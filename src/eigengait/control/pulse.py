@@ -1,11 +1,12 @@
 """The thesis's cyclic pulse state machine (§4.3, Fig. 4.2).
 
-A cycle visits the feet of `feet` in order; each foot has an **air** state then a **ground** state. A cycle of
-period T splits evenly among the feet; each foot's share is air for α·T/n_feet then ground for (1−α)·T/n_feet.
-Each state applies one rectangular pulse: the constant torque τ = Φ ψ for δ seconds from the state's start, then
-zero. Φ is the torque basis of that state's phase (air modes, or the ground modes of that state's stance foot),
-unit-norm columns, so ψ is in N·m. With `symmetric`, the second foot's states use the first foot's torques mirrored.
-Torques are clipped per dof to ±torque_limit (a scalar or one limit per dof).
+A cycle visits the feet of `feet` in order; each foot has an **air** state then a **ground** state.
+A cycle of period T splits evenly among the feet; each foot's share is air for α·T/n_feet then
+ground for (1−α)·T/n_feet. Each state applies one rectangular pulse: the constant torque τ = Φ ψ for
+δ seconds from the state's start, then zero. Φ is the torque basis of that state's phase (air modes,
+or the ground modes of that state's stance foot), unit-norm columns, so ψ is in N·m. With
+`symmetric`, the second foot's states use the first foot's torques mirrored. Torques are clipped per
+dof to ±torque_limit (a scalar or one limit per dof).
 """
 
 from __future__ import annotations
@@ -24,7 +25,9 @@ class State:
     pulse: float  # s, ≤ duration
 
 
-def schedule(feet: list[str], period: float, air_ratio: float, pulse_air: float, pulse_ground: float) -> list[State]:
+def schedule(
+    feet: list[str], period: float, air_ratio: float, pulse_air: float, pulse_ground: float
+) -> list[State]:
     """The states of one cycle, in order."""
     share = period / len(feet)
     states, t = [], 0.0
@@ -45,7 +48,8 @@ def state_torques(
     mirror=None,
     torque_limit: float | np.ndarray = np.inf,
 ) -> list[np.ndarray]:
-    """Pulse torque (n_internal,) of each state. Keys are (foot, phase); missing feet are mirrored."""
+    """Pulse torque (n_internal,) of each state. Keys are (foot, phase); missing feet are
+    mirrored."""
     torques = []
     first_foot = states[0].foot
     for s in states:
@@ -59,9 +63,14 @@ def state_torques(
 
 
 def control_sequence(
-    states: list[State], torques: list[np.ndarray], timestep: float, cycles: int = 1, span: float | None = None
+    states: list[State],
+    torques: list[np.ndarray],
+    timestep: float,
+    cycles: int = 1,
+    span: float | None = None,
 ) -> np.ndarray:
-    """Piecewise-constant controls (nstep × n_internal) for `cycles` cycles (or the first `span` seconds)."""
+    """Piecewise-constant controls (nstep × n_internal) for `cycles` cycles (or the first `span`
+    seconds)."""
     period = sum(s.duration for s in states)
     total = span if span is not None else cycles * period
     n = int(round(total / timestep))

@@ -12,8 +12,9 @@ ground: {priority: {2: 40, 3: 60, 4: 10, 9: 15}, allowed: [1, 5, 6]}
 timing: {period: 0.8, air_ratio: 0.4, pulse_air: 0.1, pulse_ground: 0.12}   # s, -, s, s
 initial: {speed: 1.5, height: 0.0}                                          # m/s forward, m
 ```
-Mode numbers start at 1 (lowest non-rigid mode). Priority activations ψ are in N·m (unit-norm torque basis).
-`allowed` omitted: every mode not excluded may be used. Modes neither priority nor allowed get ψ = 0.
+Mode numbers start at 1 (lowest non-rigid mode). Priority activations ψ are in N·m (unit-norm torque
+basis). `allowed` omitted: every mode not excluded may be used. Modes neither priority nor allowed
+get ψ = 0.
 """
 
 from __future__ import annotations
@@ -54,7 +55,9 @@ class PhaseSketch(BaseModel):
     def optimized_modes(self, count: int) -> list[int]:
         """Priority + allowed mode numbers (1-based), sorted."""
         allowed = (
-            self.allowed if self.allowed is not None else [m for m in range(1, count + 1) if m not in self.excluded]
+            self.allowed
+            if self.allowed is not None
+            else [m for m in range(1, count + 1) if m not in self.excluded]
         )
         return sorted(set(self.priority) | set(allowed))
 
@@ -74,7 +77,9 @@ class Initial(BaseModel):
     model_config = ConfigDict(extra="forbid")
     speed: float = Field(1.0, description="initial forward root speed (m/s)")
     height: float = Field(0.0, description="initial root height above the standing height (m)")
-    modes: int = Field(12, ge=0, description="lowest air modes spanning the optimized initial pose and velocity")
+    modes: int = Field(
+        12, ge=0, description="lowest air modes spanning the optimized initial pose and velocity"
+    )
 
 
 class Targets(BaseModel):
@@ -87,18 +92,23 @@ class Targets(BaseModel):
     vertical_speed: float = 0.25  # m/s, |mean vertical COM speed|
     joint_speed: float = 20.0  # rad/s, every joint dof at every sample
     energy: float = 5e5  # (N·m)², mean squared active torque
-    stance_slip: float | None = Field(None, gt=0)  # m per stance (`play`'s stance_slip_m rule); None: not charged
-    cycle_tolerance: float = Field(0.2, gt=0)  # max |φᵢ| accepted as cyclic (rad, m; velocities × 0.1 s)
+    # m per stance (`play`'s stance_slip_m rule); None: not charged
+    stance_slip: float | None = Field(None, gt=0)
+    # max |φᵢ| accepted as cyclic (rad, m; velocities × 0.1 s)
+    cycle_tolerance: float = Field(0.2, gt=0)
 
 
 class Feedback(BaseModel):
-    """Balance feedback optimized with the pulses (see control/feedback.py) and the optimization horizon."""
+    """Balance feedback optimized with the pulses (see control/feedback.py) and the optimization
+    horizon."""
 
     model_config = ConfigDict(extra="forbid")
     mechanisms: list[Literal["hip", "modal"]] = Field(
         default_factory=lambda: ["hip"], description="feedback mechanisms; [] for open loop"
     )
-    horizon_cycles: int = Field(5, ge=1, le=20, description="cycles simulated per candidate, no reset")
+    horizon_cycles: int = Field(
+        5, ge=1, le=20, description="cycles simulated per candidate, no reset"
+    )
 
 
 class Sketch(BaseModel):
@@ -135,9 +145,12 @@ class Sketch(BaseModel):
 
 
 def load_sketch(path: str | Path) -> Sketch:
-    """Read a sketch file (JSON or YAML); a relative character path is taken relative to the file."""
+    """Read a sketch file (JSON or YAML); a relative character path is taken relative to the
+    file."""
     path = Path(path)
-    sketch = validate(Sketch, read_mapping(path), path, "see the sketch format in the README (Sketches)")
+    sketch = validate(
+        Sketch, read_mapping(path), path, "see the sketch format in the README (Sketches)"
+    )
     if sketch.character.endswith((".xml", ".yaml")) and not Path(sketch.character).is_absolute():
         sketch.character = str((path.parent / sketch.character).resolve())
     return sketch

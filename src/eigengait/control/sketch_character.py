@@ -1,13 +1,14 @@
-"""How much of a played gait is still its sketch: where the active torque goes among the sketch's modes, and how
-the optimized activations ψ compare with the sketch's.
+"""How much of a played gait is still its sketch: where the active torque goes among the sketch's
+modes, and how the optimized activations ψ compare with the sketch's.
 
-Energy is the thesis's E_energia measure (Eq. 4.6), Σ over steps of Σ_j τ_j² (N·m)², over the torques actually
-applied (pulses, balance feedback and lookahead offsets, clipped). Each step's torque is split by orthogonal
-projection in the torque space of the state being played (its phase, and its stance foot; a symmetric gait's
-second-foot states are mirrored back onto the first foot's): first onto the span of the sketch's priority modes,
-then what is left onto the span of its priority and allowed modes together; the rest is excluded. The three shares
-sum to 1; the pulses alone put nothing in the excluded modes, so an excluded share is feedback or lookahead.
-The state of each step is read from the clock's schedule (every lookahead gait runs on the clock).
+Energy is the thesis's E_energia measure (Eq. 4.6), Σ over steps of Σ_j τ_j² (N·m)², over the
+torques actually applied (pulses, balance feedback and lookahead offsets, clipped). Each step's
+torque is split by orthogonal projection in the torque space of the state being played (its phase,
+and its stance foot; a symmetric gait's second-foot states are mirrored back onto the first foot's):
+first onto the span of the sketch's priority modes, then what is left onto the span of its priority
+and allowed modes together; the rest is excluded. The three shares sum to 1; the pulses alone put
+nothing in the excluded modes, so an excluded share is feedback or lookahead. The state of each step
+is read from the clock's schedule (every lookahead gait runs on the clock).
 """
 
 from __future__ import annotations
@@ -18,7 +19,8 @@ from eigengait.control.activations import mode_indices, sparse_to_dense
 from eigengait.control.gait import GaitParameters, GaitSystem
 from eigengait.control.sketch import PhaseSketch
 
-SketchModes = dict[str, PhaseSketch]  # phase ("air", "ground") -> the sketch's priority/allowed/excluded modes
+# phase ("air", "ground") -> the sketch's priority/allowed/excluded modes
+SketchModes = dict[str, PhaseSketch]
 
 
 def _span(basis: np.ndarray, modes: list[int]) -> np.ndarray:
@@ -29,7 +31,9 @@ def _span(basis: np.ndarray, modes: list[int]) -> np.ndarray:
     return q[:, np.abs(np.diag(r)) > 1e-10 * max(1.0, np.abs(r).max())]
 
 
-def _groups(system: GaitSystem, sketch: SketchModes) -> dict[tuple[str, str], tuple[np.ndarray, np.ndarray]]:
+def _groups(
+    system: GaitSystem, sketch: SketchModes
+) -> dict[tuple[str, str], tuple[np.ndarray, np.ndarray]]:
     """(active foot, phase) -> orthonormal spans of the priority modes and of priority + allowed."""
     out = {}
     for foot in system.active_feet:
@@ -44,14 +48,18 @@ def _groups(system: GaitSystem, sketch: SketchModes) -> dict[tuple[str, str], tu
 
 
 def state_of_steps(system: GaitSystem, p: GaitParameters, steps: int) -> np.ndarray:
-    """Index into `system.states(p)` of the state each physics step plays (the clock's schedule, mid-step)."""
+    """Index into `system.states(p)` of the state each physics step plays (the clock's schedule,
+    mid-step)."""
     starts = np.array([s.start for s in system.states(p)])
     t = (np.arange(steps) + 0.5) * system.world.model.opt.timestep
     return np.searchsorted(starts, np.mod(t, p.period), side="right") - 1
 
 
-def energy_split(system: GaitSystem, p: GaitParameters, sketch: SketchModes, torques: np.ndarray) -> dict:
-    """Shares of Σ‖τ‖² in the priority, allowed and excluded modes of `torques` (steps × n_internal, N·m)."""
+def energy_split(
+    system: GaitSystem, p: GaitParameters, sketch: SketchModes, torques: np.ndarray
+) -> dict:
+    """Shares of Σ‖τ‖² in the priority, allowed and excluded modes of `torques` (steps × n_internal,
+    N·m)."""
     states = system.states(p)
     groups = _groups(system, sketch)
     which = state_of_steps(system, p, len(torques))
@@ -75,9 +83,9 @@ def energy_split(system: GaitSystem, p: GaitParameters, sketch: SketchModes, tor
 
 
 def psi_comparison(system: GaitSystem, p: GaitParameters, sketch: SketchModes) -> dict:
-    """`psi_cosine`: cosine between the sketch's ψ (its priority values, 0 elsewhere) and the optimized ψ over every
-    (active foot, phase); `psi_priority_share`: Σ|ψ| of the priority modes over Σ|ψ| (the quantity of the thesis's
-    E_modos_prior, Eq. 4.15, which asks it to dominate)."""
+    """`psi_cosine`: cosine between the sketch's ψ (its priority values, 0 elsewhere) and the
+    optimized ψ over every (active foot, phase); `psi_priority_share`: Σ|ψ| of the priority modes
+    over Σ|ψ| (the quantity of the thesis's E_modos_prior, Eq. 4.15, which asks it to dominate)."""
     drawn, optimized, weight = [], [], []
     for foot in system.active_feet:
         for phase in ("air", "ground"):
@@ -91,13 +99,17 @@ def psi_comparison(system: GaitSystem, p: GaitParameters, sketch: SketchModes) -
     magnitude = np.abs(b).sum()
     return {
         "psi_cosine": round(float(a @ b / norm), 4) if norm > 0 else None,
-        "psi_priority_share": round(float(np.abs(b[is_priority]).sum() / magnitude), 4) if magnitude > 0 else None,
+        "psi_priority_share": round(float(np.abs(b[is_priority]).sum() / magnitude), 4)
+        if magnitude > 0
+        else None,
     }
 
 
-def sketch_character(system: GaitSystem, p: GaitParameters, sketch: SketchModes, torques: np.ndarray) -> dict:
-    """JSON-ready: the played torques' `energy_split`, the pulses' own split over one cycle (`pulse_energy_split`)
-    and `psi_comparison`."""
+def sketch_character(
+    system: GaitSystem, p: GaitParameters, sketch: SketchModes, torques: np.ndarray
+) -> dict:
+    """JSON-ready: the played torques' `energy_split`, the pulses' own split over one cycle
+    (`pulse_energy_split`) and `psi_comparison`."""
     pulses = system.controls(p, cycles=1)[:, : system.world.nmotor]
     return {
         "energy_split": energy_split(system, p, sketch, torques),

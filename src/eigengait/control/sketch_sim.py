@@ -1,4 +1,5 @@
-"""Simulate a sketch as the animator sees it: gravity off, priority activations only, from the relax pose."""
+"""Simulate a sketch as the animator sees it: gravity off, priority activations only, from the relax
+pose."""
 
 from __future__ import annotations
 
@@ -45,9 +46,13 @@ def sketch_parameters(sk: Sketch, system: GaitSystem) -> GaitParameters:
 
 
 def simulate_sketch(
-    sketch: Sketch, seconds: float, source: str | Path | None = None, system: GaitSystem | None = None
+    sketch: Sketch,
+    seconds: float,
+    source: str | Path | None = None,
+    system: GaitSystem | None = None,
 ) -> SketchRun:
-    """`seconds` of the sketch with gravity off; `system` (gravity off, bound to the sketch) saves a modal analysis."""
+    """`seconds` of the sketch with gravity off; `system` (gravity off, bound to the sketch) saves a
+    modal analysis."""
     system = system or bind_sketch(sketch, source, gravity=False)
     model = system.world.model
     p = sketch_parameters(sketch, system)
@@ -60,8 +65,11 @@ def simulate_sketch(
     blown = blown_up_steps(qvel, np.r_[0.0, times], model.opt.timestep)
     if blown.any():
         step = int(np.argmax(blown))
-        # the time of the step itself: MuJoCo's reset of a diverged simulation restarts the recorded clock
-        raise_blow_up(system.world, (step + 1) * model.opt.timestep, blown_up_dof(qvel, step), source)
+        # the time of the step itself: MuJoCo's reset of a diverged simulation restarts the recorded
+        # clock
+        raise_blow_up(
+            system.world, (step + 1) * model.opt.timestep, blown_up_dof(qvel, step), source
+        )
     stride = max(1, int(round(1 / (SKETCH_FPS * model.opt.timestep))))
     qpos = view.qpos(states[0, stride - 1 :: stride])
     biggest = 0.0

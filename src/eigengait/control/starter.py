@@ -1,10 +1,11 @@
-"""A starter sketch for any character (`eigengait sketch new`): a first guess to edit, not a tuned gait.
+"""A starter sketch for any character (`eigengait sketch new`): a first guess to edit, not a tuned
+gait.
 
 * feet: the character's gait order, not mirrored (`symmetric: false`);
-* priority: the `PRIORITY_MODES` lowest modes of each phase, ψ = `PSI_ANGLE` × the median joint stiffness (N·m),
-  alternating in sign, and the next `ALLOWED_MODES` modes allowed;
-* timing: period T = half the lowest ground mode's period, clamped to `PERIOD_RANGE` (s); air ratio 0.3; each pulse
-  lasts half its phase;
+* priority: the `PRIORITY_MODES` lowest modes of each phase, ψ = `PSI_ANGLE` × the median joint
+  stiffness (N·m), alternating in sign, and the next `ALLOWED_MODES` modes allowed;
+* timing: period T = half the lowest ground mode's period, clamped to `PERIOD_RANGE` (s); air ratio
+  0.3; each pulse lasts half its phase;
 * initial: forward speed `START_SPEED` (m/s); targets scaled to that speed.
 """
 
@@ -23,7 +24,8 @@ START_SPEED = 0.5  # m/s
 
 
 def starter_sketch(character: Character, reference: str) -> dict:
-    """The sketch as a mapping, `character: reference` (a built-in name or a path relative to the sketch)."""
+    """The sketch as a mapping, `character: reference` (a built-in name or a path relative to the
+    sketch)."""
     feet = list(character.meta.gait_order)
     air = compute_modes(character, "air")
     ground = compute_modes(character, "ground", feet[0])
@@ -40,8 +42,10 @@ def starter_sketch(character: Character, reference: str) -> dict:
     share = period / len(feet)
     return {
         "eigengait_sketch": 1,
-        "description": f"Starter sketch for {character.name}: lowest modes as priority, timing from the lowest "
-        f"ground mode ({ground.frequencies_hz[0]:.2f} Hz). Edit freely.",
+        "description": (
+            f"Starter sketch for {character.name}: lowest modes as priority, timing from the "
+            f"lowest ground mode ({ground.frequencies_hz[0]:.2f} Hz). Edit freely."
+        ),
         "character": reference,
         "relax_pose": "default",
         "feet": feet,

@@ -26,7 +26,10 @@ def stance_foot(character: Character, foot: str | None) -> str:
     foot = foot or character.meta.gait_order[0]
     if foot not in character.feet:
         raise UserInputError(
-            f"unknown foot '{foot}'", file=character.path, field="feet", fix=f"use one of: {', '.join(character.feet)}"
+            f"unknown foot '{foot}'",
+            file=character.path,
+            field="feet",
+            fix=f"use one of: {', '.join(character.feet)}",
         )
     return foot
 
@@ -40,12 +43,20 @@ def dof_labels(character: Character) -> list[str]:
 
 
 def compute_modes(
-    source: Character | World, phase: str = "air", foot: str | None = None, pose: str | dict = DEFAULT_POSE
+    source: Character | World,
+    phase: str = "air",
+    foot: str | None = None,
+    pose: str | dict = DEFAULT_POSE,
 ) -> ModeSet:
-    """Modes of a character (or an already built world) in the air (free) or ground (toe pinned) phase."""
+    """Modes of a character (or an already built world) in the air (free) or ground (toe pinned)
+    phase."""
     if phase not in PHASES:
         raise UserInputError(f"unknown phase '{phase}'", field="phase", fix="use air or ground")
-    world = source if isinstance(source, World) else build_world(source, pose, WorldOptions(gravity=False))
+    world = (
+        source
+        if isinstance(source, World)
+        else build_world(source, pose, WorldOptions(gravity=False))
+    )
     character = world.character
     G = None
     if phase == "ground":

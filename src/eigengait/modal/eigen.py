@@ -1,18 +1,20 @@
-"""The generalized eigenproblem K φ = λ M φ, optionally restricted to the null space of constraints."""
+"""The generalized eigenproblem K φ = λ M φ, optionally restricted to the null space of
+constraints."""
 
 from __future__ import annotations
 
 import numpy as np
 from scipy.linalg import eigh, null_space
 
-RIGID_TOLERANCE = 1e-8  # an eigenvalue below this fraction of the largest is a rigid-body (zero) mode
+# an eigenvalue below this fraction of the largest is a rigid-body (zero) mode
+RIGID_TOLERANCE = 1e-8
 
 
 def constrained_modes(K: np.ndarray, M: np.ndarray, G: np.ndarray | None = None):
     """Solve K φ = λ M φ subject to G φ = 0.
 
-    Returns (eigenvalues λ ascending, shapes φ as columns with φᵀ M φ = 1, number of rigid modes dropped).
-    Only the non-rigid modes are returned.
+    Returns (eigenvalues λ ascending, shapes φ as columns with φᵀ M φ = 1, number of rigid modes
+    dropped). Only the non-rigid modes are returned.
     """
     N = np.eye(K.shape[0]) if G is None or G.size == 0 else null_space(G)
     Kr = N.T @ K @ N

@@ -1,10 +1,13 @@
-"""Modal analysis in maximal coordinates with joint constraints (Kry et al. 2009; thesis Eqs. 2.19–2.37).
+"""Modal analysis in maximal coordinates with joint constraints (Kry et al. 2009; thesis Eqs.
+2.19–2.37).
 
-Every body has a twist (ω; v) in its inertial frame at its COM. The relative twist of joint j in the joint frame
-(anchored at the joint, oriented as the child body) is  v_j = Ad(j←child) V_child − Ad(j←parent) V_parent
-(stacked: Θ). Ball joints forbid relative linear velocity (G rows); hinges also forbid rotation off their axis.
-A pinned point p on a body adds v − [p] ω = 0 (the erratum's sign). Then
-(Nᵀ Θᵀ jK Θ N) x = λ (Nᵀ cM N) x with N the null space of G, and Θ N x gives per-joint relative motion.
+Every body has a twist (ω; v) in its inertial frame at its COM. The relative twist of joint j in the
+joint frame (anchored at the joint, oriented as the child body) is v_j = Ad(j←child) V_child
+− Ad(j←parent) V_parent (stacked: Θ). Ball joints forbid relative linear velocity (G rows); hinges
+also forbid rotation off their axis. A pinned point p on a body adds v − [p] ω = 0 (the erratum's
+sign). Then
+(Nᵀ Θᵀ jK Θ N) x = λ (Nᵀ cM N) x with N the null space of G, and Θ N x gives per-joint relative
+motion.
 """
 
 from __future__ import annotations
@@ -19,7 +22,8 @@ from eigengait.sim.world import World
 
 
 def maximal_modes(world: World, pin_site: str | None = None):
-    """(eigenvalues, joint-space shapes Θ N x as columns, rigid count) for the free or pinned character."""
+    """(eigenvalues, joint-space shapes Θ N x as columns, rigid count) for the free or pinned
+    character."""
     model, data = world.model, world.new_data()
     bodies = [b for b in range(1, model.nbody)]
     col = {b: 6 * i for i, b in enumerate(bodies)}
@@ -28,7 +32,9 @@ def maximal_modes(world: World, pin_site: str | None = None):
 
     cM = np.zeros((n, n))
     for b in bodies:
-        cM[col[b] : col[b] + 6, col[b] : col[b] + 6] = spatial_inertia(model.body_mass[b], model.body_inertia[b])
+        cM[col[b] : col[b] + 6, col[b] : col[b] + 6] = spatial_inertia(
+            model.body_mass[b], model.body_inertia[b]
+        )
 
     theta_rows, k_diag, g_rows = [], [], []
     for name in world.character.joints:

@@ -1,9 +1,12 @@
 """ModeSet: a character's vibration modes in one phase, saved and loaded as `.npz`.
 
-* `frequencies_hz` (m,): non-rigid modes, ascending; user-facing mode numbers start at 1 (index 0 → mode 1).
-* `shapes` (nv × m): mass-normalized generalized displacements (φᵀ M φ = 1), MuJoCo velocity coordinates.
-* `torque_basis` (n_internal × m): the internal-dof part of each shape scaled to unit Euclidean norm, so a mode
-  activation ψ is in N·m. Sign convention: each column's largest-magnitude entry is positive.
+* `frequencies_hz` (m,): non-rigid modes, ascending; user-facing mode numbers start at 1
+  (index 0 → mode 1).
+* `shapes` (nv × m): mass-normalized generalized displacements (φᵀ M φ = 1), MuJoCo velocity
+  coordinates.
+* `torque_basis` (n_internal × m): the internal-dof part of each shape scaled to unit Euclidean
+  norm, so a mode activation ψ is in N·m. Sign convention: each column's largest-magnitude entry is
+  positive.
 """
 
 from __future__ import annotations
@@ -72,7 +75,9 @@ class ModeSet:
                 f"not a mode-set file ({exc})", file=path, fix="recompute it with `eigengait modes`"
             ) from None
         if meta.pop("eigengait_modeset", None) != FORMAT_VERSION:
-            raise UserInputError("unsupported mode-set version", file=path, field="eigengait_modeset")
+            raise UserInputError(
+                "unsupported mode-set version", file=path, field="eigengait_modeset"
+            )
         return cls(**meta, **arrays)
 
 

@@ -1,8 +1,10 @@
-"""Modal analysis in the engine's reduced (joint) coordinates: M from `mj_fullM`, K from joint stiffness.
+"""Modal analysis in the engine's reduced (joint) coordinates: M from `mj_fullM`, K from joint
+stiffness.
 
-Coordinates are MuJoCo's velocity coordinates at the relax pose: the root's free joint (linear velocity in world,
-angular velocity in the root frame) followed by each joint's dofs (ball: relative angular velocity in the child
-body's frame; hinge: angle rate). K is block-diagonal with diag(kx, ky, kz) per ball joint and zero on the root.
+Coordinates are MuJoCo's velocity coordinates at the relax pose: the root's free joint (linear
+velocity in world, angular velocity in the root frame) followed by each joint's dofs (ball: relative
+angular velocity in the child body's frame; hinge: angle rate). K is block-diagonal with
+diag(kx, ky, kz) per ball joint and zero on the root.
 """
 
 from __future__ import annotations

@@ -8,7 +8,8 @@ from eigengait.geometry import skew
 
 
 def adjoint(R: np.ndarray, t: np.ndarray) -> np.ndarray:
-    """Ad of T = (R, t): maps a twist in the moving frame to the reference frame, [[R, 0], [[t]R, R]]."""
+    """Ad of T = (R, t): maps a twist in the moving frame to the reference frame, [[R, 0],
+    [[t]R, R]]."""
     Ad = np.zeros((6, 6))
     Ad[:3, :3] = R
     Ad[3:, 3:] = R
@@ -16,8 +17,11 @@ def adjoint(R: np.ndarray, t: np.ndarray) -> np.ndarray:
     return Ad
 
 
-def relative_adjoint(R_a: np.ndarray, p_a: np.ndarray, R_b: np.ndarray, p_b: np.ndarray) -> np.ndarray:
-    """Ad(a←b): twist in frame b -> same twist in frame a, frames given by world rotation and origin."""
+def relative_adjoint(
+    R_a: np.ndarray, p_a: np.ndarray, R_b: np.ndarray, p_b: np.ndarray
+) -> np.ndarray:
+    """Ad(a←b): twist in frame b -> same twist in frame a, frames given by world rotation and
+    origin."""
     R = R_a.T @ R_b
     t = R_a.T @ (p_b - p_a)
     return adjoint(R, t)

@@ -34,7 +34,8 @@ class BvhJoint:
 
 @dataclass
 class BvhClip:
-    """A BVH clip: hierarchy plus raw frames of shape (n_frames, n_channels) in file units and degrees."""
+    """A BVH clip: hierarchy plus raw frames of shape (n_frames, n_channels) in file units and
+    degrees."""
 
     joints: list[BvhJoint]
     frame_time: float
@@ -64,7 +65,7 @@ class BvhClip:
         return slices
 
 
-# ----------------------------------------------------------------------------------------------- reading
+# ------------------------------------------------------------------------------------------ reading
 
 
 class _Tokens:
@@ -78,7 +79,9 @@ class _Tokens:
             for token in line.split():
                 self.items.append((token, number))
 
-    def error(self, message: str, line: int | None = None, fix: str | None = None) -> UserInputError:
+    def error(
+        self, message: str, line: int | None = None, fix: str | None = None
+    ) -> UserInputError:
         if line is None:
             line = self.items[min(self.pos, len(self.items) - 1)][1] if self.items else 1
         return UserInputError(
@@ -113,14 +116,18 @@ class _Tokens:
             try:
                 values.append(float(token))
             except ValueError:
-                raise self.error(f"expected a number in {what} but found '{token}'.", line) from None
+                raise self.error(
+                    f"expected a number in {what} but found '{token}'.", line
+                ) from None
         return np.array(values, dtype=float)
 
 
 MAX_DEPTH = 200  # joints from the root to the deepest leaf; real skeletons have fewer than 30
 
 
-def _parse_joint(tokens: _Tokens, joints: list[BvhJoint], parent: int, name: str, depth: int = 0) -> None:
+def _parse_joint(
+    tokens: _Tokens, joints: list[BvhJoint], parent: int, name: str, depth: int = 0
+) -> None:
     if depth > MAX_DEPTH:
         raise tokens.error(
             f"the hierarchy is deeper than {MAX_DEPTH} joints at '{name}'.",
@@ -134,7 +141,9 @@ def _parse_joint(tokens: _Tokens, joints: list[BvhJoint], parent: int, name: str
     try:
         count = int(count_token)
     except ValueError:
-        raise tokens.error(f"expected a channel count for '{name}' but found '{count_token}'.", line) from None
+        raise tokens.error(
+            f"expected a channel count for '{name}' but found '{count_token}'.", line
+        ) from None
     channels = []
     for _ in range(count):
         channel, line = tokens.next(f"a channel name of '{name}'")
@@ -187,24 +196,33 @@ def read_bvh(path: str | Path) -> BvhClip:
     try:
         text = Path(path).read_text(encoding="utf-8", errors="replace")
     except OSError as exc:
-        raise UserInputError(f"cannot read the BVH file ({exc.strerror}).", file=path, fix="check the path.") from None
+        raise UserInputError(
+            f"cannot read the BVH file ({exc.strerror}).", file=path, fix="check the path."
+        ) from None
     lines = text.splitlines()
     motion_line = next((i for i, line in enumerate(lines) if line.strip() == "MOTION"), None)
     if motion_line is None:
         raise UserInputError(
-            "no MOTION section.", file=path, field=f"line {len(lines)}", fix="the file is truncated or not a BVH file."
+            "no MOTION section.",
+            file=path,
+            field=f"line {len(lines)}",
+            fix="the file is truncated or not a BVH file.",
         )
     tokens = _Tokens(lines[:motion_line], path)
     token, line = tokens.next("'HIERARCHY'")
     if token != "HIERARCHY":
-        raise tokens.error(f"a BVH file starts with 'HIERARCHY', found '{token}'.", line, fix="is this a BVH file?")
+        raise tokens.error(
+            f"a BVH file starts with 'HIERARCHY', found '{token}'.", line, fix="is this a BVH file?"
+        )
     tokens.expect("ROOT")
     root, _ = tokens.next("the root joint name")
     joints: list[BvhJoint] = []
     _parse_joint(tokens, joints, -1, root)
     if tokens.pos != len(tokens.items):
         token, line = tokens.items[tokens.pos]
-        raise tokens.error(f"unexpected '{token}' after the root joint (only one ROOT is supported).", line)
+        raise tokens.error(
+            f"unexpected '{token}' after the root joint (only one ROOT is supported).", line
+        )
 
     header = [(i, lines[i]) for i in range(motion_line + 1, len(lines)) if lines[i].strip()][:2]
     if len(header) < 2:
@@ -268,9 +286,14 @@ def read_bvh(path: str | Path) -> BvhClip:
         ) from None
     if not np.all(np.isfinite(frames)):
         raise UserInputError(
-            "the motion data holds NaN or infinite values.", file=path, field="MOTION", fix="re-export the clip."
+            "the motion data holds NaN or infinite values.",
+            file=path,
+            field="MOTION",
+            fix="re-export the clip.",
         )
-    return BvhClip(joints=joints, frame_time=frame_time, frames=frames.reshape(n_frames, n_channels))
+    return BvhClip(
+        joints=joints, frame_time=frame_time, frames=frames.reshape(n_frames, n_channels)
+    )
 
 
 def _all_numbers(row: list[str]) -> bool:
@@ -281,7 +304,7 @@ def _all_numbers(row: list[str]) -> bool:
     return True
 
 
-# ----------------------------------------------------------------------------------------------- writing
+# ------------------------------------------------------------------------------------------ writing
 
 
 def _fmt(values: np.ndarray) -> str:
@@ -304,7 +327,14 @@ def write_bvh(clip: BvhClip, path: str | Path) -> None:
         for child in children.get(index, []):
             emit(child, depth + 1)
         if joint.end_site is not None:
-            out.extend([f"{pad}\tEnd Site", f"{pad}\t{{", f"{pad}\t\tOFFSET {_fmt(joint.end_site)}", f"{pad}\t}}"])
+            out.extend(
+                [
+                    f"{pad}\tEnd Site",
+                    f"{pad}\t{{",
+                    f"{pad}\t\tOFFSET {_fmt(joint.end_site)}",
+                    f"{pad}\t}}",
+                ]
+            )
         out.append(f"{pad}}}")
 
     for root in children.get(-1, []):
@@ -314,7 +344,7 @@ def write_bvh(clip: BvhClip, path: str | Path) -> None:
     write_atomically(path, "\n".join(out) + "\n")
 
 
-# ------------------------------------------------------------------------------------- forward kinematics
+# ------------------------------------------------------------------------------- forward kinematics
 
 
 def axis_rotation(axis: str, degrees: np.ndarray) -> np.ndarray:
@@ -333,7 +363,8 @@ def axis_rotation(axis: str, degrees: np.ndarray) -> np.ndarray:
 
 
 def local_transforms(clip: BvhClip) -> tuple[np.ndarray, np.ndarray]:
-    """Per-frame local rotations (F, J, 3, 3) and translations (F, J, 3) of every joint, file units."""
+    """Per-frame local rotations (F, J, 3, 3) and translations (F, J, 3) of every joint, file
+    units."""
     n, m = clip.n_frames, len(clip.joints)
     rotations = np.broadcast_to(np.eye(3), (n, m, 3, 3)).copy()
     translations = np.zeros((n, m, 3))
@@ -350,7 +381,8 @@ def local_transforms(clip: BvhClip) -> tuple[np.ndarray, np.ndarray]:
 
 
 def global_transforms(clip: BvhClip) -> tuple[np.ndarray, np.ndarray]:
-    """Per-frame global joint rotations (F, J, 3, 3) and positions (F, J, 3), file units and axes."""
+    """Per-frame global joint rotations (F, J, 3, 3) and positions (F, J, 3), file units and
+    axes."""
     local_rot, local_pos = local_transforms(clip)
     rotations = np.empty_like(local_rot)
     positions = np.empty_like(local_pos)
@@ -361,12 +393,17 @@ def global_transforms(clip: BvhClip) -> tuple[np.ndarray, np.ndarray]:
         else:
             parent_rot = rotations[:, joint.parent]
             rotations[:, index] = parent_rot @ local_rot[:, index]
-            positions[:, index] = positions[:, joint.parent] + np.einsum("fij,fj->fi", parent_rot, local_pos[:, index])
+            positions[:, index] = positions[:, joint.parent] + np.einsum(
+                "fij,fj->fi", parent_rot, local_pos[:, index]
+            )
     return rotations, positions
 
 
-def end_site_positions(clip: BvhClip, rotations: np.ndarray, positions: np.ndarray) -> dict[int, np.ndarray]:
-    """Global End Site positions (F, 3) keyed by the owning joint index, from ``global_transforms``."""
+def end_site_positions(
+    clip: BvhClip, rotations: np.ndarray, positions: np.ndarray
+) -> dict[int, np.ndarray]:
+    """Global End Site positions (F, 3) keyed by the owning joint index, from
+    ``global_transforms``."""
     return {
         i: positions[:, i] + rotations[:, i] @ joint.end_site
         for i, joint in enumerate(clip.joints)

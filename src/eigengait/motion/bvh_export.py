@@ -1,17 +1,20 @@
-"""A World's qpos trajectory as a BVH clip (one BVH joint per body), for Blender and other animation tools.
+"""A World's qpos trajectory as a BVH clip (one BVH joint per body), for Blender and other animation
+tools.
 
-Axes and units: BVH (x, y, z) = (x, z, −y) of MuJoCo's z-up world. That axis map is the inverse of Blender's
-default BVH import (forward −Z, up Y), so the clip lands in Blender exactly where it stands in MuJoCo. Lengths are
-in metres by default (`units="m"`: Blender's default import scale 1 gives a life-size character) or centimetres
-(`units="cm"`, the unit of most motion-capture BVH and of MotionBuilder-style tools).
+Axes and units: BVH (x, y, z) = (x, z, −y) of MuJoCo's z-up world. That axis map is the inverse of
+Blender's default BVH import (forward −Z, up Y), so the clip lands in Blender exactly where it
+stands in MuJoCo. Lengths are in metres by default (`units="m"`: Blender's default import scale 1
+gives a life-size character) or centimetres (`units="cm"`, the unit of most motion-capture BVH and
+of MotionBuilder-style tools).
 
-Skeleton: each body's BVH joint sits at its MuJoCo joint anchor (the body origin for the root and for bodies
-without a joint). The rest pose (all channels zero) is the relax pose, so offsets are the relax-pose vectors from
-parent anchor to child anchor; the root has 6 channels (absolute position, so root motion is kept, then ZXY
-rotation), the other joints 3 (ZXY). Every foot of the character ends in an End Site at its toe site: on the
-foot's own body when that body points along the foot (heel to toe), otherwise on an added joint `<foot>_foot` at
-the heel, fixed to its parent (channels always zero), so the foot's bone points from heel to toe. Other leaf
-bodies get an End Site at the tip of their first box: the face centre farthest from their anchor.
+Skeleton: each body's BVH joint sits at its MuJoCo joint anchor (the body origin for the root and
+for bodies without a joint). The rest pose (all channels zero) is the relax pose, so offsets are the
+relax-pose vectors from parent anchor to child anchor; the root has 6 channels (absolute position,
+so root motion is kept, then ZXY rotation), the other joints 3 (ZXY). Every foot of the character
+ends in an End Site at its toe site: on the foot's own body when that body points along the foot
+(heel to toe), otherwise on an added joint `<foot>_foot` at the heel, fixed to its parent (channels
+always zero), so the foot's bone points from heel to toe. Other leaf bodies get an End Site at the
+tip of their first box: the face centre farthest from their anchor.
 """
 
 from __future__ import annotations
@@ -37,14 +40,16 @@ EULER_ORDER = "ZXY"  # intrinsic, matching the channel order above
 
 
 def skeleton_bodies(world: World) -> list[int]:
-    """Body ids of the character in MuJoCo's depth-first order (parents before children), root first."""
+    """Body ids of the character in MuJoCo's depth-first order (parents before children), root
+    first."""
     model = world.model
     bodies = [b for b in range(model.nbody) if _is_in_subtree(model, b, world.root_body)]
     for b in bodies[1:]:
         for j in range(model.body_jntadr[b], model.body_jntadr[b] + model.body_jntnum[b]):
             if model.jnt_type[j] in (mujoco.mjtJoint.mjJNT_FREE, mujoco.mjtJoint.mjJNT_SLIDE):
                 raise UserInputError(
-                    f"body '{model.body(b).name}' has a sliding or free joint, which BVH cannot hold",
+                    f"body '{model.body(b).name}' has a sliding or free joint, which BVH cannot "
+                    "hold",
                     field="joints",
                     fix="BVH export supports ball and hinge joints below the root",
                 )
@@ -60,9 +65,15 @@ def _is_in_subtree(model: mujoco.MjModel, body: int, root: int) -> bool:
 
 
 def anchor_points(world: World, data: mujoco.MjData, bodies: list[int]) -> np.ndarray:
-    """World positions (m) of each body's first joint anchor, or its origin if it has no joint (len(bodies) × 3)."""
+    """World positions (m) of each body's first joint anchor, or its origin if it has no joint
+    (len(bodies) × 3)."""
     model = world.model
-    return np.array([data.xanchor[model.body_jntadr[b]] if model.body_jntnum[b] else data.xpos[b] for b in bodies])
+    return np.array(
+        [
+            data.xanchor[model.body_jntadr[b]] if model.body_jntnum[b] else data.xpos[b]
+            for b in bodies
+        ]
+    )
 
 
 def _local_anchor(model: mujoco.MjModel, body: int) -> np.ndarray:
@@ -70,17 +81,23 @@ def _local_anchor(model: mujoco.MjModel, body: int) -> np.ndarray:
 
 
 def _leaf_tip(model: mujoco.MjModel, body: int) -> np.ndarray | None:
-    """Tip of the body's first box in the body frame: its face centre farthest from the anchor (m)."""
+    """Tip of the body's first box in the body frame: its face centre farthest from the anchor
+    (m)."""
     geoms = [
         g
-        for g in range(model.body_geomadr[body], model.body_geomadr[body] + model.body_geomnum[body])
+        for g in range(
+            model.body_geomadr[body], model.body_geomadr[body] + model.body_geomnum[body]
+        )
         if not model.geom(g).name.startswith("contact:")
     ]
     boxes = [g for g in geoms if model.geom_type[g] == mujoco.mjtGeom.mjGEOM_BOX]
     if boxes:
         g = boxes[0]
         axes = quat_to_mat(model.geom_quat[g])
-        faces = model.geom_pos[g] + np.concatenate([axes * model.geom_size[g], -axes * model.geom_size[g]], axis=1).T
+        faces = (
+            model.geom_pos[g]
+            + np.concatenate([axes * model.geom_size[g], -axes * model.geom_size[g]], axis=1).T
+        )
     elif geoms:
         faces = model.geom_pos[geoms]
     else:
@@ -88,8 +105,11 @@ def _leaf_tip(model: mujoco.MjModel, body: int) -> np.ndarray | None:
     return faces[np.argmax(np.linalg.norm(faces - _local_anchor(model, body), axis=1))]
 
 
-def _foot_ends(world: World, leaves: set[int]) -> dict[int, tuple[np.ndarray | None, np.ndarray, str]]:
-    """Per leaf body carrying a toe site: (heel of an added foot joint or None, toe, foot name), body frame (m)."""
+def _foot_ends(
+    world: World, leaves: set[int]
+) -> dict[int, tuple[np.ndarray | None, np.ndarray, str]]:
+    """Per leaf body carrying a toe site: (heel of an added foot joint or None, toe, foot name),
+    body frame (m)."""
     model, ends = world.model, {}
     for foot, sites in world.character.feet.items():
         toe_id = model.site(sites.toe).id
@@ -105,23 +125,30 @@ def _foot_ends(world: World, leaves: set[int]) -> dict[int, tuple[np.ndarray | N
 
 
 def _angle_deg(a: np.ndarray, b: np.ndarray) -> float:
-    return float(np.degrees(np.arccos(np.clip(a @ b / (np.linalg.norm(a) * np.linalg.norm(b)), -1, 1))))
+    return float(
+        np.degrees(np.arccos(np.clip(a @ b / (np.linalg.norm(a) * np.linalg.norm(b)), -1, 1)))
+    )
 
 
 def _unit_scale(units: str) -> float:
     if units not in UNIT_SCALE:
-        raise UserInputError(f"unknown BVH length unit '{units}'", field="bvh_units", fix="use m or cm")
+        raise UserInputError(
+            f"unknown BVH length unit '{units}'", field="bvh_units", fix="use m or cm"
+        )
     return UNIT_SCALE[units]
 
 
-def trajectory_to_clip(world: World, qpos: np.ndarray, fps: float, units: str = DEFAULT_UNITS) -> BvhClip:
-    """BVH clip of a qpos trajectory (T × nq) sampled at `fps` frames per second, lengths in `units` ("m" or
-    "cm"; axes and skeleton: module doc)."""
+def trajectory_to_clip(
+    world: World, qpos: np.ndarray, fps: float, units: str = DEFAULT_UNITS
+) -> BvhClip:
+    """BVH clip of a qpos trajectory (T × nq) sampled at `fps` frames per second, lengths in `units`
+    ("m" or "cm"; axes and skeleton: module doc)."""
     model = world.model
     qpos = np.atleast_2d(qpos)
     if qpos.shape[1] != model.nq:
         raise UserInputError(
-            f"trajectory has {qpos.shape[1]} coordinates per frame, the model {model.nq}", field="qpos"
+            f"trajectory has {qpos.shape[1]} coordinates per frame, the model {model.nq}",
+            field="qpos",
         )
     bodies = skeleton_bodies(world)
     data = mujoco.MjData(model)
@@ -142,7 +169,11 @@ def trajectory_to_clip(world: World, qpos: np.ndarray, fps: float, units: str = 
     for i, b in enumerate(bodies):
         parent_body = int(model.body_parentid[b])
         parent = -1 if i == 0 else joint_of_body[parent_body]
-        offset = np.zeros(3) if parent < 0 else scale @ (rest_points[i] - rest_points[body_index[parent]])
+        offset = (
+            np.zeros(3)
+            if parent < 0
+            else scale @ (rest_points[i] - rest_points[body_index[parent]])
+        )
         anchor = _local_anchor(model, b)
         heel, toe, foot = feet.get(b, (None, None, None))
         tip = toe if b in feet else (_leaf_tip(model, b) if b in leaves else None)
@@ -173,12 +204,15 @@ def trajectory_to_clip(world: World, qpos: np.ndarray, fps: float, units: str = 
     frames = np.zeros((len(qpos), 3 + 3 * len(joints)))
     moving = [k for k, i in enumerate(body_index) if i is not None]
     columns = np.concatenate([3 + 3 * k + np.arange(3) for k in moving])
-    parents = [body_index[joints[k].parent] for k in moving[1:]]  # index into `bodies` of each parent
+    # index into `bodies` of each parent
+    parents = [body_index[joints[k].parent] for k in moving[1:]]
     for t, q in enumerate(qpos):
         points, rot = pose(q)
         # Each body's rotation away from its relax orientation, expressed in BVH axes.
         rel = MUJOCO_TO_BVH @ rot @ rest_rot.transpose(0, 2, 1) @ MUJOCO_TO_BVH.T
-        local = np.array([rel[0]] + [rel[p].T @ rel[i] for p, i in zip(parents, range(1, len(bodies)))])
+        local = np.array(
+            [rel[0]] + [rel[p].T @ rel[i] for p, i in zip(parents, range(1, len(bodies)))]
+        )
         frames[t, :3] = scale @ points[0]
         frames[t, columns] = Rotation.from_matrix(local).as_euler(EULER_ORDER, degrees=True).ravel()
     frames[:, 3:] = np.rad2deg(np.unwrap(np.deg2rad(frames[:, 3:]), axis=0))
@@ -200,8 +234,9 @@ def write_trajectory_bvh(
     fps: float | None = None,
     units: str = DEFAULT_UNITS,
 ) -> BvhClip:
-    """Write a qpos trajectory (T × nq, recorded at `source_fps`) as BVH at exactly `fps` frames per second
-    (default: `source_fps`), resampled by time (`eigengait.motion.resample`); see :func:`trajectory_to_clip`."""
+    """Write a qpos trajectory (T × nq, recorded at `source_fps`) as BVH at exactly `fps` frames per
+    second (default: `source_fps`), resampled by time (`eigengait.motion.resample`); see
+    :func:`trajectory_to_clip`."""
     from eigengait.motion.resample import at_frame_rate
 
     if fps is not None and fps != source_fps:

@@ -1,12 +1,14 @@
 """Detect a BVH clip's up axis, facing and length unit; BVH files state none of them.
 
-* Up: the file axis closest to the mean direction from the feet to the root over all frames (world vertical, so a
-  file whose rest pose lies on its side but whose frames stand up is read correctly).
-* Facing: the rest pose's left direction (left hip − right hip, all rotations zero) made perpendicular to up and
-  snapped to a file axis; forward = left × up. The retarget maps the root's rest orientation onto the character's
-  with no offset, so the rest pose, not the first frame, fixes the facing.
-* Unit: the rest-pose hip height h (root above its lowest point along the leg direction; rotation-invariant) is
-  compared with an adult hip height of 0.9 m; the unit of UNITS that brings h closest to it (in ratio) wins.
+* Up: the file axis closest to the mean direction from the feet to the root over all frames (world
+  vertical, so a file whose rest pose lies on its side but whose frames stand up is read correctly).
+* Facing: the rest pose's left direction (left hip − right hip, all rotations zero) made
+  perpendicular to up and snapped to a file axis; forward = left × up. The retarget maps the root's
+  rest orientation onto the character's with no offset, so the rest pose, not the first frame, fixes
+  the facing.
+* Unit: the rest-pose hip height h (root above its lowest point along the leg direction;
+  rotation-invariant) is compared with an adult hip height of 0.9 m; the unit of UNITS that brings h
+  closest to it (in ratio) wins.
 * Channel order: read per joint from the file (reported, not detected).
 Result: the proper rotation C with world = C · file (world: x forward, y left, z up).
 """
@@ -27,8 +29,9 @@ _NAMES = "xyz"
 
 @dataclass(frozen=True)
 class Conventions:
-    """File axes and unit: `axes` (world = axes @ file), up/forward as signed file axes ('+y'), unit name,
-    metres per unit, rest hip height (file units), rotation channel orders ('ZXY' → joint count)."""
+    """File axes and unit: `axes` (world = axes @ file), up/forward as signed file axes ('+y'), unit
+    name, metres per unit, rest hip height (file units), rotation channel orders ('ZXY' → joint
+    count)."""
 
     axes: np.ndarray
     up: str
@@ -63,7 +66,8 @@ def _label(axis: np.ndarray) -> str:
 
 
 def _points(clip: BvhClip, frames: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Joint positions (F, J, 3) and joints plus End Sites (F, J + E, 3) of the given raw frames, file units."""
+    """Joint positions (F, J, 3) and joints plus End Sites (F, J + E, 3) of the given raw frames,
+    file units."""
     one = BvhClip(clip.joints, clip.frame_time, frames)
     rot, pos = global_transforms(one)
     ends = list(end_site_positions(one, rot, pos).values())
@@ -71,7 +75,8 @@ def _points(clip: BvhClip, frames: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def detect_conventions(clip: BvhClip, roles: dict[str, str], start_frame: int = 1) -> Conventions:
-    """Conventions of a clip whose roles (from `skeleton_names.find_roles`) include root, thighs and feet."""
+    """Conventions of a clip whose roles (from `skeleton_names.find_roles`) include root, thighs and
+    feet."""
     index = {role: clip.joint_index(name) for role, name in roles.items()}
     root, feet = index["root"], [index["left_foot"], index["right_foot"]]
     pos, _ = _points(clip, clip.frames[start_frame:])
@@ -83,8 +88,12 @@ def detect_conventions(clip: BvhClip, roles: dict[str, str], start_frame: int = 
     leg = rest[0, root] - rest[0, feet].mean(axis=0)
     leg /= np.linalg.norm(leg)
     hip_height = float(np.max((rest[0, root] - rest_all[0]) @ leg))
-    unit = min(UNITS, key=lambda u: abs(np.log(max(hip_height, 1e-9) * UNITS[u] / ADULT_HIP_HEIGHT_M)))
-    orders = Counter("".join(c[0] for c in j.channels if c.endswith("rotation")) for j in clip.joints)
+    unit = min(
+        UNITS, key=lambda u: abs(np.log(max(hip_height, 1e-9) * UNITS[u] / ADULT_HIP_HEIGHT_M))
+    )
+    orders = Counter(
+        "".join(c[0] for c in j.channels if c.endswith("rotation")) for j in clip.joints
+    )
     return Conventions(
         axes=np.array([forward, left, up]),
         up=_label(up),

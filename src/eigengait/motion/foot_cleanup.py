@@ -1,23 +1,28 @@
-"""Remove stance-foot skate and floor penetration from a retargeted pose sequence before it becomes the reference.
+"""Remove stance-foot skate and floor penetration from a retargeted pose sequence before it becomes
+the reference.
 
-1. Stances per foot: runs of at least MIN_STANCE_S in which the foot's lowest sole point (`soles`) is within
-   STANCE_M of the floor (looser than the 2 cm of the skate measure, so a hovering stance foot is still found) and
-   the horizontal speed of its sole centre, smoothed over SPEED_SMOOTHING_S, is below STANCE_SPEED (a sliding
-   stance foot is still found; a swing foot passing low over the floor moves faster).
-2. Each stance is held from its start to its end, grown by up to EXTEND_S on each side while the foot stays
-   within STANCE_M (touch-down and lift-off). Over the hold, the foot's slip is the cumulative horizontal
-   displacement of its touching sole points (those within TOUCH_M of its lowest one); the correction keeps the
-   touching part where it is at mid-stance: horizontal −(slip(t) − slip(mid)); vertically the lowest sole point
-   is put on the floor (−low(t)) in the still part, fading to no vertical change at the hold's ends.
-3. After and before a hold the horizontal correction fades linearly to zero over BLEND_S (at most half the gap to
-   the next hold). A swing foot lower than CLEARANCE_M is lifted to it, the lift growing over LIFT_S from the
-   hold's edge, so a foot skimming the floor is not taken for a sliding stance.
-4. Where two holds of a foot meet (less than 2 BLEND_S apart: a foot pivoting in place is found as stances back to
-   back), they may ask for different positions, and a jump between them would put a velocity spike of metres per
-   second into the reference: within BLEND_S of such a junction the horizontal correction changes by at most
-   MAX_CORRECTION_SPEED.
-5. Each corrected frame: damped least-squares IK (`leg_ik`) moves the hip, knee and ankle so that the foot body
-   reaches its reference pose shifted by the correction, orientation kept; root and upper body are unchanged.
+1. Stances per foot: runs of at least MIN_STANCE_S in which the foot's lowest sole point (`soles`)
+   is within STANCE_M of the floor (looser than the 2 cm of the skate measure, so a hovering stance
+   foot is still found) and the horizontal speed of its sole centre, smoothed over
+   SPEED_SMOOTHING_S, is below STANCE_SPEED (a sliding stance foot is still found; a swing foot
+   passing low over the floor moves faster).
+2. Each stance is held from its start to its end, grown by up to EXTEND_S on each side while the
+   foot stays within STANCE_M (touch-down and lift-off). Over the hold, the foot's slip is the
+   cumulative horizontal displacement of its touching sole points (those within TOUCH_M of its
+   lowest one); the correction keeps the touching part where it is at mid-stance: horizontal
+   −(slip(t) − slip(mid)); vertically the lowest sole point is put on the floor (−low(t)) in the
+   still part, fading to no vertical change at the hold's ends.
+3. After and before a hold the horizontal correction fades linearly to zero over BLEND_S (at most
+   half the gap to the next hold). A swing foot lower than CLEARANCE_M is lifted to it, the lift
+   growing over LIFT_S from the hold's edge, so a foot skimming the floor is not taken for a sliding
+   stance.
+4. Where two holds of a foot meet (less than 2 BLEND_S apart: a foot pivoting in place is found as
+   stances back to back), they may ask for different positions, and a jump between them would put a
+   velocity spike of metres per second into the reference: within BLEND_S of such a junction the
+   horizontal correction changes by at most MAX_CORRECTION_SPEED.
+5. Each corrected frame: damped least-squares IK (`leg_ik`) moves the hip, knee and ankle so that
+   the foot body reaches its reference pose shifted by the correction, orientation kept; root and
+   upper body are unchanged.
 """
 
 from __future__ import annotations
@@ -54,7 +59,8 @@ class CleanedFeet:
 
 
 def _slip(points: np.ndarray, start: int, end: int) -> np.ndarray:
-    """Cumulative horizontal displacement (end − start, 2) of the touching sole points over a stance."""
+    """Cumulative horizontal displacement (end − start, 2) of the touching sole points over a
+    stance."""
     slip = np.zeros((end - start, 2))
     for i in range(start, end - 1):
         low = min(points[i, :, 2].min(), points[i + 1, :, 2].min())
@@ -64,8 +70,11 @@ def _slip(points: np.ndarray, start: int, end: int) -> np.ndarray:
     return slip
 
 
-def _holds(low: np.ndarray, speed: np.ndarray, frame_time: float) -> list[tuple[int, int, int, int]]:
-    """(hold start, core start, core end, hold end) per stance: the still core grown while the foot stays low."""
+def _holds(
+    low: np.ndarray, speed: np.ndarray, frame_time: float
+) -> list[tuple[int, int, int, int]]:
+    """(hold start, core start, core end, hold end) per stance: the still core grown while the foot
+    stays low."""
     cores = runs((low <= STANCE_M) & (speed <= STANCE_SPEED), frame_time, MIN_STANCE_S)
     grow, out = int(round(EXTEND_S / frame_time)), []
     for k, (a, b) in enumerate(cores):
@@ -85,13 +94,18 @@ def _ramp(n: int) -> np.ndarray:
     return 1.0 - np.arange(1, n + 1) / (n + 1)
 
 
-def foot_corrections(points: np.ndarray, frame_time: float) -> tuple[np.ndarray, list[tuple[int, int]]]:
-    """Per-frame correction (F, 3) of one foot (m, world) and its stances (holds), from its sole points (F, k, 3)."""
+def foot_corrections(
+    points: np.ndarray, frame_time: float
+) -> tuple[np.ndarray, list[tuple[int, int]]]:
+    """Per-frame correction (F, 3) of one foot (m, world) and its stances (holds), from its sole
+    points (F, k, 3)."""
     low = points[..., 2].min(axis=1)
     n, width = len(points), max(1, int(round(SPEED_SMOOTHING_S / frame_time)))
     speed = np.linalg.norm(np.gradient(points.mean(axis=1)[:, :2], frame_time, axis=0), axis=1)
     speed = np.convolve(
-        np.pad(speed, (width // 2, width - 1 - width // 2), mode="edge"), np.ones(width) / width, mode="valid"
+        np.pad(speed, (width // 2, width - 1 - width // 2), mode="edge"),
+        np.ones(width) / width,
+        mode="valid",
     )
     holds = _holds(low, speed, frame_time)
     correction = np.zeros((n, 3))
@@ -122,8 +136,8 @@ def foot_corrections(points: np.ndarray, frame_time: float) -> tuple[np.ndarray,
 
 
 def _limit_rate(values: np.ndarray, largest_step: float, free: np.ndarray) -> np.ndarray:
-    """Rows (F, k) of which the `free` ones (F,) change by at most `largest_step` (norm) from their neighbour: a
-    forward pass then a backward pass; the other rows are kept."""
+    """Rows (F, k) of which the `free` ones (F,) change by at most `largest_step` (norm) from their
+    neighbour: a forward pass then a backward pass; the other rows are kept."""
     out = values.copy()
     for step_dir, order in ((1, range(1, len(out))), (-1, range(len(out) - 2, -1, -1))):
         for i in order:
@@ -152,7 +166,10 @@ def clean_feet(world: World, qpos: np.ndarray, frame_time: float) -> CleanedFeet
             continue
         data.qpos[:] = qpos[i]
         mujoco.mj_kinematics(model, data)
-        targets = {f: (data.xpos[feet[f]] + plan[f][0][i], data.xmat[feet[f]].reshape(3, 3).copy()) for f in moving}
+        targets = {
+            f: (data.xpos[feet[f]] + plan[f][0][i], data.xmat[feet[f]].reshape(3, 3).copy())
+            for f in moving
+        }
         for f in moving:
             worst = max(worst, solve_leg(model, data, feet[f], chains[f], *targets[f]))
         out[i] = data.qpos

@@ -1,17 +1,18 @@
 """Level the retargeted feet: the foot stands flat when the clip's foot stands still on the floor.
 
-The retarget's rest offset assumes that the clip's rest pose (all rotations zero) holds the sole level. Skeletons
-disagree (a foot bone's rest direction says nothing of the sole, whose toe may point down or out), so a stance
-foot can stand on its toe or heel edge throughout the clip: measured on the CMU clips, a median stance pitch of
-−4° to −15° (heel raised). A physical foot then rests flat and tips the whole body by that angle.
+The retarget's rest offset assumes that the clip's rest pose (all rotations zero) holds the sole
+level. Skeletons disagree (a foot bone's rest direction says nothing of the sole, whose toe may
+point down or out), so a stance foot can stand on its toe or heel edge throughout the clip: measured
+on the CMU clips, a median stance pitch of −4° to −15° (heel raised). A physical foot then rests
+flat and tips the whole body by that angle.
 
-Per foot, the still frames are those in which the lowest sole point is within STILL_HEIGHT_M of the floor and the
-sole centre moves slower than STILL_SPEED horizontally; the world up direction seen in the foot's own frame is
-averaged over them (v̄) and compared with the rest pose's (v⁰, the foot level in the character's relax pose). The
-foot's orientation gets the constant correction C = min_arc(v⁰, v̄) in its own frame in every frame (W ← W C: then
-W C v⁰ = W v̄ ≈ up when still), i.e. its ball joint's rotation q ← q C. Heel-off and toe-off keep their motion
-relative to the levelled stance. Feet on hinge joints, or with fewer than MIN_STILL_S of still frames, are left as
-they are.
+Per foot, the still frames are those in which the lowest sole point is within STILL_HEIGHT_M of the
+floor and the sole centre moves slower than STILL_SPEED horizontally; the world up direction seen in
+the foot's own frame is averaged over them (v̄) and compared with the rest pose's (v⁰, the foot level
+in the character's relax pose). The foot's orientation gets the constant correction C = min_arc(v⁰,
+v̄) in its own frame in every frame (W ← W C: then W C v⁰ = W v̄ ≈ up when still), i.e. its ball
+joint's rotation q ← q C. Heel-off and toe-off keep their motion relative to the levelled stance.
+Feet on hinge joints, or with fewer than MIN_STILL_S of still frames, are left as they are.
 """
 
 from __future__ import annotations
@@ -51,7 +52,9 @@ def _foot_up(model: mujoco.MjModel, data: mujoco.MjData, qpos: np.ndarray, body:
     return data.xmat[body].reshape(3, 3).T @ UP
 
 
-def level_feet(world: World, qpos: np.ndarray, frame_time: float) -> tuple[np.ndarray, dict[str, float]]:
+def level_feet(
+    world: World, qpos: np.ndarray, frame_time: float
+) -> tuple[np.ndarray, dict[str, float]]:
     """Poses (F, nq) with levelled feet, and each levelled foot's correction angle (degrees)."""
     model, data = world.model, mujoco.MjData(world.model)
     soles = sole_points(world, qpos)
@@ -63,7 +66,9 @@ def level_feet(world: World, qpos: np.ndarray, frame_time: float) -> tuple[np.nd
         if joint is None or still.sum() * frame_time < MIN_STILL_S:
             continue
         rest_up = _foot_up(model, data, model.qpos0, body)
-        mean_up = np.mean([_foot_up(model, data, qpos[i], body) for i in np.flatnonzero(still)], axis=0)
+        mean_up = np.mean(
+            [_foot_up(model, data, qpos[i], body) for i in np.flatnonzero(still)], axis=0
+        )
         mean_up /= np.linalg.norm(mean_up)
         correction = mat_to_quat(min_arc(rest_up, mean_up))
         adr = model.jnt_qposadr[joint]

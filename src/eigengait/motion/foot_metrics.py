@@ -1,16 +1,18 @@
-"""Foot contact quality of a motion from its sole points: stances, skate, floor penetration, ground clearance.
+"""Foot contact quality of a motion from its sole points: stances, skate, floor penetration, ground
+clearance.
 
-Sole points are per foot an array (F, k, 3) of world positions (m, z up, floor at z = 0) of the foot's lowest
-points, one row per frame (e.g. the bottoms of its contact spheres).
+Sole points are per foot an array (F, k, 3) of world positions (m, z up, floor at z = 0) of the
+foot's lowest points, one row per frame (e.g. the bottoms of its contact spheres).
 
-* Stance: a run of at least MIN_STANCE_S seconds in which the foot's lowest sole point is within CONTACT_M of the
-  floor.
-* Skate of a stance: the horizontal travel (m) of the foot's touching part: per pair of consecutive frames, the
-  mean horizontal displacement of the sole points within CONTACT_M of the floor in both frames, summed as lengths.
-  A foot rolling from heel to toe does not skate; a sliding one does. The clip's skate is the mean over stances.
+* Stance: a run of at least MIN_STANCE_S seconds in which the foot's lowest sole point is within
+  CONTACT_M of the floor.
+* Skate of a stance: the horizontal travel (m) of the foot's touching part: per pair of consecutive
+  frames, the mean horizontal displacement of the sole points within CONTACT_M of the floor in both
+  frames, summed as lengths. A foot rolling from heel to toe does not skate; a sliding one does. The
+  clip's skate is the mean over stances.
 * Floor penetration: the deepest sole point below the floor (m, ≥ 0).
-* Ground clearance: per swing (the frames between two stances of one foot) the highest its lowest sole point gets;
-  the mean over swings (m), None without swings.
+* Ground clearance: per swing (the frames between two stances of one foot) the highest its lowest
+  sole point gets; the mean over swings (m), None without swings.
 """
 
 from __future__ import annotations
@@ -25,7 +27,8 @@ MIN_STANCE_S = 0.05
 
 @dataclass(frozen=True)
 class FootReport:
-    """Foot skate (m, mean per stance), stance count, floor penetration (m), ground clearance (m or None)."""
+    """Foot skate (m, mean per stance), stance count, floor penetration (m), ground clearance
+    (m or None)."""
 
     foot_skate_m: float
     stances: int
@@ -51,9 +54,13 @@ def runs(mask: np.ndarray, frame_time: float, min_s: float) -> list[tuple[int, i
 
 
 def stances(
-    low: np.ndarray, frame_time: float, contact_m: float = CONTACT_M, min_stance_s: float = MIN_STANCE_S
+    low: np.ndarray,
+    frame_time: float,
+    contact_m: float = CONTACT_M,
+    min_stance_s: float = MIN_STANCE_S,
 ) -> list[tuple[int, int]]:
-    """Frame ranges [start, end) where the lowest sole height `low` (F,) stays within `contact_m` of the floor."""
+    """Frame ranges [start, end) where the lowest sole height `low` (F,) stays within `contact_m` of
+    the floor."""
     return runs(np.asarray(low) <= contact_m, frame_time, min_stance_s)
 
 
@@ -68,7 +75,9 @@ def stance_skate(points: np.ndarray, start: int, end: int, contact_m: float = CO
     return travel
 
 
-def foot_report(soles: dict[str, np.ndarray], frame_time: float, contact_m: float = CONTACT_M) -> FootReport:
+def foot_report(
+    soles: dict[str, np.ndarray], frame_time: float, contact_m: float = CONTACT_M
+) -> FootReport:
     """Skate, penetration and clearance of all feet (sole points per foot, see the module doc)."""
     skates, peaks, deepest = [], [], 0.0
     for points in soles.values():

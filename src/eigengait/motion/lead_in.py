@@ -1,10 +1,11 @@
 """Skip a clip's lead-in: the frames before its motion starts.
 
-Many exports begin with a synthetic pose (the T-pose of CMU's frame 0) and some blend from it into the motion over
-a few frames (the Daz-skeleton CMU files: about 20° per frame at 120 frames/s for four frames). Started there, a
-reference begins with joint speeds of thousands of degrees per second that no controller can follow. The lead-in
-ends at the first frame whose largest bone rotation to the next frame is within `LEAD_IN_FACTOR` times the clip's
-median; at most `LEAD_IN_MAX_S` of the clip is skipped, so a clip that starts in fast motion keeps its start.
+Many exports begin with a synthetic pose (the T-pose of CMU's frame 0) and some blend from it into
+the motion over a few frames (the Daz-skeleton CMU files: about 20° per frame at 120 frames/s for
+four frames). Started there, a reference begins with joint speeds of thousands of degrees per second
+that no controller can follow. The lead-in ends at the first frame whose largest bone rotation to
+the next frame is within `LEAD_IN_FACTOR` times the clip's median; at most `LEAD_IN_MAX_S` of the
+clip is skipped, so a clip that starts in fast motion keeps its start.
 """
 
 from __future__ import annotations
@@ -18,7 +19,8 @@ LEAD_IN_MAX_S = 0.1  # s, the longest lead-in skipped
 
 
 def largest_bone_turns_deg(clip: BvhClip, start_frame: int = 0) -> np.ndarray:
-    """Largest rotation (degrees) of any bone, in the file's world axes, from each frame to the next (F−1,)."""
+    """Largest rotation (degrees) of any bone, in the file's world axes, from each frame to the next
+    (F−1,)."""
     rot, _ = global_transforms(clip)
     rot = rot[start_frame:]
     relative = np.swapaxes(rot[:-1], -1, -2) @ rot[1:]
@@ -27,8 +29,8 @@ def largest_bone_turns_deg(clip: BvhClip, start_frame: int = 0) -> np.ndarray:
 
 
 def first_frame_after_lead_in(clip: BvhClip, start_frame: int) -> int:
-    """The first frame at or after `start_frame` where the clip's own motion has begun; a start frame outside the
-    clip is returned as it is, for `retarget` to refuse with its error."""
+    """The first frame at or after `start_frame` where the clip's own motion has begun; a start
+    frame outside the clip is returned as it is, for `retarget` to refuse with its error."""
     if not 0 <= start_frame < clip.n_frames - 1:
         return start_frame
     turns = largest_bone_turns_deg(clip, start_frame)

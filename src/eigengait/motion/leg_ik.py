@@ -1,9 +1,10 @@
-"""Damped least-squares IK of one leg: move the joints between the root and a foot body so that the foot body
-reaches a world pose, the root and every other joint held.
+"""Damped least-squares IK of one leg: move the joints between the root and a foot body so that the
+foot body reaches a world pose, the root and every other joint held.
 
-Per iteration: 6D error e = (p* − p, log(R* Rᵀ)) (world, m and rad), Jacobian J of the foot body's origin from
-MuJoCo's `mj_jacBody` restricted to the leg's dofs, step dq = Jᵀ (J Jᵀ + λ² I)⁻¹ e, integrated on the joints'
-manifold (`mj_integratePos`). Stops when ‖e‖ < TOLERANCE or after MAX_ITERATIONS.
+Per iteration: 6D error e = (p* − p, log(R* Rᵀ)) (world, m and rad), Jacobian J of the foot body's
+origin from MuJoCo's `mj_jacBody` restricted to the leg's dofs, step dq = Jᵀ (J Jᵀ + λ² I)⁻¹ e,
+integrated on the joints' manifold (`mj_integratePos`). Stops when ‖e‖ < TOLERANCE or after
+MAX_ITERATIONS.
 """
 
 from __future__ import annotations
@@ -20,7 +21,8 @@ ORIENTATION_WEIGHT = 0.3  # m per rad: how much an orientation error counts agai
 
 
 def leg_dofs(model: mujoco.MjModel, foot_body: int, root_body: int) -> np.ndarray:
-    """Dof indices of the joints on the chain from `root_body` (excluded) down to `foot_body` (included)."""
+    """Dof indices of the joints on the chain from `root_body` (excluded) down to `foot_body`
+    (included)."""
     dofs, body = [], foot_body
     while body != root_body and body > 0:
         dofs += [d for d in range(model.nv) if model.dof_bodyid[d] == body]
@@ -36,7 +38,8 @@ def solve_leg(
     target_pos: np.ndarray,
     target_rot: np.ndarray,
 ) -> float:
-    """Move data.qpos toward the foot body pose (m, world rotation matrix); returns the final position error (m)."""
+    """Move data.qpos toward the foot body pose (m, world rotation matrix); returns the final
+    position error (m)."""
     jacp, jacr = np.zeros((3, model.nv)), np.zeros((3, model.nv))
     step = np.zeros(model.nv)
     weight = np.array([1.0, 1.0, 1.0] + [ORIENTATION_WEIGHT] * 3)
@@ -44,7 +47,9 @@ def solve_leg(
         mujoco.mj_kinematics(model, data)
         mujoco.mj_comPos(model, data)
         rot = data.xmat[foot_body].reshape(3, 3)
-        error = np.concatenate([target_pos - data.xpos[foot_body], quat_log(mat_to_quat(target_rot @ rot.T))])
+        error = np.concatenate(
+            [target_pos - data.xpos[foot_body], quat_log(mat_to_quat(target_rot @ rot.T))]
+        )
         error *= weight
         if np.linalg.norm(error) < TOLERANCE:
             break

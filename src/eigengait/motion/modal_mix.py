@@ -1,9 +1,9 @@
 """Kinematic mode animation (Kry et al. 2009): q(t) = q_relax ⊕ Σ A_i φ_i sin(2π f_i t + ϕ_i).
 
-Amplitudes A_i are modal coordinates in √kg·m, frequencies in Hz, phases in radians; the displacement
-d(t) = Σ A_i φ_i sin(…) (nv, MuJoCo velocity coordinates) moves the relax pose as `modal.shape_kinematics`
-describes. Relative amplitudes (the CLI's mix syntax) multiply the thesis's equal-energy defaults
-(`modal.shape_kinematics.equal_energy_amplitudes`).
+Amplitudes A_i are modal coordinates in √kg·m, frequencies in Hz, phases in radians; the
+displacement d(t) = Σ A_i φ_i sin(…) (nv, MuJoCo velocity coordinates) moves the relax pose as
+`modal.shape_kinematics` describes. Relative amplitudes (the CLI's mix syntax) multiply the thesis's
+equal-energy defaults (`modal.shape_kinematics.equal_energy_amplitudes`).
 """
 
 from __future__ import annotations
@@ -16,15 +16,22 @@ import numpy as np
 
 from eigengait.errors import UserInputError
 from eigengait.modal.modeset import ModeSet
-from eigengait.modal.shape_kinematics import DEFAULT_MAX_ROTATION_DEG, displaced_qpos, equal_energy_amplitudes
+from eigengait.modal.shape_kinematics import (
+    DEFAULT_MAX_ROTATION_DEG,
+    displaced_qpos,
+    equal_energy_amplitudes,
+)
 from eigengait.sim.world import World
 
-MIX_SYNTAX = "MODE:AMPLITUDE or MODE:AMPLITUDE@PHASE_DEGREES, comma separated, e.g. '1:0.5,3:0.3@90'"
+MIX_SYNTAX = (
+    "MODE:AMPLITUDE or MODE:AMPLITUDE@PHASE_DEGREES, comma separated, e.g. '1:0.5,3:0.3@90'"
+)
 
 
 @dataclass(frozen=True)
 class ModeTerm:
-    """One mode of a mix: user-facing mode number (1 = lowest), amplitude relative to the default, phase in degrees."""
+    """One mode of a mix: user-facing mode number (1 = lowest), amplitude relative to the default,
+    phase in degrees."""
 
     mode: int
     amplitude: float
@@ -33,7 +40,8 @@ class ModeTerm:
 
 @dataclass(frozen=True)
 class ModalMix:
-    """Σ A_i φ_i sin(2π f_i t + ϕ_i): shapes (nv × k), amplitudes in √kg·m, frequencies in Hz, phases in rad."""
+    """Σ A_i φ_i sin(2π f_i t + ϕ_i): shapes (nv × k), amplitudes in √kg·m, frequencies in Hz,
+    phases in rad."""
 
     shapes: np.ndarray
     amplitudes: np.ndarray
@@ -46,14 +54,19 @@ class ModalMix:
         return (np.sin(arg) * self.amplitudes) @ self.shapes.T
 
     def period(self) -> float | None:
-        """Lowest common period (s) of the frequencies, or None if they are not commensurate (to 1e-9)."""
+        """Lowest common period (s) of the frequencies, or None if they are not commensurate
+        (to 1e-9)."""
         return common_period(self.frequencies_hz)
 
 
 def common_period(frequencies_hz: np.ndarray, max_denominator: int = 10_000) -> float | None:
-    """Smallest T > 0 with f_i·T an integer for every i, or None if no such T exists with small denominators."""
+    """Smallest T > 0 with f_i·T an integer for every i, or None if no such T exists with small
+    denominators."""
     fractions = [Fraction(float(f)).limit_denominator(max_denominator) for f in frequencies_hz]
-    if any(fr <= 0 or abs(float(fr) - f) > 1e-9 * max(f, 1.0) for fr, f in zip(fractions, frequencies_hz)):
+    if any(
+        fr <= 0 or abs(float(fr) - f) > 1e-9 * max(f, 1.0)
+        for fr, f in zip(fractions, frequencies_hz)
+    ):
         return None
     numerator = 0
     denominator = 1
@@ -64,7 +77,8 @@ def common_period(frequencies_hz: np.ndarray, max_denominator: int = 10_000) -> 
 
 
 def harmonic_frequencies(frequencies_hz: np.ndarray, base_hz: float) -> np.ndarray:
-    """Each frequency moved to the nearest positive multiple of `base_hz`, so the mix loops every 1/base_hz s."""
+    """Each frequency moved to the nearest positive multiple of `base_hz`, so the mix loops every
+    1/base_hz s."""
     if not base_hz > 0:
         raise UserInputError(f"base frequency {base_hz} Hz must be positive", field="base_hz")
     return np.maximum(1, np.round(np.asarray(frequencies_hz) / base_hz)) * base_hz
@@ -77,11 +91,17 @@ def parse_mix(text: str) -> list[ModeTerm]:
         mode, sep, rest = item.partition(":")
         amplitude, _, phase = rest.partition("@")
         try:
-            terms.append(ModeTerm(int(mode), float(amplitude), float(phase) if phase.strip() else 0.0))
+            terms.append(
+                ModeTerm(int(mode), float(amplitude), float(phase) if phase.strip() else 0.0)
+            )
         except ValueError:
-            raise UserInputError(f"cannot read mix term '{item}'", field="mix", fix=f"write {MIX_SYNTAX}") from None
+            raise UserInputError(
+                f"cannot read mix term '{item}'", field="mix", fix=f"write {MIX_SYNTAX}"
+            ) from None
         if not sep:
-            raise UserInputError(f"mix term '{item}' has no amplitude", field="mix", fix=f"write {MIX_SYNTAX}")
+            raise UserInputError(
+                f"mix term '{item}' has no amplitude", field="mix", fix=f"write {MIX_SYNTAX}"
+            )
     if not terms:
         raise UserInputError("the mix names no mode", field="mix", fix=f"write {MIX_SYNTAX}")
     return terms
@@ -94,7 +114,8 @@ def build_mix(
     max_rotation_deg: float = DEFAULT_MAX_ROTATION_DEG,
     base_hz: float | None = None,
 ) -> ModalMix:
-    """The mix of the given terms, amplitudes relative to the equal-energy default; optionally on harmonics."""
+    """The mix of the given terms, amplitudes relative to the equal-energy default; optionally on
+    harmonics."""
     for term in terms:
         if not 1 <= term.mode <= modes.count:
             raise UserInputError(
@@ -115,11 +136,15 @@ def build_mix(
     )
 
 
-def mix_trajectory(world: World, mix: ModalMix, seconds: float, fps: float) -> tuple[np.ndarray, np.ndarray]:
-    """Times (s) and qpos (T × nq) of the mix sampled at `fps` frames per second for `seconds` (t = 0 included)."""
+def mix_trajectory(
+    world: World, mix: ModalMix, seconds: float, fps: float
+) -> tuple[np.ndarray, np.ndarray]:
+    """Times (s) and qpos (T × nq) of the mix sampled at `fps` frames per second for `seconds`
+    (t = 0 included)."""
     if not (seconds > 0 and fps > 0):
         raise UserInputError(
-            f"need positive duration and frame rate, got {seconds} s at {fps} fps", field="seconds/fps"
+            f"need positive duration and frame rate, got {seconds} s at {fps} fps",
+            field="seconds/fps",
         )
     times = np.arange(int(round(seconds * fps)) + 1) / fps
     return times, displaced_qpos(world, mix.displacement(times))

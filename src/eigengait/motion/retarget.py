@@ -1,26 +1,30 @@
 """Retarget a BVH clip onto a character by per-joint global rotation mapping.
 
-Method. For each mapped pair (BVH joint b → MJCF joint driving body k) the body's world orientation is
+Method. For each mapped pair (BVH joint b → MJCF joint driving body k) the body's world orientation
+is
 
     W_k(t) = Rw_b(t) · A_k · B_k⁰,
 
-where Rw_b(t) = C·G_b(t)·Cᵀ is the BVH joint's global rotation in world axes (C maps file axes to world axes, from
-the mapping file or detected by `conventions`: y-up/+Z-forward/+X-left CMU files become z-up/+x-forward/+y-left),
-B_k⁰ is the body's world orientation in the character's relax pose, and A_k is the rest offset between the
-skeletons: the smallest rotation taking the body's rest bone direction onto the BVH joint's bone direction in the
-BVH rest pose (all channel rotations zero). Bone directions point from a joint to the mean of its nearest mapped
-descendants (else its first child, End Site or first geom). A body that carries a foot (toe and heel sites) uses
-heel → toe as its bone and the BVH bone is flattened onto the floor plane (the sole is flat in the rest pose): the
-built-in humanoid has no ankle, so its shin-and-foot body follows the mocap foot, which keeps stance feet flat. The
-root body takes the root joint's rotation with no offset. Joint quaternions follow from parent and child
-orientations; unmapped joints stay at their relax rotation; hinges keep the component about their axis.
+where Rw_b(t) = C·G_b(t)·Cᵀ is the BVH joint's global rotation in world axes (C maps file axes to
+world axes, from the mapping file or detected by `conventions`: y-up/+Z-forward/+X-left CMU files
+become z-up/+x-forward/+y-left), B_k⁰ is the body's world orientation in the character's relax pose,
+and A_k is the rest offset between the skeletons: the smallest rotation taking the body's rest bone
+direction onto the BVH joint's bone direction in the BVH rest pose (all channel rotations zero).
+Bone directions point from a joint to the mean of its nearest mapped descendants (else its first
+child, End Site or first geom). A body that carries a foot (toe and heel sites) uses heel → toe as
+its bone and the BVH bone is flattened onto the floor plane (the sole is flat in the rest pose): the
+built-in humanoid has no ankle, so its shin-and-foot body follows the mocap foot, which keeps stance
+feet flat. The root body takes the root joint's rotation with no offset. Joint quaternions follow
+from parent and child orientations; unmapped joints stay at their relax rotation; hinges keep the
+component about their axis.
 
-Root position: the BVH root trajectory in world axes, scaled by the ratio of the character's standing root height
-to the BVH root height above its lowest point in the first frame (a leg-length scale) times the factor that keeps
-the stance feet still under the character's legs (`root_scale`), moved to start at x = y = 0 and shifted vertically
-so that the feet touch the floor (`grounding`: the capture floor's drift and hovering supporting feet removed).
-The feet are then levelled (`foot_level`: a constant correction per foot so that a foot standing still is flat),
-every joint is brought into its range and the path is grounded again.
+Root position: the BVH root trajectory in world axes, scaled by the ratio of the character's
+standing root height to the BVH root height above its lowest point in the first frame (a leg-length
+scale) times the factor that keeps the stance feet still under the character's legs (`root_scale`),
+moved to start at x = y = 0 and shifted vertically so that the feet touch the floor (`grounding`:
+the capture floor's drift and hovering supporting feet removed). The feet are then levelled
+(`foot_level`: a constant correction per foot so that a foot standing still is flat), every joint is
+brought into its range and the path is grounded again.
 """
 
 from __future__ import annotations
@@ -47,24 +51,30 @@ from eigengait.sim.world import World
 # World axis ← file axis, as signed file axis names (CMU convention: up +Y, forward +Z, left +X).
 CMU_AXES = {"x": "+z", "y": "+x", "z": "+y"}
 
-# Character joint driven by each body-part role of `skeleton_names` (the walker has ankles: its shin follows the
-# mocap lower leg and its foot body the mocap foot; the ankleless humanoid's shin follows the mocap foot).
+# Character joint driven by each body-part role of `skeleton_names` (the walker has ankles: its shin
+# follows the mocap lower leg and its foot body the mocap foot; the ankleless humanoid's shin
+# follows the mocap foot).
 _UPPER = {
     "root": "root",
     "torso": "torso",
     "head": "head",
-    **{f"{s}_{p}": f"{s}_{p}" for s in ("left", "right") for p in ("upper_arm", "forearm", "thigh")},
+    **{
+        f"{s}_{p}": f"{s}_{p}" for s in ("left", "right") for p in ("upper_arm", "forearm", "thigh")
+    },
 }
 CHARACTER_ROLES = {
-    "walker": {**_UPPER, **{f"{s}_{p}": f"{s}_{p}" for s in ("left", "right") for p in ("shin", "foot")}},
+    "walker": {
+        **_UPPER,
+        **{f"{s}_{p}": f"{s}_{p}" for s in ("left", "right") for p in ("shin", "foot")},
+    },
     "humanoid": {**_UPPER, "left_foot": "left_shin", "right_foot": "right_shin"},
 }
 
 
 class MappingFile(BaseModel):
-    """A mapping file (YAML): ``joints`` maps BVH joint names to MJCF joint names; the BVH root maps to the
-    MJCF free joint; ``axes`` gives each world axis as a signed file axis (default: detected, see
-    `conventions`)."""
+    """A mapping file (YAML): ``joints`` maps BVH joint names to MJCF joint names; the BVH root maps
+    to the MJCF free joint; ``axes`` gives each world axis as a signed file axis (default: detected,
+    see `conventions`)."""
 
     model_config = ConfigDict(extra="forbid")
     eigengait_mapping: int = 1
@@ -80,7 +90,8 @@ class MappingFile(BaseModel):
 
 
 def axis_matrix(axes: dict[str, str]) -> np.ndarray:
-    """3×3 proper rotation C with world = C @ file, from {'x': '+z', 'y': '+x', 'z': '+y'}-style axes."""
+    """3×3 proper rotation C with world = C @ file, from {'x': '+z', 'y': '+x', 'z': '+y'}-style
+    axes."""
     if sorted(axes) != ["x", "y", "z"]:
         raise ValueError("axes must give exactly x, y and z")
     matrix = np.zeros((3, 3))
@@ -97,8 +108,8 @@ def axis_matrix(axes: dict[str, str]) -> np.ndarray:
 
 @dataclass
 class Mapping:
-    """BVH joint → MJCF joint (the BVH root → the MJCF free joint), and the file-to-world axis rotation
-    (None: detected from the clip by `clip_axes`)."""
+    """BVH joint → MJCF joint (the BVH root → the MJCF free joint), and the file-to-world axis
+    rotation (None: detected from the clip by `clip_axes`)."""
 
     joints: dict[str, str]
     axes: np.ndarray | None = None
@@ -109,14 +120,18 @@ def load_mapping(path: str | Path) -> Mapping:
     parsed = load_model(
         MappingFile,
         path,
-        "write 'joints: {BVH_JOINT: MJCF_JOINT, ...}' and optionally 'axes: {x: +z, y: +x, z: +y}'.",
+        "write 'joints: {BVH_JOINT: MJCF_JOINT, ...}' and optionally 'axes: {x: +z, y: +x, z: "
+        "+y}'.",
         allow_empty=True,
     )
-    return Mapping(joints=dict(parsed.joints), axes=None if parsed.axes is None else axis_matrix(parsed.axes))
+    return Mapping(
+        joints=dict(parsed.joints), axes=None if parsed.axes is None else axis_matrix(parsed.axes)
+    )
 
 
 def builtin_mapping(character_name: str, clip: BvhClip) -> Mapping:
-    """The built-in character's mapping from the clip's joint names (`skeleton_names`); legs and root required."""
+    """The built-in character's mapping from the clip's joint names (`skeleton_names`); legs and
+    root required."""
     roles = find_roles(clip)
     wanted = CHARACTER_ROLES.get(character_name, {})
     missing = [r for r in wanted if (r in LEG_ROLES or r.endswith("_shin")) and r not in roles]
@@ -127,13 +142,17 @@ def builtin_mapping(character_name: str, clip: BvhClip) -> Mapping:
             f"character '{character_name}' (built-in mappings: {known}; missing "
             f"{', '.join(missing) or 'all'}).",
             field="BVH joints",
-            fix="pass a mapping file (mapping='map.yaml') naming, for each MJCF joint, the BVH joint that drives it.",
+            fix=(
+                "pass a mapping file (mapping='map.yaml') naming, for each MJCF joint, the BVH "
+                "joint that drives it."
+            ),
         )
     return Mapping(joints={roles[r]: joint for r, joint in wanted.items() if r in roles})
 
 
 def clip_axes(mapping: Mapping, clip: BvhClip, start_frame: int = 1) -> np.ndarray:
-    """The mapping's axes, else the detected ones, else (legs not found by name) the CMU convention."""
+    """The mapping's axes, else the detected ones, else (legs not found by name) the CMU
+    convention."""
     if mapping.axes is not None:
         return mapping.axes
     roles = find_roles(clip)
@@ -144,9 +163,9 @@ def clip_axes(mapping: Mapping, clip: BvhClip, start_frame: int = 1) -> np.ndarr
 
 @dataclass
 class RetargetedClip:
-    """Character poses (F, nq) at the clip's frame times, the root translation's scale (m per file unit), the
-    factor by which it differs from the hip-height scale (`root_scale`) and each foot's levelling (degrees,
-    `foot_level`)."""
+    """Character poses (F, nq) at the clip's frame times, the root translation's scale (m per file
+    unit), the factor by which it differs from the hip-height scale (`root_scale`) and each foot's
+    levelling (degrees, `foot_level`)."""
 
     qpos: np.ndarray
     frame_time: float
@@ -182,8 +201,13 @@ def _check_mapping(mapping: Mapping, clip: BvhClip, world: World) -> tuple[dict[
             )
         if model.jnt_type[jid] == mujoco.mjtJoint.mjJNT_FREE:
             root = names[bvh_name]
-        elif int(model.jnt_type[jid]) not in (int(mujoco.mjtJoint.mjJNT_BALL), int(mujoco.mjtJoint.mjJNT_HINGE)):
-            raise UserInputError(f"MJCF joint '{joint_name}' is neither ball nor hinge.", field=f"joints.{bvh_name}")
+        elif int(model.jnt_type[jid]) not in (
+            int(mujoco.mjtJoint.mjJNT_BALL),
+            int(mujoco.mjtJoint.mjJNT_HINGE),
+        ):
+            raise UserInputError(
+                f"MJCF joint '{joint_name}' is neither ball nor hinge.", field=f"joints.{bvh_name}"
+            )
         pairs[names[bvh_name]] = jid
     if root is None:
         raise UserInputError(
@@ -224,7 +248,9 @@ def _bvh_rest_bones(clip: BvhClip, pairs: dict[int, int]) -> dict[int, np.ndarra
         else:
             children = [i for i, p in enumerate(parents) if p == b]
             bones[b] = (
-                pos[0, children[0]] - pos[0, b] if children else ends.get(b, np.array([[0, 1, 0]]))[0] - pos[0, b]
+                pos[0, children[0]] - pos[0, b]
+                if children
+                else ends.get(b, np.array([[0, 1, 0]]))[0] - pos[0, b]
             )
     return bones
 
@@ -239,7 +265,9 @@ def _foot_sites(world: World) -> dict[int, tuple[int, int]]:
     return out
 
 
-def _body_rest_bones(world: World, data: mujoco.MjData, bodies: dict[int, int]) -> dict[int, np.ndarray]:
+def _body_rest_bones(
+    world: World, data: mujoco.MjData, bodies: dict[int, int]
+) -> dict[int, np.ndarray]:
     """Bone direction (world, relax pose) of every driven body, keyed by body id."""
     model = world.model
     parents = [int(p) if i else -1 for i, p in enumerate(model.body_parentid)]
@@ -255,15 +283,19 @@ def _body_rest_bones(world: World, data: mujoco.MjData, bodies: dict[int, int]) 
             bones[body] = data.xpos[targets].mean(axis=0) - data.xpos[body]
         else:
             geoms = np.flatnonzero(model.geom_bodyid == body)
-            bones[body] = data.geom_xpos[geoms[0]] - data.xpos[body] if len(geoms) else np.array([0.0, 0, 1])
+            bones[body] = (
+                data.geom_xpos[geoms[0]] - data.xpos[body] if len(geoms) else np.array([0.0, 0, 1])
+            )
     return bones
 
 
 def retarget(clip: BvhClip, world: World, mapping: Mapping, start_frame: int = 1) -> RetargetedClip:
-    """Character poses for frames ``start_frame..end`` of the clip (frame 0 of CMU files is a synthetic T-pose)."""
+    """Character poses for frames ``start_frame..end`` of the clip (frame 0 of CMU files is a
+    synthetic T-pose)."""
     if not 0 <= start_frame < clip.n_frames - 1:
         raise UserInputError(
-            f"start frame {start_frame} is outside the clip's frames 0..{clip.n_frames - 2} (two frames at least).",
+            f"start frame {start_frame} is outside the clip's frames 0..{clip.n_frames - 2} (two "
+            "frames at least).",
             field="start_frame",
             fix=f"use a start frame from 0 to {clip.n_frames - 2}.",
         )
@@ -302,7 +334,9 @@ def retarget(clip: BvhClip, world: World, mapping: Mapping, start_frame: int = 1
         world_orient[body] = orient[body]
         jid = joint_of_body[body]
         adr = model.jnt_qposadr[jid]
-        relative = np.swapaxes(local, -1, -2) @ np.swapaxes(world_orient[parent], -1, -2) @ orient[body]
+        relative = (
+            np.swapaxes(local, -1, -2) @ np.swapaxes(world_orient[parent], -1, -2) @ orient[body]
+        )
         quat = mat_to_quat(relative)
         if model.jnt_type[jid] == mujoco.mjtJoint.mjJNT_FREE:
             qpos[:, adr + 3 : adr + 7] = _continuous(mat_to_quat(orient[body]))
@@ -317,7 +351,9 @@ def retarget(clip: BvhClip, world: World, mapping: Mapping, start_frame: int = 1
     root_path = hip_scale * pos[:, root] @ axes.T
     root_path[:, :2] -= root_path[0, :2]
     _place_root(world, qpos, root_adr, root_path, clip.frame_time)
-    factor = leg_consistent_factor(qpos[:, root_adr : root_adr + 3], sole_points(world, qpos), clip.frame_time)
+    factor = leg_consistent_factor(
+        qpos[:, root_adr : root_adr + 3], sole_points(world, qpos), clip.frame_time
+    )
     _place_root(world, qpos, root_adr, factor * root_path, clip.frame_time)
     qpos, levelled = level_feet(world, qpos, clip.frame_time)
     _clamp_to_joint_ranges(model, qpos)
@@ -326,9 +362,10 @@ def retarget(clip: BvhClip, world: World, mapping: Mapping, start_frame: int = 1
 
 
 def _clamp_to_joint_ranges(model: mujoco.MjModel, qpos: np.ndarray) -> None:
-    """Bring every limited joint of poses qpos (F, nq) into its range, in place: a ball joint's rotation is shortened
-    to its largest angle about the same axis, a hinge clipped. A pose past a limit cannot be reached in physics, and
-    its PD would only press the joint into the limit (the head of the Daz CMU walk 05_01 is turned 60–91°)."""
+    """Bring every limited joint of poses qpos (F, nq) into its range, in place: a ball joint's
+    rotation is shortened to its largest angle about the same axis, a hinge clipped. A pose past a
+    limit cannot be reached in physics, and its PD would only press the joint into the limit
+    (the head of the Daz CMU walk 05_01 is turned 60–91°)."""
     for j in np.flatnonzero(model.jnt_limited):
         adr, low, high = model.jnt_qposadr[j], *model.jnt_range[j]
         if model.jnt_type[j] == mujoco.mjtJoint.mjJNT_HINGE:
@@ -336,11 +373,16 @@ def _clamp_to_joint_ranges(model: mujoco.MjModel, qpos: np.ndarray) -> None:
         elif model.jnt_type[j] == mujoco.mjtJoint.mjJNT_BALL:
             rotvec = quat_log(qpos[:, adr : adr + 4])
             angle = np.linalg.norm(rotvec, axis=1, keepdims=True)
-            qpos[:, adr : adr + 4] = quat_exp(rotvec * np.minimum(1.0, high / np.maximum(angle, 1e-12)))
+            qpos[:, adr : adr + 4] = quat_exp(
+                rotvec * np.minimum(1.0, high / np.maximum(angle, 1e-12))
+            )
 
 
-def _place_root(world: World, qpos: np.ndarray, root_adr: int, root_path: np.ndarray, frame_time: float) -> None:
-    """Write the root path (F, 3) into qpos, lowered so that the feet touch the floor (`grounding`)."""
+def _place_root(
+    world: World, qpos: np.ndarray, root_adr: int, root_path: np.ndarray, frame_time: float
+) -> None:
+    """Write the root path (F, 3) into qpos, lowered so that the feet touch the floor
+    (`grounding`)."""
     qpos[:, root_adr : root_adr + 3] = root_path
     qpos[:, root_adr + 2] -= floor_offset(lowest_foot_points(world, qpos), frame_time)
 
@@ -356,5 +398,7 @@ def _lowest_bvh_point(clip: BvhClip, axes: np.ndarray, frame: int) -> float:
     """World height (file units) of the lowest joint or End Site in one frame."""
     one = BvhClip(clip.joints, clip.frame_time, clip.frames[frame : frame + 1])
     rot, pos = global_transforms(one)
-    points = np.concatenate([pos[0], *[p for p in end_site_positions(one, rot, pos).values()]]).reshape(-1, 3)
+    points = np.concatenate(
+        [pos[0], *[p for p in end_site_positions(one, rot, pos).values()]]
+    ).reshape(-1, 3)
     return float((points @ axes.T)[:, 2].min())

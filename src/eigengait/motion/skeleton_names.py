@@ -1,9 +1,11 @@
-"""Find a BVH skeleton's body parts by joint name (MotionBuilder `Hips/LeftUpLeg/LeftLeg/LeftFoot`, Daz `hip/lThigh/
-lShin/lFoot`, and the same names with a namespace such as `mixamorig:` or with `_`/`-`/spaces).
+"""Find a BVH skeleton's body parts by joint name (MotionBuilder `Hips/LeftUpLeg/LeftLeg/LeftFoot`,
+Daz `hip/lThigh/ lShin/lFoot`, and the same names with a namespace such as `mixamorig:` or with
+`_`/`-`/spaces).
 
-A name is normalised (text after the last `:` or `|`, lower case, without `_ - . ` and spaces) and compared with
-each role's aliases in order; the first alias present wins (e.g. the torso is `Spine1`, else `chest`, else `Spine2`,
-else `Spine`). Roles are the body parts the built-in characters can follow.
+A name is normalised (text after the last `:` or `|`, lower case, without `_ - . ` and spaces) and
+compared with each role's aliases in order; the first alias present wins (e.g. the torso is
+`Spine1`, else `chest`, else `Spine2`, else `Spine`). Roles are the body parts the built-in
+characters can follow.
 """
 
 from __future__ import annotations
@@ -25,7 +27,9 @@ ROLE_ALIASES: dict[str, tuple[str, ...]] = {
     "head": ("head",),
     **{f"left_{part}": names for part, names in _LEFT.items()},
     **{
-        f"right_{part}": tuple("right" + n[4:] if n.startswith("left") else "r" + n[1:] for n in names)
+        f"right_{part}": tuple(
+            "right" + n[4:] if n.startswith("left") else "r" + n[1:] for n in names
+        )
         for part, names in _LEFT.items()
     },
 }
@@ -38,7 +42,8 @@ def normalise(name: str) -> str:
 
 
 def find_roles(clip: BvhClip) -> dict[str, str]:
-    """Role → BVH joint name for every role whose alias the clip has; the root role falls back to the BVH root."""
+    """Role → BVH joint name for every role whose alias the clip has; the root role falls back to
+    the BVH root."""
     by_name = {normalise(j.name): j.name for j in clip.joints}
     found = {}
     for role, aliases in ROLE_ALIASES.items():

@@ -1,5 +1,6 @@
-"""Track a motion-capture clip in physics: load, retarget, clean the feet, replay as reference, run the balance
-controller; or check the retargeted reference without physics (foot skate, floor penetration, ground clearance).
+"""Track a motion-capture clip in physics: load, retarget, clean the feet, replay as reference, run
+the balance controller; or check the retargeted reference without physics (foot skate, floor
+penetration, ground clearance).
 
 Shared by `eigengait track` and the studio's tracking panel.
 """
@@ -14,12 +15,13 @@ from eigengait.inputs import check_range
 def reference_poses(
     clip_path: Path, character: str, mapping: Path | None, start_frame: int, clean: bool = True
 ) -> dict:
-    """Load and retarget a clip from `start_frame`, its lead-in skipped (`lead_in.py`), then clean its feet (unless
-    `clean` is False).
+    """Load and retarget a clip from `start_frame`, its lead-in skipped (`lead_in.py`), then clean
+    its feet (unless `clean` is False).
 
-    Returns world, poses (F, nq), first_frame (the clip frame they start at), frame_time (s), scale (m per file
-    unit), root_factor (`root_scale`), foot_level_deg (`foot_level`), conventions (or None when the skeleton's
-    legs are not found by name), raw and final foot reports (`foot_metrics`)."""
+    Returns world, poses (F, nq), first_frame (the clip frame they start at), frame_time (s), scale
+    (m per file unit), root_factor (`root_scale`), foot_level_deg (`foot_level`), conventions
+    (or None when the skeleton's legs are not found by name), raw and final foot reports
+    (`foot_metrics`)."""
     from eigengait.character import load_character
     from eigengait.motion.bvh import read_bvh
     from eigengait.motion.conventions import detect_conventions
@@ -40,7 +42,9 @@ def reference_poses(
     roles = find_roles(clip)
     conventions = detect_conventions(clip, roles, first) if set(LEG_ROLES) <= set(roles) else None
     raw = foot_report(sole_points(world, retargeted.qpos), retargeted.frame_time)
-    qpos = clean_feet(world, retargeted.qpos, retargeted.frame_time).qpos if clean else retargeted.qpos
+    qpos = (
+        clean_feet(world, retargeted.qpos, retargeted.frame_time).qpos if clean else retargeted.qpos
+    )
     final = foot_report(sole_points(world, qpos), retargeted.frame_time) if clean else raw
     return {
         "world": world,
@@ -57,7 +61,8 @@ def reference_poses(
 
 
 def kinematic_summary(ref: dict, clean: bool) -> dict:
-    """JSON-ready report of a retargeted reference played without physics (`reference_poses` output)."""
+    """JSON-ready report of a retargeted reference played without physics (`reference_poses`
+    output)."""
     conventions = ref["conventions"]
     return {
         "kinematic": True,
@@ -86,12 +91,13 @@ def run_track(
     clean: bool = True,
     foot: dict | None = None,
 ) -> tuple[object, object, object]:
-    """Load, retarget, clean the feet (unless `clean` is False), replay and track; returns (world, reference,
-    result); result.foot_skate_m is the simulated motion's skate (m, mean per stance, `foot_metrics`).
+    """Load, retarget, clean the feet (unless `clean` is False), replay and track; returns (world,
+    reference, result); result.foot_skate_m is the simulated motion's skate (m, mean per stance,
+    `foot_metrics`).
 
-    `push`: pushes as text, FORCE@TIME[,FORCE@TIME…] in N and s (`control.playback.parse_pushes`), sideways (+y)
-    on the torso; `foot`: the foot model as `TrackerSettings` keyword arguments (foot_radius_m, foot_com_height_m,
-    foot_friction), default the settings'."""
+    `push`: pushes as text, FORCE@TIME[,FORCE@TIME…] in N and s (`control.playback.parse_pushes`),
+    sideways (+y) on the torso; `foot`: the foot model as `TrackerSettings` keyword arguments
+    (foot_radius_m, foot_com_height_m, foot_friction), default the settings'."""
     from eigengait.control.balance.pushes import sideways_pushes
     from eigengait.control.balance.reference import kinematic_replay
     from eigengait.control.balance.tracker import TrackerSettings, track
@@ -99,13 +105,27 @@ def run_track(
     from eigengait.motion.soles import sole_points
 
     check_range(
-        robustness, "robustness", 0, 1, fix="use a value between 0 (physically correct) and 1 (fully compensated)."
+        robustness,
+        "robustness",
+        0,
+        1,
+        fix="use a value between 0 (physically correct) and 1 (fully compensated).",
     )
-    check_range(tolerance, "tolerance", 0, 1, fix="use a value between 0 (never switch balance off) and 1.")
+    check_range(
+        tolerance, "tolerance", 0, 1, fix="use a value between 0 (never switch balance off) and 1."
+    )
     pushes = sideways_pushes([push], "torso") if push else ()
     ref = reference_poses(clip_path, character, mapping, start_frame, clean)
     world = ref["world"]
     reference = kinematic_replay(world, ref["qpos"], ref["frame_time"])
-    result = track(world, reference, robustness, TrackerSettings(tolerance=tolerance, **(foot or {})), pushes=pushes)
-    result.foot_skate_m = foot_report(sole_points(world, result.qpos), result.frame_time).foot_skate_m
+    result = track(
+        world,
+        reference,
+        robustness,
+        TrackerSettings(tolerance=tolerance, **(foot or {})),
+        pushes=pushes,
+    )
+    result.foot_skate_m = foot_report(
+        sole_points(world, result.qpos), result.frame_time
+    ).foot_skate_m
     return world, reference, result

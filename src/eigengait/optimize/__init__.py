@@ -1,1 +1,2 @@
-"""Optimization of pulse controllers: objective, batched evaluation, method of multipliers around CMA-ES."""
+"""Optimization of pulse controllers: objective, batched evaluation, method of multipliers around
+CMA-ES."""

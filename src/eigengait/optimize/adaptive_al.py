@@ -1,10 +1,11 @@
-"""pycma's adaptive augmented Lagrangian (Atamna et al. 2017) on the same problem, for comparison with the
-thesis's method of multipliers (method "al").
+"""pycma's adaptive augmented Lagrangian (Atamna et al. 2017) on the same problem, for comparison
+with the thesis's method of multipliers (method "al").
 
-The cyclic constraint |φᵢ| ≤ tolerance becomes the inequality pair (φᵢ − tol, −φᵢ − tol) ≤ 0; `cma`'s
-`ConstrainedFitnessAL` adapts the multipliers and penalties every generation. One CMA-ES run, restarted from the
-best solution with σ ← 0.7σ when it stops, until the constraint is met or the budget is spent. The population is
-still evaluated as one batch: the fitness reads each candidate's outcome from the generation's outcomes.
+The cyclic constraint |φᵢ| ≤ tolerance becomes the inequality pair (φᵢ − tol, −φᵢ − tol) ≤ 0;
+`cma`'s `ConstrainedFitnessAL` adapts the multipliers and penalties every generation. One CMA-ES
+run, restarted from the best solution with σ ← 0.7σ when it stops, until the constraint is met or
+the budget is spent. The population is still evaluated as one batch: the fitness reads each
+candidate's outcome from the generation's outcomes.
 """
 
 from __future__ import annotations
@@ -23,15 +24,15 @@ from eigengait.optimize.mom import ConstrainedSearch, SearchSettings
 
 @dataclass
 class AlSettings(SearchSettings):
-    """pycma's adaptive augmented Lagrangian: the shared search settings only (it adapts its own multipliers and
-    penalties, so it has no `penalty`)."""
+    """pycma's adaptive augmented Lagrangian: the shared search settings only (it adapts its own
+    multipliers and penalties, so it has no `penalty`)."""
 
     method: ClassVar[str] = "al"
 
 
 class AdaptiveFitness:
-    """pycma's `ConstrainedFitnessAL` for a batch-evaluated generation: each candidate's objective and constraints
-    are looked up (by the candidate's bytes) in that generation's outcomes."""
+    """pycma's `ConstrainedFitnessAL` for a batch-evaluated generation: each candidate's objective
+    and constraints are looked up (by the candidate's bytes) in that generation's outcomes."""
 
     def __init__(self, tolerance: float, dimension: int):
         self.tolerance = tolerance
@@ -39,13 +40,16 @@ class AdaptiveFitness:
         self.constrained = self._quiet(dimension)
 
     def _quiet(self, dimension: int) -> cma.ConstrainedFitnessAL:
-        """Without pycma's log files: building its AugmentedLagrangian makes an `outcmaes/` folder in the working
-        directory, which is removed again if it is new and empty; logging is off, so nothing is written there."""
+        """Without pycma's log files: building its AugmentedLagrangian makes an `outcmaes/` folder
+        in the working directory, which is removed again if it is new and empty; logging is off, so
+        nothing is written there."""
         folder = Path("outcmaes")
         existed = folder.exists()
         with warnings.catch_warnings():  # cma warns that its optional archive package is missing
             warnings.simplefilter("ignore")
-            fitness = cma.ConstrainedFitnessAL(self._objective, self._constraints, dimension=dimension, archives=False)
+            fitness = cma.ConstrainedFitnessAL(
+                self._objective, self._constraints, dimension=dimension, archives=False
+            )
             fitness.al.logging = 0
         if not existed and folder.is_dir() and not any(folder.iterdir()):
             folder.rmdir()
@@ -77,7 +81,8 @@ class AdaptiveFitness:
 
 
 class AdaptiveAugmentedLagrangian(ConstrainedSearch):
-    """Same state, checkpoints and stopping rules as the method of multipliers; different constraint handling."""
+    """Same state, checkpoints and stopping rules as the method of multipliers; different constraint
+    handling."""
 
     s: AlSettings
 
@@ -87,7 +92,8 @@ class AdaptiveAugmentedLagrangian(ConstrainedSearch):
         return es
 
     def fitness(self, X: np.ndarray, outcomes: list[Outcome]) -> list[float]:
-        """pycma's adaptive AL fitness; its multipliers and penalties update after every generation."""
+        """pycma's adaptive AL fitness; its multipliers and penalties update after every
+        generation."""
         return self.state.al(X, outcomes)
 
     def multipliers(self, like: np.ndarray) -> np.ndarray:

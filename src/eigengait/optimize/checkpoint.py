@@ -1,10 +1,11 @@
 """Checkpoints as data: one NPZ file of plain arrays plus a JSON text, read without pickle.
 
-A checkpoint holds the optimizer's counters, multipliers, penalty, best solution and log, and the current inner
-CMA-ES run as data: its start point and every generation's candidates with their cost and cycle violation. The
-CMA object (and pycma's adaptive augmented Lagrangian) is rebuilt on resume by replaying those generations from
-the run's seed, which gives back the same object bit for bit. Nothing in the file can name code to run: arrays
-are read with `allow_pickle=False` and the rest is JSON.
+A checkpoint holds the optimizer's counters, multipliers, penalty, best solution and log, and the
+current inner CMA-ES run as data: its start point and every generation's candidates with their cost
+and cycle violation. The CMA object (and pycma's adaptive augmented Lagrangian) is rebuilt on resume
+by replaying those generations from the run's seed, which gives back the same object bit for bit.
+Nothing in the file can name code to run: arrays are read with `allow_pickle=False` and the rest is
+JSON.
 """
 
 from __future__ import annotations
@@ -28,8 +29,12 @@ def _history_arrays(state: MomState) -> dict[str, np.ndarray]:
         return {}
     return {
         "history_x": np.array([X for X, _ in state.history], dtype=float),
-        "history_cost": np.array([[o.cost for o in outs] for _, outs in state.history], dtype=float),
-        "history_cycle": np.array([[o.cycle for o in outs] for _, outs in state.history], dtype=float),
+        "history_cost": np.array(
+            [[o.cost for o in outs] for _, outs in state.history], dtype=float
+        ),
+        "history_cycle": np.array(
+            [[o.cycle for o in outs] for _, outs in state.history], dtype=float
+        ),
     }
 
 
@@ -42,7 +47,12 @@ def save_state(state: MomState, path: Path | str) -> None:
         **{k: getattr(state, k) for k in SCALARS},
         "best": None
         if best is None
-        else {"cost": float(best.cost), "fell": bool(best.fell), "energy": float(best.energy), "soft": best.soft},
+        else {
+            "cost": float(best.cost),
+            "fell": bool(best.fell),
+            "energy": float(best.energy),
+            "soft": best.soft,
+        },
     }
     arrays = {"x_start": state.x_start, **_history_arrays(state)}
     for name in ("lam", "best_x", "inner_start"):
@@ -83,13 +93,21 @@ def load_state(path: Path | str) -> MomState:
             **{k: meta[k] for k in SCALARS},
         )
         if meta["best"] is not None:
-            state.best = Outcome(cycle=a["best_cycle"], mean_velocity=a["best_mean_velocity"], **meta["best"])
+            state.best = Outcome(
+                cycle=a["best_cycle"], mean_velocity=a["best_mean_velocity"], **meta["best"]
+            )
         if "history_x" in a:
             state.history = [
                 (
                     X,
                     [
-                        Outcome(cost=float(c), cycle=phi, fell=False, mean_velocity=np.zeros(3), energy=0.0)
+                        Outcome(
+                            cost=float(c),
+                            cycle=phi,
+                            fell=False,
+                            mean_velocity=np.zeros(3),
+                            energy=0.0,
+                        )
                         for c, phi in zip(costs, cycles)
                     ],
                 )
@@ -102,5 +120,7 @@ def load_state(path: Path | str) -> MomState:
             fix="delete the run folder's checkpoint.npz to start over, or restore it",
         ) from None
     if state.history and state.inner_start is None:
-        raise UserInputError("the checkpoint records an inner run without its start point", file=path)
+        raise UserInputError(
+            "the checkpoint records an inner run without its start point", file=path
+        )
     return state

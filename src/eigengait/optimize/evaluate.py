@@ -1,11 +1,13 @@
-"""Evaluate a CMA-ES population as one batch of closed-loop rollouts over several cycles, with no reset.
+"""Evaluate a CMA-ES population as one batch of closed-loop rollouts over several cycles, with no
+reset.
 
-Every candidate is simulated for `cycles` consecutive cycles (`control/closed_loop.py`: stepping in C, feedback
-for the whole batch in NumPy between chunks; fallen candidates are dropped early). The hard cyclic constraint φ
-holds at every cycle end: the state at the end of cycle k against the state at its start (root x excluded), and
-for symmetric gaits also the mirrored state at T/2 of the first cycle against (q₀, q̇₀), the thesis's choice. A
-fallen candidate's soft penalty grows with the share of the horizon it did not survive, so falls still rank; a
-candidate that blows up gets the worst fall's penalty and finite values only.
+Every candidate is simulated for `cycles` consecutive cycles (`control/closed_loop.py`: stepping in
+C, feedback for the whole batch in NumPy between chunks; fallen candidates are dropped early). The
+hard cyclic constraint φ holds at every cycle end: the state at the end of cycle k against the state
+at its start (root x excluded), and for symmetric gaits also the mirrored state at T/2 of the first
+cycle against (q₀, q̇₀), the thesis's choice. A fallen candidate's soft penalty grows with the share
+of the horizon it did not survive, so falls still rank; a candidate that blows up gets the worst
+fall's penalty and finite values only.
 """
 
 from __future__ import annotations
@@ -25,13 +27,15 @@ from eigengait.control.sketch import Targets
 from eigengait.optimize import terms
 from eigengait.optimize.parameters import ParameterSpace
 
-FALL_PENALTY = 100.0  # soft-constraint units for a fall at t = 0, scaled by the unsurvived share of the horizon
+# soft-constraint units for a fall at t = 0, scaled by the unsurvived share of the horizon
+FALL_PENALTY = 100.0
 FALLEN_CYCLE_ERROR = 10.0
 
 
 @dataclass
 class Outcome:
-    """The result of one candidate. `cost` = w_p·E_vel·E_energia + w_r·Σ soft; `cycle` = φ (hard constraint)."""
+    """The result of one candidate. `cost` = w_p·E_vel·E_energia + w_r·Σ soft; `cycle` = φ (hard
+    constraint)."""
 
     cost: float
     cycle: np.ndarray
@@ -70,7 +74,9 @@ class BatchEvaluator:
         self.nv = self.model.nv
         world = system.world
         self.view = world.view
-        self.hip_joint = {f: self.model.joint(leg_root_joint(world, f)).id for f in dict.fromkeys(system.feet)}
+        self.hip_joint = {
+            f: self.model.joint(leg_root_joint(world, f)).id for f in dict.fromkeys(system.feet)
+        }
         self.kinematics = mujoco.MjData(self.model)
 
     @property
@@ -113,27 +119,41 @@ class BatchEvaluator:
         qvel = view.qvel(states[samples])
         soft = {
             "min_speed": terms.min_speed_term(comvel[samples, 0], tg.min_speed),
-            "mean_speed": terms.mean_speed_term(mean_vel, tg.mean_speed, tg.lateral_speed, tg.vertical_speed),
-            "joint_speed": terms.joint_speed_term(qvel[:, self.system.world.internal_qvel], tg.joint_speed),
+            "mean_speed": terms.mean_speed_term(
+                mean_vel, tg.mean_speed, tg.lateral_speed, tg.vertical_speed
+            ),
+            "joint_speed": terms.joint_speed_term(
+                qvel[:, self.system.world.internal_qvel], tg.joint_speed
+            ),
             "energy_max": terms.energy_limit_term(energy, tg.energy),
             "priority": terms.priority_term(self._priority_split(p)),
             "upright": terms.upright_term(view.up_z(states[samples])),
             **self._stance_terms(p, states, sensors),
         }
         if tg.stance_slip is not None:
-            slips = rollout_stance_slips(view, self.system.initial_sensors(p), sensors, self.dt).values()
-            soft["stance_slip"] = terms.stance_slip_term(np.concatenate(list(slips)), tg.stance_slip)
+            slips = rollout_stance_slips(
+                view, self.system.initial_sensors(p), sensors, self.dt
+            ).values()
+            soft["stance_slip"] = terms.stance_slip_term(
+                np.concatenate(list(slips)), tg.stance_slip
+            )
         if run.fell[i]:
             soft["fall"] = FALL_PENALTY * (2.0 - end / run.steps[i])
-        if run.fell[i] or len(run.cycle_ends[i]) < self.cycles:  # fallen, or touchdowns too late to finish
+        # fallen, or touchdowns too late to finish
+        if run.fell[i] or len(run.cycle_ends[i]) < self.cycles:
             cycle = np.full(self.constraint_size, FALLEN_CYCLE_ERROR)
         else:
             cycle = cycle_errors(self.system, p, run.states[i], self.cycles, run.cycle_ends[i])
-        cost = terms.OBJECTIVE_WEIGHT * terms.speed_objective(mean_vel[0]) * energy + terms.SOFT_WEIGHT * sum(
-            soft.values()
-        )
+        cost = terms.OBJECTIVE_WEIGHT * terms.speed_objective(
+            mean_vel[0]
+        ) * energy + terms.SOFT_WEIGHT * sum(soft.values())
         return Outcome(
-            cost=float(cost), cycle=cycle, fell=bool(run.fell[i]), mean_velocity=mean_vel, energy=energy, soft=soft
+            cost=float(cost),
+            cycle=cycle,
+            fell=bool(run.fell[i]),
+            mean_velocity=mean_vel,
+            energy=energy,
+            soft=soft,
         )
 
     @property
@@ -149,9 +169,10 @@ class BatchEvaluator:
             out.append((psi[prio], psi[~prio]))
         return out
 
-    # ------------------------------------------------------------------ stance terms (Eqs. 4.17–4.20)
+    # ---------------------------------------------------------------- stance terms (Eqs. 4.17–4.20)
     def _hips(self, states: np.ndarray) -> dict[str, np.ndarray]:
-        """World hip-anchor positions (n × 3) per leg, from forward kinematics of the recorded states."""
+        """World hip-anchor positions (n × 3) per leg, from forward kinematics of the recorded
+        states."""
         model, data = self.model, self.kinematics
         out = {f: np.empty((len(states), 3)) for f in self.hip_joint}
         for k, row in enumerate(states):
@@ -161,7 +182,9 @@ class BatchEvaluator:
                 out[f][k] = data.xanchor[j]
         return out
 
-    def _stance_terms(self, p: GaitParameters, states: np.ndarray, sensors: np.ndarray) -> dict[str, float]:
+    def _stance_terms(
+        self, p: GaitParameters, states: np.ndarray, sensors: np.ndarray
+    ) -> dict[str, float]:
         out = {"stance_contact": 0.0, "stance_rise": 0.0, "anti_stumble": 0.0}
         n, dt, view = len(sensors), self.dt, self.view
         schedule = self.system.states(p)
@@ -171,11 +194,16 @@ class BatchEvaluator:
             for k, s in enumerate(schedule):
                 if s.phase != "ground":
                     continue
-                a, b = int((offset + s.start) / dt), min(n, int((offset + s.start + s.duration) / dt))
+                a, b = (
+                    int((offset + s.start) / dt),
+                    min(n, int((offset + s.start + s.duration) / dt)),
+                )
                 if a >= n:
                     continue
                 clearance = view.toe(sensors[a:b], s.foot)[:, 2] - view.foot_radius[s.foot]
-                out["stance_contact"] += terms.stance_contact_term(clearance[: max(1, int(s.pulse / 2 / dt))])
+                out["stance_contact"] += terms.stance_contact_term(
+                    clearance[: max(1, int(s.pulse / 2 / dt))]
+                )
                 air = schedule[k - 1]
                 w0 = int((offset + air.start) / dt)
                 after = schedule[(k + 1) % len(schedule)]
@@ -197,6 +225,8 @@ class BatchEvaluator:
                         )
         return out
 
-    def _toe_to_hip(self, sensors: np.ndarray, hips: dict[str, np.ndarray], foot: str) -> np.ndarray:
+    def _toe_to_hip(
+        self, sensors: np.ndarray, hips: dict[str, np.ndarray], foot: str
+    ) -> np.ndarray:
         toe = self.view.toe(sensors, foot)
         return np.linalg.norm(toe - hips[foot], axis=1)

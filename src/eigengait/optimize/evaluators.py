@@ -1,7 +1,9 @@
-"""Where a population is simulated: threads in C on this machine (default), worker processes, or a Ray cluster.
+"""Where a population is simulated: threads in C on this machine (default), worker processes, or a
+Ray cluster.
 
-Every evaluator is a callable X (P × n, normalized) -> list[Outcome], built from the sketch so remote workers
-can rebuild the same problem. Processes and Ray split the population into one batch per worker.
+Every evaluator is a callable X (P × n, normalized) -> list[Outcome], built from the sketch so
+remote workers can rebuild the same problem. Processes and Ray split the population into one batch
+per worker.
 """
 
 from __future__ import annotations
@@ -49,7 +51,9 @@ def _process_evaluate(X: np.ndarray) -> list[Outcome]:
 
 class ProcessEvaluator:
     def __init__(self, sketch: Sketch, workers: int):
-        self.pool = mp.get_context("spawn").Pool(workers, _process_init, (sketch.model_dump(mode="json"),))
+        self.pool = mp.get_context("spawn").Pool(
+            workers, _process_init, (sketch.model_dump(mode="json"),)
+        )
         self.workers = workers
 
     def __call__(self, X: np.ndarray) -> list[Outcome]:
@@ -61,7 +65,8 @@ class ProcessEvaluator:
 
 
 class RayEvaluator:
-    """One Ray actor per worker, each holding its own BatchEvaluator (connects to RAY_ADDRESS or starts local)."""
+    """One Ray actor per worker, each holding its own BatchEvaluator (connects to RAY_ADDRESS or
+    starts local)."""
 
     def __init__(self, sketch: Sketch, workers: int, address: str | None = None):
         try:
@@ -124,4 +129,6 @@ def make_evaluator(
         return ProcessEvaluator(problem.sketch, workers)
     if kind == "ray":
         return RayEvaluator(problem.sketch, workers, ray_address)
-    raise UserInputError(f"unknown evaluator '{kind}'", field="evaluator", fix=f"use one of {', '.join(EVALUATORS)}")
+    raise UserInputError(
+        f"unknown evaluator '{kind}'", field="evaluator", fix=f"use one of {', '.join(EVALUATORS)}"
+    )

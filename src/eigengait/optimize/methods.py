@@ -1,5 +1,5 @@
-"""The constrained optimizers by name: the thesis's method of multipliers ("mom") or pycma's adaptive augmented
-Lagrangian ("al"), each with its own settings class."""
+"""The constrained optimizers by name: the thesis's method of multipliers ("mom") or pycma's
+adaptive augmented Lagrangian ("al"), each with its own settings class."""
 
 from __future__ import annotations
 
@@ -10,7 +10,13 @@ import numpy as np
 from eigengait.errors import UserInputError
 from eigengait.optimize.adaptive_al import AdaptiveAugmentedLagrangian, AlSettings
 from eigengait.optimize.evaluate import Outcome
-from eigengait.optimize.mom import ConstrainedSearch, MethodOfMultipliers, MomSettings, MomState, SearchSettings
+from eigengait.optimize.mom import (
+    ConstrainedSearch,
+    MethodOfMultipliers,
+    MomSettings,
+    MomState,
+    SearchSettings,
+)
 
 METHODS = {
     MomSettings.method: (MomSettings, MethodOfMultipliers),
@@ -21,7 +27,9 @@ METHODS = {
 def method_settings(method: str, **fields) -> SearchSettings:
     """The settings of the optimizer named `method`; a field it does not read is a `TypeError`."""
     if method not in METHODS:
-        raise UserInputError(f"unknown method '{method}'", field="method", fix="use method='mom' or method='al'")
+        raise UserInputError(
+            f"unknown method '{method}'", field="method", fix="use method='mom' or method='al'"
+        )
     return METHODS[method][0](**fields)
 
 

@@ -1,12 +1,14 @@
 """Method of multipliers around CMA-ES (thesis §4.4), with checkpoints after every generation.
 
-Outer loop: W(x, λ, k) = f(x) + λᵀφ(x) + k φᵀφ; each inner CMA-ES run minimizes W; then λ ← λ + 2kφ(x*).
-The first inner run uses λ = 0, k = 0, later ones k = `penalty`. σ₀ = 0.3 then σ ← 0.7σ per inner run (floor
-0.001). An inner run stops at stopTolX 1e-4 or its generation cap; the outer loop stops when every |φ_i| is below
-the tolerance, after `max_outer` inner runs, or when the evaluation/time budget is spent.
+Outer loop: W(x, λ, k) = f(x) + λᵀφ(x) + k φᵀφ; each inner CMA-ES run minimizes W; then λ ← λ +
+2kφ(x*). The first inner run uses λ = 0, k = 0, later ones k = `penalty`. σ₀ = 0.3 then σ ← 0.7σ per
+inner run (floor 0.001). An inner run stops at stopTolX 1e-4 or its generation cap; the outer loop
+stops when every |φ_i| is below the tolerance, after `max_outer` inner runs, or when the
+evaluation/time budget is spent.
 
-`ConstrainedSearch` is what the method of multipliers shares with pycma's adaptive augmented Lagrangian
-(`optimize.adaptive_al`): restarted inner CMA-ES runs, their state and checkpoint replay, and the stopping rules.
+`ConstrainedSearch` is what the method of multipliers shares with pycma's adaptive augmented
+Lagrangian (`optimize.adaptive_al`): restarted inner CMA-ES runs, their state and checkpoint replay,
+and the stopping rules.
 """
 
 from __future__ import annotations
@@ -23,8 +25,8 @@ from eigengait.optimize.evaluate import Outcome
 
 @dataclass
 class CmaOptions:
-    """The options of every inner CMA-ES run (pycma's option names in brackets); parameters are normalized to
-    [0, 1]."""
+    """The options of every inner CMA-ES run (pycma's option names in brackets); parameters are
+    normalized to [0, 1]."""
 
     seed: int = 1  # [seed] of the first inner run; the i-th later one uses seed + i
     sigma0: float = 0.3  # step size of the first inner run
@@ -32,7 +34,8 @@ class CmaOptions:
     sigma_floor: float = 0.001  # smallest step size an inner run starts with
     tol_x: float = 1e-4  # [tolx] an inner run stops when its steps in x are all below this
     tol_fun: float = 0.0  # [tolfun] ... or when its recent fitness range is below this (0: never)
-    tol_flat_fitness: int = 1000  # [tolflatfitness] ... or after this many generations of flat fitness
+    # [tolflatfitness] ... or after this many generations of flat fitness
+    tol_flat_fitness: int = 1000
     inner_generations: int = 1000  # [maxiter] ... or after this many generations
     popsize: int | None = None  # [popsize] candidates per generation (None: pycma's 4 + 3 ln n)
 
@@ -56,7 +59,8 @@ class CmaOptions:
 
 @dataclass
 class SearchSettings(CmaOptions):
-    """The inner runs' options and the outer loop's stopping rules, read by both constrained methods."""
+    """The inner runs' options and the outer loop's stopping rules, read by both constrained
+    methods."""
 
     max_outer: int = 20  # inner runs at most
     cycle_tolerance: float = 0.2  # |φ_i| below this on every component: cyclic
@@ -74,9 +78,10 @@ class MomSettings(SearchSettings):
 
 @dataclass
 class MomState:
-    """Everything needed to resume: multipliers, penalty, best so far, counters, and the current inner run as
-    data (its start point and every generation's candidates and outcomes; see `optimize.checkpoint`). The CMA
-    object `es` and the adaptive AL's fitness `al` are not saved: they are rebuilt by replaying that data."""
+    """Everything needed to resume: multipliers, penalty, best so far, counters, and the current
+    inner run as data (its start point and every generation's candidates and outcomes; see
+    `optimize.checkpoint`). The CMA object `es` and the adaptive AL's fitness `al` are not saved:
+    they are rebuilt by replaying that data."""
 
     x_start: np.ndarray
     outer: int = 0
@@ -93,11 +98,13 @@ class MomState:
     log: list[dict] = field(default_factory=list)
     inner_start: np.ndarray | None = None
     history: list[tuple[np.ndarray, list[Outcome]]] = field(default_factory=list)
-    al: object | None = None  # adaptive AL only: its fitness, with pycma's multipliers and penalties
+    # adaptive AL only: its fitness, with pycma's multipliers and penalties
+    al: object | None = None
 
 
 def merit(o: Outcome) -> float:
-    """Ranks candidates for 'best so far': objective with soft constraints plus the cycle violation."""
+    """Ranks candidates for 'best so far': objective with soft constraints plus the cycle
+    violation."""
     return o.cost + 1e3 * float(o.cycle @ o.cycle)
 
 
@@ -106,17 +113,24 @@ def augmented(o: Outcome, lam: np.ndarray, k: float) -> float:
 
 
 class ConstrainedSearch:
-    """Inner CMA-ES runs, each from the best solution so far, minimizing a fitness that handles the cyclic
-    constraint; subclasses define that fitness and what changes between inner runs."""
+    """Inner CMA-ES runs, each from the best solution so far, minimizing a fitness that handles the
+    cyclic constraint; subclasses define that fitness and what changes between inner runs."""
 
-    def __init__(self, evaluate: Callable[[np.ndarray], list[Outcome]], settings: SearchSettings, state: MomState):
+    def __init__(
+        self,
+        evaluate: Callable[[np.ndarray], list[Outcome]],
+        settings: SearchSettings,
+        state: MomState,
+    ):
         self.evaluate, self.s, self.state = evaluate, settings, state
         if state.generation == 0:  # a new search; a resumed one keeps its σ
             state.sigma = settings.sigma0
 
     def _new_es(self) -> cma.CMAEvolutionStrategy:
         st = self.state
-        return cma.CMAEvolutionStrategy(np.clip(st.inner_start, 0, 1), st.sigma, self.s.pycma_options(st.outer))
+        return cma.CMAEvolutionStrategy(
+            np.clip(st.inner_start, 0, 1), st.sigma, self.s.pycma_options(st.outer)
+        )
 
     def budget_left(self) -> bool:
         st, s = self.state, self.s
@@ -133,7 +147,8 @@ class ConstrainedSearch:
         raise NotImplementedError
 
     def multipliers(self, like: np.ndarray) -> np.ndarray:
-        """The current Lagrange multipliers (logged as their norm); `like` is a constraint vector."""
+        """The current Lagrange multipliers (logged as their norm); `like` is a constraint
+        vector."""
         raise NotImplementedError
 
     def generation(self) -> dict:
@@ -180,7 +195,8 @@ class ConstrainedSearch:
         st.es = self._new_es()
 
     def replay(self) -> None:
-        """Rebuild the CMA object of a resumed inner run by telling it the recorded generations again."""
+        """Rebuild the CMA object of a resumed inner run by telling it the recorded generations
+        again."""
         st = self.state
         st.es = self._new_es()
         for X, outcomes in st.history:
@@ -203,7 +219,8 @@ class ConstrainedSearch:
         st.history = []
 
     def step(self) -> dict | None:
-        """Advance by one generation (starting or ending inner runs as needed); None when finished."""
+        """Advance by one generation (starting or ending inner runs as needed); None when
+        finished."""
         st, s = self.state, self.s
         if st.finished:
             return None
@@ -226,7 +243,8 @@ class ConstrainedSearch:
 
 
 class MethodOfMultipliers(ConstrainedSearch):
-    """The thesis's method of multipliers: W with fixed λ and k per inner run, both updated between runs."""
+    """The thesis's method of multipliers: W with fixed λ and k per inner run, both updated between
+    runs."""
 
     s: MomSettings
 

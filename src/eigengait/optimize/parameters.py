@@ -1,10 +1,10 @@
 """The optimized parameters Ω, normalized to [0, 1] (thesis §4.4).
 
-Ω = (T, α, δa, δc, ψ of the optimized modes per free (foot, phase), root height offset, root pitch, root forward
-and vertical speed, and q₀, q̇₀ of the internal joints in the span of the optimized air modes).
-Expressing q₀/q̇₀ in mode coordinates keeps the search small for many-DOF characters (the thesis's own
-suggestion): the sketch's optimized air modes (none for a canonical sketch) plus the lowest `initial.modes` ones.
-Priority modes keep their sign and at least their sketch magnitude.
+Ω = (T, α, δa, δc, ψ of the optimized modes per free (foot, phase), root height offset, root pitch,
+root forward and vertical speed, and q₀, q̇₀ of the internal joints in the span of the optimized air
+modes). Expressing q₀/q̇₀ in mode coordinates keeps the search small for many-DOF characters (the
+thesis's own suggestion): the sketch's optimized air modes (none for a canonical sketch) plus the
+lowest `initial.modes` ones. Priority modes keep their sign and at least their sketch magnitude.
 """
 
 from __future__ import annotations
@@ -24,10 +24,12 @@ from eigengait.sim.world import FLOOR, GRAVITY
 
 MAX_JOINT_ANGLE = 0.3  # rad: largest joint rotation of one initial-pose mode coordinate
 PERIOD_RANGE = (0.6, 1.6)  # the period T stays within these multiples of the sketch's guess
-PULSE_RANGE = (0.5, 2.0)  # pulse durations δ too: a pulse shrunk to nothing would silence the priority modes
+# pulse durations δ too: a pulse shrunk to nothing would silence the priority modes
+PULSE_RANGE = (0.5, 2.0)
 AIR_RATIO_SPAN = 0.25  # α stays within ± this of the sketch's (α → 0 or 1 would erase a state)
 HIP_GAIN_RANGE = 0.3  # |hip gains| ≤ this × m g h (N·m per normalized feature unit)
-MODAL_GAIN_RANGE = 2.0  # |modal gains| ≤ this × the sketch's activation scale (N·m per normalized feature unit)
+# |modal gains| ≤ this × the sketch's activation scale (N·m per normalized feature unit)
+MODAL_GAIN_RANGE = 2.0
 
 
 @dataclass
@@ -39,11 +41,14 @@ class Entry:
 
 
 def feedback_gain_count(sketch: Sketch) -> int:
-    """How many feedback gains the sketch's mechanisms add to the parameter space (see `_add_feedback`)."""
+    """How many feedback gains the sketch's mechanisms add to the parameter space (see
+    `_add_feedback`)."""
     mechanisms = sketch.feedback.mechanisms
     hip = len(HIP_GAINS) if "hip" in mechanisms else 0
     modal = (
-        sum(len(sketch.phase(ph).priority) * len(FEATURES) for ph in ("air", "ground")) if "modal" in mechanisms else 0
+        sum(len(sketch.phase(ph).priority) * len(FEATURES) for ph in ("air", "ground"))
+        if "modal" in mechanisms
+        else 0
     )
     return hip + modal
 
@@ -61,8 +66,15 @@ class ParameterSpace:
                 min(0.98, t.air_ratio + AIR_RATIO_SPAN),
                 t.air_ratio,
             ),
-            Entry("pulse_air", PULSE_RANGE[0] * t.pulse_air, PULSE_RANGE[1] * t.pulse_air, t.pulse_air),
-            Entry("pulse_ground", PULSE_RANGE[0] * t.pulse_ground, PULSE_RANGE[1] * t.pulse_ground, t.pulse_ground),
+            Entry(
+                "pulse_air", PULSE_RANGE[0] * t.pulse_air, PULSE_RANGE[1] * t.pulse_air, t.pulse_air
+            ),
+            Entry(
+                "pulse_ground",
+                PULSE_RANGE[0] * t.pulse_ground,
+                PULSE_RANGE[1] * t.pulse_ground,
+                t.pulse_ground,
+            ),
         ]
         self.psi_slots: list[tuple[str, str, int]] = []
         for foot in system.active_feet:
@@ -87,11 +99,17 @@ class ParameterSpace:
         ]
         air = system.air_modes
         lowest = range(1, min(init.modes, air.count) + 1)
-        # a canonical sketch's numbers are joint dofs, not modes: its initial state spans the lowest modes only
-        sketched = set() if sketch.basis == "canonical" else set(sketch.air.optimized_modes(air.count))
+        # a canonical sketch's numbers are joint dofs, not modes: its initial state spans the lowest
+        # modes only
+        sketched = (
+            set() if sketch.basis == "canonical" else set(sketch.air.optimized_modes(air.count))
+        )
         self.pose_modes = sorted(sketched | set(lowest))
         for m in self.pose_modes:
-            amp = MAX_JOINT_ANGLE / np.abs(air.shapes[system.world.internal_qvel, mode_index(m)]).max()
+            amp = (
+                MAX_JOINT_ANGLE
+                / np.abs(air.shapes[system.world.internal_qvel, mode_index(m)]).max()
+            )
             omega = 2 * np.pi * air.frequencies_hz[mode_index(m)]
             self.entries.append(Entry(f"q0/{m}", -amp, amp, 0.0))
             self.entries.append(Entry(f"qd0/{m}", -amp * omega, amp * omega, 0.0))
@@ -115,7 +133,9 @@ class ParameterSpace:
                 bound = MODAL_GAIN_RANGE * max([abs(v) for v in prio.values()] + [20.0])
                 self.modal_feedback_modes[phase] = sorted(prio)
                 self.entries += [
-                    Entry(f"fb/modal/{phase}/{m}/{f}", -bound, bound, 0.0) for m in sorted(prio) for f in FEATURES
+                    Entry(f"fb/modal/{phase}/{m}/{f}", -bound, bound, 0.0)
+                    for m in sorted(prio)
+                    for f in FEATURES
                 ]
 
     def _decode_feedback(self, v: np.ndarray) -> FeedbackGains:
@@ -124,7 +144,9 @@ class ParameterSpace:
             gains.hip = np.array([v[self.index[f"fb/hip/{g}"]] for g in HIP_GAINS])
         for phase, modes in self.modal_feedback_modes.items():
             if modes:
-                K = np.array([[v[self.index[f"fb/modal/{phase}/{m}/{f}"]] for f in FEATURES] for m in modes])
+                K = np.array(
+                    [[v[self.index[f"fb/modal/{phase}/{m}/{f}"]] for f in FEATURES] for m in modes]
+                )
                 gains.modal[phase] = (modes, K)
         return gains
 
@@ -152,17 +174,28 @@ class ParameterSpace:
         qpos = model.qpos0.copy()
         qvel = np.zeros(model.nv)
         shapes = system.air_modes.shapes
-        disp = sum((get(f"q0/{m}") * shapes[:, mode_index(m)] for m in self.pose_modes), np.zeros(model.nv))
-        vel = sum((get(f"qd0/{m}") * shapes[:, mode_index(m)] for m in self.pose_modes), np.zeros(model.nv))
+        disp = sum(
+            (get(f"q0/{m}") * shapes[:, mode_index(m)] for m in self.pose_modes), np.zeros(model.nv)
+        )
+        vel = sum(
+            (get(f"qd0/{m}") * shapes[:, mode_index(m)] for m in self.pose_modes),
+            np.zeros(model.nv),
+        )
         root = system.world.root
-        disp[list(root.translation_qvel)] = 0.0  # root translation is set below; modes keep joints and rotation
+        # root translation is set below; modes keep joints and rotation
+        disp[list(root.translation_qvel)] = 0.0
         mujoco.mj_integratePos(model, qpos, disp, 1.0)
         root.lift_and_pitch(qpos, get("root_height"), get("root_pitch"))
         clip_to_joint_ranges(model, qpos)
-        sunk = floor_penetration(model, qpos, self.floor_geom)  # m: start on the floor, not inside it
+        # m: start on the floor, not inside it
+        sunk = floor_penetration(model, qpos, self.floor_geom)
         root.lift_and_pitch(qpos, sunk, 0.0)
-        qvel[:] = np.clip(vel, -MAX_SPEED, MAX_SPEED)  # many fast modes at their bounds could sum past it
-        for adr, name in ((root.forward_qvel, "root_speed_x"), (root.vertical_qvel, "root_speed_z")):
+        # many fast modes at their bounds could sum past it
+        qvel[:] = np.clip(vel, -MAX_SPEED, MAX_SPEED)
+        for adr, name in (
+            (root.forward_qvel, "root_speed_x"),
+            (root.vertical_qvel, "root_speed_z"),
+        ):
             if adr is not None:
                 qvel[adr] += get(name)
         return GaitParameters(

@@ -18,6 +18,8 @@ class Problem:
     space: ParameterSpace
 
     @classmethod
-    def from_sketch(cls, sketch: Sketch, source: str | Path | None = None, gravity: bool = True) -> "Problem":
+    def from_sketch(
+        cls, sketch: Sketch, source: str | Path | None = None, gravity: bool = True
+    ) -> "Problem":
         system = bind_sketch(sketch, source, gravity)
         return cls(sketch=sketch, system=system, space=ParameterSpace(system, sketch))

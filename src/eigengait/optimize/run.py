@@ -1,4 +1,5 @@
-"""An optimization run folder: sketch, seed and settings, CSV log, plots, checkpoint, best controller.
+"""An optimization run folder: sketch, seed and settings, CSV log, plots, checkpoint, best
+controller.
 
 ```
 RUN/
@@ -10,7 +11,7 @@ RUN/
   objective.png        best objective per generation     violation.png   best cycle violation per generation
   best_controller.json the best controller so far (written every generation)
 ```
-"""
+"""  # noqa: E501
 
 from __future__ import annotations
 
@@ -37,14 +38,22 @@ from eigengait.outputs import check_folder, replacing, write_atomically
 
 BUDGET_FIELDS = ("max_evaluations", "max_seconds", "max_outer", "inner_generations")
 RUN_MARKERS = ("checkpoint.npz", "checkpoint.pkl", "best_controller.json")
-RUN_FILES = (*RUN_MARKERS, "status.json", "sketch.yaml", "settings.json", "log.csv", "objective.png", "violation.png")
+RUN_FILES = (
+    *RUN_MARKERS,
+    "status.json",
+    "sketch.yaml",
+    "settings.json",
+    "log.csv",
+    "objective.png",
+    "violation.png",
+)
 
 
 def _saved_settings(folder: Path) -> tuple[SearchSettings, str]:
     """The run's optimizer settings and evaluator, from its settings.json.
 
-    Run folders of earlier versions keep the method among the settings, and the adaptive AL's ones a `penalty`
-    that it never read; both are read as the method's own settings."""
+    Run folders of earlier versions keep the method among the settings, and the adaptive AL's ones a
+    `penalty` that it never read; both are read as the method's own settings."""
     try:
         saved = json.loads((folder / "settings.json").read_text(encoding="utf-8"))
         fields = dict(saved["settings"])
@@ -86,11 +95,17 @@ def _check_same_run(folder: Path, sketch: Sketch, saved: SearchSettings, seed: i
 
 
 def prepare_folder(
-    folder: Path, sketch: Sketch, settings: SearchSettings, evaluator: str, resume: bool, seed: int | None = None
+    folder: Path,
+    sketch: Sketch,
+    settings: SearchSettings,
+    evaluator: str,
+    resume: bool,
+    seed: int | None = None,
 ):
     """Create or reopen a run folder; refuse to overwrite an earlier run unless resuming.
 
-    `seed` is the seed the user asked for, if any: resuming refuses one that differs from the run's."""
+    `seed` is the seed the user asked for, if any: resuming refuses one that differs from the
+    run's."""
     checkpoint = folder / "checkpoint.npz"
     if resume:
         if (folder / "checkpoint.pkl").exists() and not checkpoint.exists():
@@ -112,7 +127,9 @@ def prepare_folder(
         return replace(saved, **budget), saved_evaluator, load_state(checkpoint)
     refuse_earlier_run(folder)
     check_folder(folder)
-    write_atomically(folder / "sketch.yaml", yaml.safe_dump(sketch.model_dump(mode="json"), sort_keys=False))
+    write_atomically(
+        folder / "sketch.yaml", yaml.safe_dump(sketch.model_dump(mode="json"), sort_keys=False)
+    )
     write_atomically(
         folder / "settings.json",
         json.dumps(
@@ -130,7 +147,8 @@ def prepare_folder(
 
 
 def _holds_run(folder: Path) -> bool:
-    """Whether the folder holds an earlier run with something to lose (a checkpoint or a controller)."""
+    """Whether the folder holds an earlier run with something to lose (a checkpoint or a
+    controller)."""
     return folder.is_dir() and any((folder / name).exists() for name in RUN_MARKERS)
 
 
@@ -146,7 +164,8 @@ def refuse_earlier_run(folder: Path) -> None:
             "with a larger budget to continue it",
         )
     raise UserInputError(
-        "the run folder holds an unfinished run (interrupted or stopped by an error) and was left untouched",
+        "the run folder holds an unfinished run (interrupted or stopped by an error) and was left "
+        "untouched",
         file=folder,
         fix="pass resume=True to continue it, or force=True to start over",
     )
@@ -160,7 +179,8 @@ def _finished(folder: Path) -> bool:
 
 
 def clear_run(folder: Path) -> None:
-    """Delete an earlier run's files, and temporary files a killed run left, from the folder (other files stay)."""
+    """Delete an earlier run's files, and temporary files a killed run left, from the folder
+    (other files stay)."""
     if not folder.is_dir():
         return
     for path in [*(folder / name for name in RUN_FILES), *folder.glob(".*.part.*")]:
@@ -193,7 +213,8 @@ def write_log(folder: Path, rows: list[dict]) -> None:
 
 
 def write_plots(folder: Path, rows: list[dict], cycle_tolerance: float | None = None) -> None:
-    """objective.png and violation.png against generation; the violation plot marks the cycle tolerance."""
+    """objective.png and violation.png against generation; the violation plot marks the cycle
+    tolerance."""
     from eigengait.figures import agg_figure
 
     if not rows:
@@ -205,9 +226,16 @@ def write_plots(folder: Path, rows: list[dict], cycle_tolerance: float | None = 
     ):
         fig = agg_figure(6, 3.2, 110)
         ax = fig.add_subplot()
-        ax.semilogy(g, [max(r[key], 1e-12) for r in rows], color="#2a6fb0", lw=1.6, label="best so far")
+        ax.semilogy(
+            g, [max(r[key], 1e-12) for r in rows], color="#2a6fb0", lw=1.6, label="best so far"
+        )
         if key == "best_violation" and cycle_tolerance:
-            ax.axhline(cycle_tolerance, color="#c0392b", lw=1.2, label=f"cycle tolerance {cycle_tolerance:g}")
+            ax.axhline(
+                cycle_tolerance,
+                color="#c0392b",
+                lw=1.2,
+                label=f"cycle tolerance {cycle_tolerance:g}",
+            )
             low, high = ax.get_ylim()
             ax.set_ylim(min(low, cycle_tolerance / 1.5), max(high, cycle_tolerance * 1.5))
             ax.legend(fontsize=8, loc="upper right")
@@ -259,9 +287,9 @@ def optimize(
     x_start=None,
     seed: int | None = None,
 ) -> MomState:
-    """Run (or resume) the optimizer `settings` are for (`settings.method`) from `x_start` (default: the sketch's
-    guess); checkpoints every generation. `seed` is the seed the user asked for explicitly, if any; a resumed run
-    refuses a different one."""
+    """Run (or resume) the optimizer `settings` are for (`settings.method`) from `x_start` (default:
+    the sketch's guess); checkpoints every generation. `seed` is the seed the user asked for
+    explicitly, if any; a resumed run refuses a different one."""
     problem = Problem.from_sketch(sketch, sketch_source)
     settings, evaluator, state = prepare_folder(folder, sketch, settings, evaluator, resume, seed)
     state = state or MomState(x_start=problem.space.initial() if x_start is None else x_start)
@@ -287,7 +315,12 @@ def optimize(
     try:
         with Progress(*columns, disable=not progress, transient=False) as bar:
             task = bar.add_task(
-                "opt", total=total, gen=state.generation, cost="-", viol="-", completed=state.evaluations
+                "opt",
+                total=total,
+                gen=state.generation,
+                cost="-",
+                viol="-",
+                completed=state.evaluations,
             )
             while (row := mom.step()) is not None:
                 save_state(state, folder / "checkpoint.npz")

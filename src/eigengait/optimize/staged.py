@@ -1,13 +1,15 @@
-"""From a sketch to a closed-loop gait in two stages, each a method-of-multipliers run in the same run folder.
+"""From a sketch to a closed-loop gait in two stages, each a method-of-multipliers run in the same
+run folder.
 
-1. **Open loop, one cycle** (`RUN/open-loop/`): the sketch without feedback, simulated for one cycle; the cyclic
-   constraint (end of the cycle against (q₀, q̇₀), plus the mirrored half cycle) until it holds within the
-   sketch's tolerance or `OPEN_LOOP_SHARE` of the budget is spent. This finds the orbit quickly.
-2. **Closed loop** (`RUN/`): the whole sketch (feedback gains, `horizon_cycles` cycles with no reset), started
-   from stage 1's best with every gain at zero, i.e. from the open-loop gait.
+1. **Open loop, one cycle** (`RUN/open-loop/`): the sketch without feedback, simulated for one
+   cycle; the cyclic constraint (end of the cycle against (q₀, q̇₀), plus the mirrored half cycle)
+   until it holds within the sketch's tolerance or `OPEN_LOOP_SHARE` of the budget is spent. This
+   finds the orbit quickly.
+2. **Closed loop** (`RUN/`): the whole sketch (feedback gains, `horizon_cycles` cycles with no
+   reset), started from stage 1's best with every gain at zero, i.e. from the open-loop gait.
 
-A sketch without feedback and with a one-cycle horizon runs stage 2 alone. `resume=True` resumes whichever stage
-was interrupted.
+A sketch without feedback and with a one-cycle horizon runs stage 2 alone. `resume=True` resumes
+whichever stage was interrupted.
 """
 
 from __future__ import annotations
@@ -24,7 +26,8 @@ from eigengait.optimize.parameters import feedback_gain_count
 from eigengait.optimize.run import optimize
 
 OPEN_LOOP_SHARE = 0.4  # at most this share of the evaluation or time budget goes to stage 1
-CLOSED_LOOP_SIGMA = 0.1  # stage 2's first step size (normalized): near the open-loop gait, room for the gains
+# stage 2's first step size (normalized): near the open-loop gait, room for the gains
+CLOSED_LOOP_SIGMA = 0.1
 STAGE_ONE = "open-loop"
 CHECKPOINT = "checkpoint.npz"
 
@@ -32,7 +35,9 @@ CHECKPOINT = "checkpoint.npz"
 def open_loop_sketch(sketch: Sketch) -> Sketch:
     """The same sketch without feedback, simulated for one cycle."""
     return sketch.model_copy(
-        update={"feedback": sketch.feedback.model_copy(update={"mechanisms": [], "horizon_cycles": 1})}
+        update={
+            "feedback": sketch.feedback.model_copy(update={"mechanisms": [], "horizon_cycles": 1})
+        }
     )
 
 
@@ -47,8 +52,14 @@ def _share(settings: SearchSettings, share: float) -> SearchSettings:
 def _spent(settings: SearchSettings, state: MomState) -> SearchSettings:
     return replace(
         settings,
-        max_evaluations=(max(1, settings.max_evaluations - state.evaluations) if settings.max_evaluations else None),
-        max_seconds=max(1.0, settings.max_seconds - state.elapsed) if settings.max_seconds else None,
+        max_evaluations=(
+            max(1, settings.max_evaluations - state.evaluations)
+            if settings.max_evaluations
+            else None
+        ),
+        max_seconds=max(1.0, settings.max_seconds - state.elapsed)
+        if settings.max_seconds
+        else None,
     )
 
 
@@ -63,13 +74,19 @@ def optimize_gait(
     sketch_source: str | Path | None = None,
     seed: int | None = None,
 ) -> MomState:
-    """Optimize a sketch into a gait (two stages when it has feedback or a multi-cycle horizon). `seed`: the seed
-    the user asked for explicitly, if any (a resumed run refuses a different one)."""
+    """Optimize a sketch into a gait (two stages when it has feedback or a multi-cycle horizon).
+    `seed`: the seed the user asked for explicitly, if any (a resumed run refuses a different
+    one)."""
     if not sketch.feedback.mechanisms and sketch.feedback.horizon_cycles == 1:
-        return optimize(sketch, folder, settings, evaluator, workers, resume, progress, sketch_source, seed=seed)
+        return optimize(
+            sketch, folder, settings, evaluator, workers, resume, progress, sketch_source, seed=seed
+        )
     stage = folder / STAGE_ONE
-    if resume and not (stage / CHECKPOINT).exists():  # nothing of stage 1 to resume: the run folder says why
-        return optimize(sketch, folder, settings, evaluator, workers, True, progress, sketch_source, seed=seed)
+    # nothing of stage 1 to resume: the run folder says why
+    if resume and not (stage / CHECKPOINT).exists():
+        return optimize(
+            sketch, folder, settings, evaluator, workers, True, progress, sketch_source, seed=seed
+        )
     if resume and (folder / CHECKPOINT).exists():
         first = load_state(stage / CHECKPOINT)
         return optimize(

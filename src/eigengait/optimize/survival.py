@@ -1,30 +1,34 @@
 """Harden a gait: optimize how long it survives, with no reset, under sampled sideways pushes.
 
-After Wang, Fleet & Hertzmann (2010, "Optimizing walking controllers for uncertain inputs and environments"): the
-objective is the expected outcome over random disturbances, not the cyclic constraint. Each candidate is played
-`copies` times from (q₀, q̇₀): once undisturbed and otherwise pushed sideways once, at a random time between the
-second cycle and three cycles before the horizon, with a random sign and an impulse drawn from `push_impulse`
-(N·s per kg of body mass, over 0.1 s). Every candidate of a generation meets the same pushes (common random
-numbers), so their ranking compares controllers, not luck. The cost of one candidate is
+After Wang, Fleet & Hertzmann (2010, "Optimizing walking controllers for uncertain inputs and
+environments"): the objective is the expected outcome over random disturbances, not the cyclic
+constraint. Each candidate is played `copies` times from (q₀, q̇₀): once undisturbed and otherwise
+pushed sideways once, at a random time between the second cycle and three cycles before the horizon,
+with a random sign and an impulse drawn from `push_impulse` (N·s per kg of body mass, over 0.1 s).
+Every candidate of a generation meets the same pushes (common random numbers), so their ranking
+compares controllers, not luck. The cost of one candidate is
 
     mean over copies of (1 − cycles survived / H)  +  SPEED_WEIGHT · max(0, v* − v) / v*
                                                  +  EFFORT_WEIGHT · max(0, E / E* − 1)
                                                  +  SLIP_WEIGHT · max(0, s / s* − 1)
 
-with v the mean forward COM speed of the copies, v* = `speed_share` × the starting gait's speed, E the mean
-squared motor torque (the thesis's E_energia) and E* = `effort_share` × the starting gait's: a gait cannot buy
-survival by standing still or by flailing. s is the copies' mean stance-foot slip (`stance_slip_max_m` of the
-gait metrics, the feet sampled at 60 frames/s) and s* = `max_slip` (the last term only when `max_slip` is set):
-a gait cannot keep its feet by sliding them either. The horizon H starts at `horizon` cycles and grows by
-`HORIZON_STEP` (up to `max_horizon`) whenever the generation's median candidate survives it: the optimizer always
-sees the fall it has to prevent.
+with v the mean forward COM speed of the copies, v* = `speed_share` × the starting gait's speed, E
+the mean squared motor torque (the thesis's E_energia) and E* = `effort_share` × the starting
+gait's: a gait cannot buy survival by standing still or by flailing. s is the copies' mean
+stance-foot slip (`stance_slip_max_m` of the gait metrics, the feet sampled at 60 frames/s) and s*
+= `max_slip` (the last term only when `max_slip` is set): a gait cannot keep its feet by sliding
+them either. The horizon H starts at `horizon` cycles and grows by `HORIZON_STEP` (up to
+`max_horizon`) whenever the generation's median candidate survives it: the optimizer always sees the
+fall it has to prevent.
 
-Searched (normalized, 0 = the starting gait): the period (±20 %), the air ratio (±0.1), both pulse durations
-(±30 %), every non-zero activation ψ (± half its size, at least ±5 N·m) and the eight `hip` feedback gains
-(± 0.3 m g h per normalized unit, added when the gait had none). The initial state and the trigger are kept.
+Searched (normalized, 0 = the starting gait): the period (±20 %), the air ratio (±0.1), both pulse
+durations (±30 %), every non-zero activation ψ (± half its size, at least ±5 N·m) and the eight
+`hip` feedback gains (± 0.3 m g h per normalized unit, added when the gait had none). The initial
+state and the trigger are kept.
 
-A run folder holds `survival.json` (settings and every generation's candidates and costs: the checkpoint, replayed
-on resume through CMA-ES from the same seed), `log.csv` and `best_controller.json`.
+A run folder holds `survival.json` (settings and every generation's candidates and costs: the
+checkpoint, replayed on resume through CMA-ES from the same seed), `log.csv` and
+`best_controller.json`.
 """
 
 from __future__ import annotations
@@ -57,7 +61,8 @@ VALIDATION_GENERATION = -1  # the pushes of the final choice: a stream no genera
 
 @dataclass(frozen=True)
 class StartingFigures:
-    """What the starting gait does, played 20 cycles undisturbed: the references of the speed and effort terms."""
+    """What the starting gait does, played 20 cycles undisturbed: the references of the speed and
+    effort terms."""
 
     speed: float  # m/s, mean forward COM speed
     effort: float  # (N·m)², mean over steps of Σ_j τ_j²
@@ -80,7 +85,8 @@ class SurvivalSettings:
     max_horizon: int = 24
     speed_share: float = 0.9  # the gait must keep this share of its starting speed
     effort_share: float = 1.2  # and use at most this share of its starting mean squared torque
-    max_slip: float | None = 0.03  # m: stance-foot slip above this is penalized (None: not measured)
+    # m: stance-foot slip above this is penalized (None: not measured)
+    max_slip: float | None = 0.03
     sigma0: float = 0.3
     threads: int = 1
 
@@ -90,8 +96,12 @@ class SurvivalSpace:
 
     def __init__(self, system: GaitSystem, start: GaitParameters):
         self.start = start
-        self.slots = [(key, int(i)) for key, psi in start.activations.items() for i in np.flatnonzero(psi)]
-        self.psi_scale = np.array([max(0.5 * abs(start.activations[k][i]), 5.0) for k, i in self.slots])
+        self.slots = [
+            (key, int(i)) for key, psi in start.activations.items() for i in np.flatnonzero(psi)
+        ]
+        self.psi_scale = np.array(
+            [max(0.5 * abs(start.activations[k][i]), 5.0) for k, i in self.slots]
+        )
         world = system.world
         self.gain_scale = 0.3 * world.mass() * GRAVITY * world.standing_com_height
         self.hip0 = start.feedback.hip if start.feedback.hip is not None else np.zeros(8)
@@ -109,12 +119,17 @@ class SurvivalSpace:
             pulse_air=s.pulse_air * (1 + 0.3 * np.tanh(z[2])),
             pulse_ground=s.pulse_ground * (1 + 0.3 * np.tanh(z[3])),
             activations=activations,
-            feedback=FeedbackGains(hip=self.hip0 + self.gain_scale * z[4 + n :], modal=s.feedback.modal),
+            feedback=FeedbackGains(
+                hip=self.hip0 + self.gain_scale * z[4 + n :], modal=s.feedback.modal
+            ),
         )
 
 
-def generation_pushes(settings: SurvivalSettings, generation: int, period: float, horizon: int, mass: float):
-    """The pushes of one generation: None for the undisturbed copy, then one `Push` per other copy."""
+def generation_pushes(
+    settings: SurvivalSettings, generation: int, period: float, horizon: int, mass: float
+):
+    """The pushes of one generation: None for the undisturbed copy, then one `Push` per other
+    copy."""
     rng = np.random.default_rng([settings.seed, generation % 2**32])
     pushes = [None]
     for _ in range(settings.copies - 1):
@@ -127,7 +142,13 @@ def generation_pushes(settings: SurvivalSettings, generation: int, period: float
 class SurvivalScorer:
     """Plays a generation's candidates under its pushes and scores them (lower is better)."""
 
-    def __init__(self, system: GaitSystem, start: GaitParameters, settings: SurvivalSettings, figures: StartingFigures):
+    def __init__(
+        self,
+        system: GaitSystem,
+        start: GaitParameters,
+        settings: SurvivalSettings,
+        figures: StartingFigures,
+    ):
         self.system, self.settings = system, settings
         self.runner = ClosedLoopRunner(system, settings.threads)
         self.mass = system.world.mass()
@@ -138,16 +159,22 @@ class SurvivalScorer:
     def close(self) -> None:
         self.runner.close()
 
-    def score(self, params: list[GaitParameters], generation: int, horizon: int) -> tuple[np.ndarray, np.ndarray]:
+    def score(
+        self, params: list[GaitParameters], generation: int, horizon: int
+    ) -> tuple[np.ndarray, np.ndarray]:
         """(cost, mean cycles survived) per candidate."""
         dt, view = self.runner.model.opt.timestep, self.system.world.view
         cycles = np.zeros((len(params), self.settings.copies))
         speed, effort, slip = np.zeros_like(cycles), np.zeros_like(cycles), np.zeros_like(cycles)
-        for c, push in enumerate(generation_pushes(self.settings, generation, self.period, horizon, self.mass)):
+        for c, push in enumerate(
+            generation_pushes(self.settings, generation, self.period, horizon, self.mass)
+        ):
             run = self.runner.run(params, horizon, () if push is None else (push,))
             for i, p in enumerate(params):
                 end = max(int(run.ended[i]), 1)
-                cycles[i, c] = min(len(run.cycle_ends[i]) + (end * dt % p.period) / p.period, horizon)
+                cycles[i, c] = min(
+                    len(run.cycle_ends[i]) + (end * dt % p.period) / p.period, horizon
+                )
                 com_x = view.com(run.sensors[i, :end])[:, 0]
                 speed[i, c] = (com_x[-1] - com_x[0]) / (end * dt)
                 effort[i, c] = np.mean(np.sum(run.torques[i, :end] ** 2, axis=1))
@@ -161,7 +188,8 @@ class SurvivalScorer:
         return cost, cycles.mean(axis=1)
 
     def _slip(self, p: GaitParameters, sensors: np.ndarray) -> float:
-        """`stance_slip_max_m` (m; 0 without a stance) of a rollout's sensor rows, as playback measures it."""
+        """`stance_slip_max_m` (m; 0 without a stance) of a rollout's sensor rows, as playback
+        measures it."""
         first, dt = self.system.initial_sensors(p), self.runner.model.opt.timestep
         per_foot = rollout_stance_slips(self.system.world.view, first, sensors, dt).values()
         slips = [float(v.mean()) for v in per_foot if v.size]
@@ -180,15 +208,17 @@ def harden(
     lookahead: LookaheadSettings | None = None,
     sketch: dict | None = None,
 ) -> GaitParameters:
-    """Run (or resume) the survival optimization in `folder`; returns the best controller, also saved there with
-    the starting controller's `lookahead` settings and `sketch` modes."""
+    """Run (or resume) the survival optimization in `folder`; returns the best controller, also
+    saved there with the starting controller's `lookahead` settings and `sketch` modes."""
     folder.mkdir(parents=True, exist_ok=True)
     checkpoint = folder / CHECKPOINT
     history = _load_history(checkpoint, settings) if resume else []
     space = SurvivalSpace(system, start)
     scorer = SurvivalScorer(system, start, settings, figures)
     es = cma.CMAEvolutionStrategy(
-        np.zeros(space.size), settings.sigma0, {"popsize": settings.popsize, "seed": settings.seed, "verbose": -9}
+        np.zeros(space.size),
+        settings.sigma0,
+        {"popsize": settings.popsize, "seed": settings.seed, "verbose": -9},
     )
     horizon, best = settings.horizon, None
     for record in history:  # replay: the same seed asks the same candidates
@@ -198,7 +228,9 @@ def harden(
     spent = history[-1]["elapsed"] if history else 0.0
     t0 = time.perf_counter() - spent
     try:
-        while time.perf_counter() - t0 < settings.minutes * 60 and len(history) < (settings.generations or 1 << 30):
+        while time.perf_counter() - t0 < settings.minutes * 60 and len(history) < (
+            settings.generations or 1 << 30
+        ):
             zs = es.ask()
             costs, survived = scorer.score([space.decode(z) for z in zs], es.countiter, horizon)
             es.tell(zs, costs.tolist())
@@ -220,19 +252,26 @@ def harden(
             _save(checkpoint, settings, history)
             _log(folder / "log.csv", history)
             progress(
-                f"generation {len(history)}: horizon {horizon} cycles, best survives {survived[k]:.1f} "
-                f"(median {np.median(survived):.1f}), cost {costs[k]:.3f}, {time.perf_counter() - t0:.0f} s"
+                f"generation {len(history)}: horizon {horizon} cycles, best survives "
+                f"{survived[k]:.1f} (median {np.median(survived):.1f}), cost {costs[k]:.3f}, "
+                f"{time.perf_counter() - t0:.0f} s"
             )
             horizon = next_horizon
         result = _validated(scorer, space, es, best, horizon) if best else start
     finally:
         scorer.close()
-    save_controller(to_file(system, result, name, lookahead=lookahead, sketch=sketch), folder / "best_controller.json")
+    save_controller(
+        to_file(system, result, name, lookahead=lookahead, sketch=sketch),
+        folder / "best_controller.json",
+    )
     return result
 
 
-def _validated(scorer: SurvivalScorer, space: SurvivalSpace, es, best: dict, horizon: int) -> GaitParameters:
-    """The better of the best candidate seen and the search's mean, on pushes no generation has met."""
+def _validated(
+    scorer: SurvivalScorer, space: SurvivalSpace, es, best: dict, horizon: int
+) -> GaitParameters:
+    """The better of the best candidate seen and the search's mean, on pushes no generation has
+    met."""
     choices = [np.array(best["z"]), np.asarray(es.mean)]
     costs, _ = scorer.score([space.decode(z) for z in choices], VALIDATION_GENERATION, horizon)
     return space.decode(choices[int(np.argmin(costs))])
@@ -244,19 +283,27 @@ def _save(path: Path, settings: SurvivalSettings, history: list[dict]) -> None:
 
 def _load_history(path: Path, settings: SurvivalSettings) -> list[dict]:
     if not path.is_file():
-        raise UserInputError("no survival run to resume here", file=path, fix="start the run without resume=True")
+        raise UserInputError(
+            "no survival run to resume here", file=path, fix="start the run without resume=True"
+        )
     try:
         data = json.loads(path.read_text())
         saved = data["settings"]
         history = data["generations"]
     except (ValueError, KeyError, TypeError):
-        raise UserInputError("cannot read the checkpoint", file=path, fix="start over without resume=True") from None
-    mine = {k: v for k, v in asdict(settings).items() if k not in ("minutes", "generations", "threads")}
+        raise UserInputError(
+            "cannot read the checkpoint", file=path, fix="start over without resume=True"
+        ) from None
+    mine = {
+        k: v for k, v in asdict(settings).items() if k not in ("minutes", "generations", "threads")
+    }
     theirs = {k: (tuple(v) if isinstance(v, list) else v) for k, v in saved.items() if k in mine}
     if theirs != mine:
         changed = ", ".join(k for k in mine if theirs.get(k) != mine[k])
         raise UserInputError(
-            f"the run was started with other settings ({changed})", file=path, fix="resume with the same options"
+            f"the run was started with other settings ({changed})",
+            file=path,
+            fix="resume with the same options",
         )
     return history
 
@@ -264,5 +311,7 @@ def _load_history(path: Path, settings: SurvivalSettings) -> list[dict]:
 def _log(path: Path, history: list[dict]) -> None:
     rows = ["generation,horizon,best_cost,generation_best_cost,seconds"]
     for g, h in enumerate(history, 1):
-        rows.append(f"{g},{h['best']['horizon']},{h['best']['cost']:.6f},{min(h['costs']):.6f},{h['elapsed']:.1f}")
+        rows.append(
+            f"{g},{h['best']['horizon']},{h['best']['cost']:.6f},{min(h['costs']):.6f},{h['elapsed']:.1f}"
+        )
     write_atomically(path, "\n".join(rows) + "\n")

@@ -1,7 +1,7 @@
 """Objective and soft-constraint terms of the thesis (Eqs. 4.4–4.20), each a small function.
 
-Adapted to MuJoCo's z-up world: x forward, y lateral, z vertical. Sums "over t" run over samples every
-`sample_dt` seconds (not every physics step), so the penalties do not depend on the time step.
+Adapted to MuJoCo's z-up world: x forward, y lateral, z vertical. Sums "over t" run over samples
+every `sample_dt` seconds (not every physics step), so the penalties do not depend on the time step.
 """
 
 from __future__ import annotations
@@ -30,7 +30,8 @@ def speed_objective(mean_forward_speed: float) -> float:
 
 
 def energy_objective(torques: np.ndarray) -> float:
-    """E_energia = (1/n) Σ_t Σ_j (τ_j^t)² over the n physics steps, active torque only (Eq. 4.6), (N·m)²."""
+    """E_energia = (1/n) Σ_t Σ_j (τ_j^t)² over the n physics steps, active torque only (Eq. 4.6),
+    (N·m)²."""
     return float(np.mean(np.sum(torques**2, axis=-1)))
 
 
@@ -39,7 +40,9 @@ def min_speed_term(com_forward_speed: np.ndarray, min_speed: float) -> float:
     return float(q_upper(com_forward_speed, min_speed).sum())
 
 
-def mean_speed_term(mean_velocity: np.ndarray, mean_speed: float, lateral: float, vertical: float) -> float:
+def mean_speed_term(
+    mean_velocity: np.ndarray, mean_speed: float, lateral: float, vertical: float
+) -> float:
     """E_vels_med = Q_u(v_x, v̄) + Q_b(v_y, ε_y) + Q_b(v_z, ε_z) (Eq. 4.12)."""
     vx, vy, vz = mean_velocity
     return float(q_upper(vx, mean_speed) + q_both(vy, lateral) + q_both(vz, vertical))
@@ -56,7 +59,8 @@ def energy_limit_term(energy: float, limit: float) -> float:
 
 
 def priority_term(state_activations: list[tuple[np.ndarray, np.ndarray]]) -> float:
-    """E_modos_prior = Σ_states Q_u(Σ_p |ψ_p| − Σ_o |ψ_o|, 0) (Eq. 4.15): priority modes dominate."""
+    """E_modos_prior = Σ_states Q_u(Σ_p |ψ_p| − Σ_o |ψ_o|, 0) (Eq. 4.15): priority modes
+    dominate."""
     return float(sum(q_upper(np.abs(p).sum() - np.abs(o).sum(), 0.0) for p, o in state_activations))
 
 
@@ -67,18 +71,20 @@ def upright_term(root_up_z: np.ndarray) -> float:
 
 
 def stance_contact_term(toe_clearance: np.ndarray, tolerance: float = 0.001) -> float:
-    """E_pe_apoio = Q_u(−d_min, −1 mm) over the first δc/2 of a ground state (Eq. 4.17): the stance toe
-    touches the ground. `toe_clearance` is the toe sphere's height above the floor (m) in that window."""
+    """E_pe_apoio = Q_u(−d_min, −1 mm) over the first δc/2 of a ground state (Eq. 4.17): the stance
+    toe touches the ground. `toe_clearance` is the toe sphere's height above the floor (m) in that
+    window."""
     if toe_clearance.size == 0:
         return 0.0
     return float(q_upper(-toe_clearance.min(), -tolerance))
 
 
 def push_off_rise(com_vz: np.ndarray, toe_z: np.ndarray, heel_z: np.ndarray, dt: float) -> float:
-    """δ_pe (Eq. 4.18, z up): the stance toe's summed rise (m) over the steps where the COM has been falling
-    since the window started and now rises (Ċ_z > 0), the toe does not rise more than 0.1 m/s faster than the COM
-    (Ċ_z − ṗ_toe,z > −0.1), the heel is above the toe and the toe is rising. Arrays are per step of `dt` s over
-    the window from the foot's air state to its lift-off."""
+    """δ_pe (Eq. 4.18, z up): the stance toe's summed rise (m) over the steps where the COM has been
+    falling since the window started and now rises (Ċ_z > 0), the toe does not rise more than
+    0.1 m/s faster than the COM (Ċ_z − ṗ_toe,z > −0.1), the heel is above the toe and the toe is
+    rising. Arrays are per step of `dt` s over the window from the foot's air state to its
+    lift-off."""
     if toe_z.size < 2:
         return 0.0
     rise = np.diff(toe_z)
@@ -89,17 +95,20 @@ def push_off_rise(com_vz: np.ndarray, toe_z: np.ndarray, heel_z: np.ndarray, dt:
 
 
 def stance_rise_term(push_off: float, minimum: float = 0.02) -> float:
-    """E_altura_pe_apoio = Q_u(δ_pe, 2 cm) (Eq. 4.19): the push-off must lift the stance toe at least 2 cm."""
+    """E_altura_pe_apoio = Q_u(δ_pe, 2 cm) (Eq. 4.19): the push-off must lift the stance toe at
+    least 2 cm."""
     return float(q_upper(push_off, minimum))
 
 
 def anti_stumble_term(stance_toe_to_hip: np.ndarray, other_toe_to_hip: np.ndarray) -> float:
-    """E_evit_trop = Σ_t Q_u(d_apoio − d_outro, 0) (Eq. 4.20) from touchdown to lift-off: the stance toe stays
-    farther from its hip than the other toe from its own, so the swing foot is tucked and does not stumble."""
+    """E_evit_trop = Σ_t Q_u(d_apoio − d_outro, 0) (Eq. 4.20) from touchdown to lift-off: the stance
+    toe stays farther from its hip than the other toe from its own, so the swing foot is tucked and
+    does not stumble."""
     return float(q_upper(np.asarray(stance_toe_to_hip) - np.asarray(other_toe_to_hip), 0.0).sum())
 
 
 def stance_slip_term(slips: np.ndarray, limit: float) -> float:
-    """E_deslize = Σ_stances Q_u(−s, −s_max): each stance whose foot slides more than s_max (m) is charged (not in
-    the thesis; the closed-loop gait target of ≤ 3 cm, measured as `play` measures `stance_slip_m`)."""
+    """E_deslize = Σ_stances Q_u(−s, −s_max): each stance whose foot slides more than s_max (m) is
+    charged (not in the thesis; the closed-loop gait target of ≤ 3 cm, measured as `play` measures
+    `stance_slip_m`)."""
     return float(q_upper(-np.asarray(slips, dtype=float), -limit).sum())

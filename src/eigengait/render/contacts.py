@@ -1,7 +1,8 @@
-"""Foot contacts of a simulated trajectory, and the footfall diagram (one bar per foot against time).
+"""Foot contacts of a simulated trajectory, and the footfall diagram (one bar per foot against
+time).
 
-A foot is on the ground in a frame by the rule of `sim/contacts.py` (one of its toe/heel contact spheres within
-5 mm of the floor plane). Colours are fixed per foot
+A foot is on the ground in a frame by the rule of `sim/contacts.py` (one of its toe/heel contact
+spheres within 5 mm of the floor plane). Colours are fixed per foot
 order, so videos, strips and diagrams agree.
 """
 
@@ -30,20 +31,26 @@ def foot_colour(index: int) -> tuple[float, float, float]:
 
 def has_floor(world: World) -> bool:
     """Whether the world has a floor plane to stand on."""
-    return any(world.model.geom_type[g] == mujoco.mjtGeom.mjGEOM_PLANE for g in range(world.model.ngeom))
+    return any(
+        world.model.geom_type[g] == mujoco.mjtGeom.mjGEOM_PLANE for g in range(world.model.ngeom)
+    )
 
 
 def contact_points(world: World, data: mujoco.MjData) -> dict[str, np.ndarray | None]:
-    """Per foot, the mean world position (m) of its spheres touching the floor in `data`, or None if airborne."""
+    """Per foot, the mean world position (m) of its spheres touching the floor in `data`, or None if
+    airborne."""
     model, points = world.model, {}
     for foot, spheres in world.foot_spheres.items():
-        touching = np.asarray(spheres)[spheres_touching(data.geom_xpos[spheres, 2], model.geom_size[spheres, 0])]
+        touching = np.asarray(spheres)[
+            spheres_touching(data.geom_xpos[spheres, 2], model.geom_size[spheres, 0])
+        ]
         points[foot] = data.geom_xpos[touching].mean(axis=0) if touching.size else None
     return points
 
 
 def foot_contacts(world: World, qpos: np.ndarray) -> np.ndarray:
-    """Contact flags (T × feet, bool) of a trajectory (T × nq), feet in `world.foot_spheres` order."""
+    """Contact flags (T × feet, bool) of a trajectory (T × nq), feet in `world.foot_spheres`
+    order."""
     data = mujoco.MjData(world.model)
     flags = np.zeros((len(qpos), len(world.foot_spheres)), dtype=bool)
     for t, q in enumerate(qpos):
@@ -63,8 +70,9 @@ def contact_diagram(
 ) -> None:
     """Draw the footfall diagram on a matplotlib axis: a bar per foot where it touches the ground.
 
-    `times` (s) are the frame times of `contacts` (T × feet). With `period_s` the cycle boundaries are dashed and
-    the top axis shows the phase in cycles; `marks` (s) draws thin grey lines, e.g. at a picture strip's frames.
+    `times` (s) are the frame times of `contacts` (T × feet). With `period_s` the cycle boundaries
+    are dashed and the top axis shows the phase in cycles; `marks` (s) draws thin grey lines, e.g.
+    at a picture strip's frames.
     """
     step = float(np.median(np.diff(times))) if len(times) > 1 else 0.0
     for row, foot in enumerate(feet):

@@ -1,9 +1,10 @@
-"""The offscreen GL context's backend: the one place eigengait touches MuJoCo's GL environment variables.
+"""The offscreen GL context's backend: the one place eigengait touches MuJoCo's GL environment
+variables.
 
 MuJoCo picks the GL backend for `mujoco.Renderer` from MUJOCO_GL (and PyOpenGL its platform from
-PYOPENGL_PLATFORM) when `mujoco` is first imported. Without a display only EGL (or OSMesa) works, so before the
-first GL context eigengait asks for EGL, unless the user chose a backend by setting MUJOCO_GL themselves.
-Importing eigengait sets nothing.
+PYOPENGL_PLATFORM) when `mujoco` is first imported. Without a display only EGL (or OSMesa) works, so
+before the first GL context eigengait asks for EGL, unless the user chose a backend by setting
+MUJOCO_GL themselves. Importing eigengait sets nothing.
 """
 
 from __future__ import annotations
@@ -16,12 +17,12 @@ DEFAULT_BACKEND = "egl"
 
 
 def use_offscreen_gl() -> None:
-    """Choose MuJoCo's GL backend for offscreen rendering: MUJOCO_GL as the user set it, else EGL (and
-    PYOPENGL_PLATFORM likewise). Call before creating a `mujoco.Renderer`.
+    """Choose MuJoCo's GL backend for offscreen rendering: MUJOCO_GL as the user set it, else EGL
+    (and PYOPENGL_PLATFORM likewise). Call before creating a `mujoco.Renderer`.
 
-    `mujoco` may already have been imported with MUJOCO_GL unset, which picks an on-screen backend (GLFW); its GL
-    context module is then read again so the renderer gets the backend now named. No GL context exists before
-    the first renderer, so nothing that was already created changes.
+    `mujoco` may already have been imported with MUJOCO_GL unset, which picks an on-screen backend
+    (GLFW); its GL context module is then read again so the renderer gets the backend now named. No
+    GL context exists before the first renderer, so nothing that was already created changes.
     """
     os.environ.setdefault("MUJOCO_GL", DEFAULT_BACKEND)
     os.environ.setdefault("PYOPENGL_PLATFORM", os.environ["MUJOCO_GL"])

@@ -17,11 +17,14 @@ def _font(size: int) -> ImageFont.FreeTypeFont:
 
 
 def annotate(
-    frame: np.ndarray, time_s: float | None, feet: list[tuple[str, bool, tuple[float, float, float]]] = ()
+    frame: np.ndarray,
+    time_s: float | None,
+    feet: list[tuple[str, bool, tuple[float, float, float]]] = (),
 ) -> np.ndarray:
-    """The frame (H × W × 3 uint8) with "t = …s" at the top left and, at the top right, one box per foot
-    (name, on the ground, colour): filled while the foot touches the ground, outlined while it is in the air.
-    Foot names are shortened to their initials ("front_left" → "FL") when the full names do not fit."""
+    """The frame (H × W × 3 uint8) with "t = …s" at the top left and, at the top right, one box per
+    foot (name, on the ground, colour): filled while the foot touches the ground, outlined while it
+    is in the air. Foot names are shortened to their initials ("front_left" → "FL") when the full
+    names do not fit."""
     image = Image.fromarray(frame)
     draw = ImageDraw.Draw(image)
     size = max(10, round(frame.shape[0] / 24))
@@ -37,7 +40,9 @@ def annotate(
         rgb = tuple(int(255 * c) for c in colour)
         width = draw.textlength(name, font=font) + 2 * pad
         box = (x - width, pad, x, pad + size + 2 * pad)
-        draw.rectangle(box, fill=rgb if on else (255, 255, 255), outline=rgb, width=max(2, size // 8))
+        draw.rectangle(
+            box, fill=rgb if on else (255, 255, 255), outline=rgb, width=max(2, size // 8)
+        )
         draw.text((box[0] + pad, pad + pad), name, font=font, fill=(255, 255, 255) if on else rgb)
         x = box[0] - pad
     return np.asarray(image)

@@ -1,14 +1,16 @@
-"""Mode palette: one tile per vibration mode, its two extremes as translucent ghosts over the relax pose.
+"""Mode palette: one tile per vibration mode, its two extremes as translucent ghosts over the relax
+pose.
 
-Each tile shows the relax pose solid light grey, the pose at −A in orange and at +A in teal, where A turns the
-mode's most-moving joint by `max_rotation_deg` (so every mode is equally visible; the animation default follows
-the equal-energy rule instead, see `eigengait.modal.shape_kinematics`). The extremes are rendered separately and blended
-onto the relax image, the nearer one on top where they overlap (no depth fight between coincident surfaces); each
-body's ghost is the more opaque the more that body moves (travel or own joint rotation), so the moving parts stand
-out and still parts stay grey.
-A dark arrow on the floor points where the character faces (+x); in the ground phase a red ball marks the
-pinned toe. Tiles run left to right, top to bottom, in mode order (mode 1 = lowest frequency), each labelled with
-its number and frequency in Hz. Sizes are in pixels.
+Each tile shows the relax pose solid light grey, the pose at −A in orange and at +A in teal, where A
+turns the mode's most-moving joint by `max_rotation_deg` (so every mode is equally visible; the
+animation default follows the equal-energy rule instead, see `eigengait.modal.shape_kinematics`).
+The extremes are rendered separately and blended onto the relax image, the nearer one on top where
+they overlap (no depth fight between coincident surfaces); each body's ghost is the more opaque the
+more that body moves (travel or own joint rotation), so the moving parts stand out and still parts
+stay grey.
+A dark arrow on the floor points where the character faces (+x); in the ground phase a red ball
+marks the pinned toe. Tiles run left to right, top to bottom, in mode order (mode 1 = lowest
+frequency), each labelled with its number and frequency in Hz. Sizes are in pixels.
 """
 
 from __future__ import annotations
@@ -22,14 +24,19 @@ import numpy as np
 from eigengait.errors import UserInputError
 from eigengait.outputs import replacing
 from eigengait.modal.modeset import ModeSet
-from eigengait.modal.shape_kinematics import DEFAULT_MAX_ROTATION_DEG, displaced_qpos, peak_rotation_amplitudes
+from eigengait.modal.shape_kinematics import (
+    DEFAULT_MAX_ROTATION_DEG,
+    displaced_qpos,
+    peak_rotation_amplitudes,
+)
 from eigengait.render.video import CameraView, FrameRenderer, creature_geoms, geom_corners
 from eigengait.sim.world import World
 
 MINUS_RGBA = (1.0, 0.5, 0.05, 1.0)
 PLUS_RGBA = (0.0, 0.62, 0.55, 1.0)
 SOLID_RGBA = (0.86, 0.86, 0.88, 1.0)
-GHOST_OPACITY = (0.0, 0.8)  # for a geom that does not move … one that moves fully (see _ghost_opacity)
+# for a geom that does not move … one that moves fully (see _ghost_opacity)
+GHOST_OPACITY = (0.0, 0.8)
 MOVING_TRAVEL = 0.08  # fraction of the creature's height: travel that counts as fully moving
 MOVING_ROTATION = 0.5  # fraction of the peak joint rotation that counts as fully moving
 ARROW_RGBA = (0.15, 0.15, 0.15, 1.0)
@@ -75,11 +82,17 @@ def palette_layout(count: int, columns: int | None = None, tile_px: int = 240) -
 
 
 def mode_tiles(
-    world: World, modes: ModeSet, count: int, tile_px: int = 240, max_rotation_deg: float = DEFAULT_MAX_ROTATION_DEG
+    world: World,
+    modes: ModeSet,
+    count: int,
+    tile_px: int = 240,
+    max_rotation_deg: float = DEFAULT_MAX_ROTATION_DEG,
 ) -> list[np.ndarray]:
-    """One RGB tile (tile_px × tile_px × 3) per mode 1..count: relax pose with ±A ghosts (module doc).
+    """One RGB tile (tile_px × tile_px × 3) per mode 1..count: relax pose with ±A ghosts (module
+    doc).
 
-    Each tile's camera aims at the relax pose's centre and steps back just enough to keep both extremes in view.
+    Each tile's camera aims at the relax pose's centre and steps back just enough to keep both
+    extremes in view.
     """
     amplitudes = peak_rotation_amplitudes(world, modes, max_rotation_deg)[:count]
     displacement = modes.shapes[:, :count] * amplitudes
@@ -90,8 +103,12 @@ def mode_tiles(
     tiles = []
     with FrameRenderer(world, tile_px, tile_px, PALETTE_VIEW) as renderer:
         for i in range(count):
-            renderer.fit(np.vstack([relax, _corners(world, minus[i]), _corners(world, plus[i])]), centre)
-            base = _render(renderer, world.model.qpos0, SOLID_RGBA, lambda: _add_cues(renderer, relax, modes))
+            renderer.fit(
+                np.vstack([relax, _corners(world, minus[i]), _corners(world, plus[i])]), centre
+            )
+            base = _render(
+                renderer, world.model.qpos0, SOLID_RGBA, lambda: _add_cues(renderer, relax, modes)
+            )
             layers = [
                 _ghost(renderer, relax, extreme, rgba, max_rotation_deg)
                 for extreme, rgba in ((minus[i], MINUS_RGBA), (plus[i], PLUS_RGBA))
@@ -101,9 +118,14 @@ def mode_tiles(
 
 
 def _ghost(
-    renderer: FrameRenderer, relax: np.ndarray, extreme: np.ndarray, rgba: tuple, max_rotation_deg: float
+    renderer: FrameRenderer,
+    relax: np.ndarray,
+    extreme: np.ndarray,
+    rgba: tuple,
+    max_rotation_deg: float,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """One extreme as a layer: its image, per-pixel opacity (H × W × 1) and depth (m, inf off the creature)."""
+    """One extreme as a layer: its image, per-pixel opacity (H × W × 1) and depth (m, inf off the
+    creature)."""
     segments = _segments(renderer, extreme)
     alpha = _ghost_opacity(renderer, relax, extreme, max_rotation_deg)[segments][..., None]
     renderer.renderer.enable_depth_rendering()
@@ -111,16 +133,26 @@ def _ghost(
         depth = renderer.render(extreme)
     finally:
         renderer.renderer.disable_depth_rendering()
-    return _render(renderer, extreme, rgba).astype(float), alpha, np.where(segments >= 0, depth, np.inf)
+    return (
+        _render(renderer, extreme, rgba).astype(float),
+        alpha,
+        np.where(segments >= 0, depth, np.inf),
+    )
 
 
 def _blend(base: np.ndarray, layers: list[tuple[np.ndarray, np.ndarray, np.ndarray]]) -> np.ndarray:
-    """Blend two ghost layers onto the base image, per pixel the farther first, so the nearer one shows on top
-    where the two extremes overlap (as they would in space)."""
+    """Blend two ghost layers onto the base image, per pixel the farther first, so the nearer one
+    shows on top where the two extremes overlap (as they would in space)."""
     (image_a, alpha_a, depth_a), (image_b, alpha_b, depth_b) = layers
     a_behind = (depth_a >= depth_b)[..., None]
-    far_image, far_alpha = np.where(a_behind, image_a, image_b), np.where(a_behind, alpha_a, alpha_b)
-    near_image, near_alpha = np.where(a_behind, image_b, image_a), np.where(a_behind, alpha_b, alpha_a)
+    far_image, far_alpha = (
+        np.where(a_behind, image_a, image_b),
+        np.where(a_behind, alpha_a, alpha_b),
+    )
+    near_image, near_alpha = (
+        np.where(a_behind, image_b, image_a),
+        np.where(a_behind, alpha_b, alpha_a),
+    )
     out = base * (1 - far_alpha) + far_image * far_alpha
     out = out * (1 - near_alpha) + near_image * near_alpha
     return out.round().astype(np.uint8)
@@ -150,21 +182,27 @@ def _segments(renderer: FrameRenderer, qpos: np.ndarray) -> np.ndarray:
 def _ghost_opacity(
     renderer: FrameRenderer, relax: np.ndarray, extreme: np.ndarray, max_rotation_deg: float
 ) -> np.ndarray:
-    """Opacity per creature geom (and 0 for a last entry, indexed by −1), from how much the geom moves between
-    the relax pose and the extreme: the larger of its travel (box corners, relative to MOVING_TRAVEL of the
-    creature's height) and its own joint's rotation (relative to MOVING_ROTATION of the mode's peak rotation)."""
+    """Opacity per creature geom (and 0 for a last entry, indexed by −1), from how much the geom
+    moves between the relax pose and the extreme: the larger of its travel (box corners, relative to
+    MOVING_TRAVEL of the creature's height) and its own joint's rotation (relative to
+    MOVING_ROTATION of the mode's peak rotation)."""
     model = renderer.model
     corners = _corners(renderer.world, extreme)
     height = float(np.ptp(relax[:, 2]))
-    travel = np.linalg.norm(corners - relax, axis=1).reshape(-1, 8).max(axis=1) / (MOVING_TRAVEL * height)
-    turn = np.array([_joint_turn_deg(model, int(model.geom_bodyid[g]), extreme) for g in renderer.geoms])
+    travel = np.linalg.norm(corners - relax, axis=1).reshape(-1, 8).max(axis=1) / (
+        MOVING_TRAVEL * height
+    )
+    turn = np.array(
+        [_joint_turn_deg(model, int(model.geom_bodyid[g]), extreme) for g in renderer.geoms]
+    )
     moving = np.clip(np.maximum(travel, turn / (MOVING_ROTATION * max_rotation_deg)), 0, 1)
     low, high = GHOST_OPACITY
     return np.r_[low + (high - low) * moving, 0.0]
 
 
 def _joint_turn_deg(model: mujoco.MjModel, body: int, qpos: np.ndarray) -> float:
-    """Largest rotation (degrees) of the body's own ball or hinge joints away from the relax pose (qpos0)."""
+    """Largest rotation (degrees) of the body's own ball or hinge joints away from the relax pose
+    (qpos0)."""
     turns = [0.0]
     for j in range(model.body_jntadr[body], model.body_jntadr[body] + model.body_jntnum[body]):
         adr = model.jnt_qposadr[j]
@@ -177,16 +215,27 @@ def _joint_turn_deg(model: mujoco.MjModel, body: int, qpos: np.ndarray) -> float
 
 
 def _add_cues(renderer: FrameRenderer, relax: np.ndarray, modes: ModeSet) -> None:
-    """A facing arrow on the floor in front of the relax pose and, for a pinned toe, a red ball on it."""
+    """A facing arrow on the floor in front of the relax pose and, for a pinned toe, a red ball on
+    it."""
     low, high = relax.min(axis=0), relax.max(axis=0)
     size = float(high[2] - low[2])
     start = [high[0] + 0.05 * size, (low[1] + high[1]) / 2, low[2] + 0.01]
-    to_x = np.array([[0.0, 0.0, 1.0], [0.0, 1.0, 0.0], [-1.0, 0.0, 0.0]])  # the arrow's z axis along +x
-    renderer.add_marker(mujoco.mjtGeom.mjGEOM_ARROW, (0.035 * size, 0.035 * size, 0.3 * size), start, ARROW_RGBA, to_x)
+    # the arrow's z axis along +x
+    to_x = np.array([[0.0, 0.0, 1.0], [0.0, 1.0, 0.0], [-1.0, 0.0, 0.0]])
+    renderer.add_marker(
+        mujoco.mjtGeom.mjGEOM_ARROW,
+        (0.035 * size, 0.035 * size, 0.3 * size),
+        start,
+        ARROW_RGBA,
+        to_x,
+    )
     if modes.foot:
         site = renderer.model.site(renderer.world.character.feet[modes.foot].toe).id
         renderer.add_marker(
-            mujoco.mjtGeom.mjGEOM_SPHERE, (0.04 * size,) * 3, renderer.data.site_xpos[site], PINNED_RGBA
+            mujoco.mjtGeom.mjGEOM_SPHERE,
+            (0.04 * size,) * 3,
+            renderer.data.site_xpos[site],
+            PINNED_RGBA,
         )
 
 
@@ -211,7 +260,8 @@ def palette_image(
     tile_px: int = 240,
     max_rotation_deg: float = DEFAULT_MAX_ROTATION_DEG,
 ) -> np.ndarray:
-    """The palette of modes 1..count (default all) as an RGB uint8 image of size `palette_layout(...).size`."""
+    """The palette of modes 1..count (default all) as an RGB uint8 image of size
+    `palette_layout(...).size`."""
     count = modes.count if count is None else count
     if not 1 <= count <= modes.count:
         raise UserInputError(
@@ -227,7 +277,9 @@ def palette_image(
     return _draw_labels(canvas, layout, modes, max_rotation_deg)
 
 
-def _draw_labels(canvas: np.ndarray, layout: PaletteLayout, modes: ModeSet, max_rotation_deg: float) -> np.ndarray:
+def _draw_labels(
+    canvas: np.ndarray, layout: PaletteLayout, modes: ModeSet, max_rotation_deg: float
+) -> np.ndarray:
     """Title, legend and per-tile labels drawn with matplotlib onto the canvas, same pixel size."""
     from eigengait.figures import agg_figure
 
@@ -241,7 +293,14 @@ def _draw_labels(canvas: np.ndarray, layout: PaletteLayout, modes: ModeSet, max_
     def text(x: float, y: float, s: str, **style) -> None:
         fig.text(x / width, 1 - y / height, s, va="center", **style)
 
-    text(width / 2, layout.title_height * 0.36, palette_title(modes), ha="center", fontsize=17, weight="bold")
+    text(
+        width / 2,
+        layout.title_height * 0.36,
+        palette_title(modes),
+        ha="center",
+        fontsize=17,
+        weight="bold",
+    )
     text(
         width / 2,
         layout.title_height * 0.74,

@@ -1,14 +1,16 @@
 """Render a World's qpos sequence with MuJoCo's offscreen Renderer and write it as MP4 or GIF.
 
-The camera is a free camera looking down at `elevation_deg` so the floor fills the background. By default it is
-framed on the relax pose and follows the creature's centre of mass (COM) horizontally at constant height; a fixed
-camera (`CameraView(follow=False)`) frames the whole trajectory instead, so travel shows. Lighting: MuJoCo's
-headlight softened, and the world's overhead lights moved horizontally with the COM so the creature's shadow
-falls under it wherever it goes. Videos are resampled to exactly the requested frame rate and play in real time
-unless a speed is given (`eigengait.motion.resample`); frames carry the simulated time and, on a floor, a disc
-under each foot on the ground plus a foot box filled while it touches (`eigengait.render.contacts`).
-Distances are in metres, angles in degrees, sizes in pixels. MP4 is H.264 (libx264, yuv420p: plays in browsers
-and every player); GIF loops forever (GIF stores frame times in 10 ms steps, so 25 or 20 fps play exactly).
+The camera is a free camera looking down at `elevation_deg` so the floor fills the background. By
+default it is framed on the relax pose and follows the creature's centre of mass (COM) horizontally
+at constant height; a fixed camera (`CameraView(follow=False)`) frames the whole trajectory instead,
+so travel shows. Lighting: MuJoCo's headlight softened, and the world's overhead lights moved
+horizontally with the COM so the creature's shadow falls under it wherever it goes. Videos are
+resampled to exactly the requested frame rate and play in real time unless a speed is given
+(`eigengait.motion.resample`); frames carry the simulated time and, on a floor, a disc under each
+foot on the ground plus a foot box filled while it touches (`eigengait.render.contacts`). Distances
+are in metres, angles in degrees, sizes in pixels. MP4 is H.264 (libx264, yuv420p: plays in browsers
+and every player); GIF loops forever (GIF stores frame times in 10 ms steps, so 25 or 20 fps play
+exactly).
 """
 
 from __future__ import annotations
@@ -33,10 +35,11 @@ VIDEO_SUFFIXES = (".mp4", ".gif")
 
 @dataclass(frozen=True)
 class CameraView:
-    """Free-camera placement. MuJoCo azimuth: 90° looks along +y (side view); 135° sees a +x-facing creature
-    from its front-right three-quarter. Elevations below −22.5° keep the horizon out of a 4:3 or square frame.
-    `distance_m=None` fits the creature in the frame so that it spans `fill` of the width or height.
-    `follow=True` follows the COM; `False` is a fixed camera framing every pose of the trajectory."""
+    """Free-camera placement. MuJoCo azimuth: 90° looks along +y (side view); 135° sees a +x-facing
+    creature from its front-right three-quarter. Elevations below −22.5° keep the horizon out of a
+    4:3 or square frame. `distance_m=None` fits the creature in the frame so that it spans `fill` of
+    the width or height. `follow=True` follows the COM; `False` is a fixed camera framing every pose
+    of the trajectory."""
 
     azimuth_deg: float = 135.0
     elevation_deg: float = -25.0
@@ -57,7 +60,8 @@ MAX_SIZE = 8192  # pixels per side of an offscreen image
 
 
 def visual_model(world: World, width: int, height: int) -> mujoco.MjModel:
-    """A copy of the world's model with an offscreen buffer of the requested size and softer lighting."""
+    """A copy of the world's model with an offscreen buffer of the requested size and softer
+    lighting."""
     if not (16 <= width <= MAX_SIZE and 16 <= height <= MAX_SIZE) or width % 2 or height % 2:
         raise UserInputError(
             f"image size {width}×{height} is not usable",
@@ -97,12 +101,17 @@ def geom_corners(model: mujoco.MjModel, data: mujoco.MjData, geoms: np.ndarray) 
 
 
 def fit_camera(
-    points: np.ndarray, view: CameraView, aspect: float, fovy_deg: float, centre: np.ndarray | None = None
+    points: np.ndarray,
+    view: CameraView,
+    aspect: float,
+    fovy_deg: float,
+    centre: np.ndarray | None = None,
 ) -> tuple[np.ndarray, float]:
-    """Look-at point (m) and distance (m) that frame the world points with the view's direction and fill.
+    """Look-at point (m) and distance (m) that frame the world points with the view's direction and
+    fill.
 
-    Without `centre` the camera aims at the middle of the points' image; with it, at `centre`'s image (the frame
-    then widens to keep every point in view around it).
+    Without `centre` the camera aims at the middle of the points' image; with it, at `centre`'s
+    image (the frame then widens to keep every point in view around it).
     """
     forward, right, up = view.axes()
     origin = points.mean(axis=0) if centre is None else centre
@@ -121,11 +130,14 @@ def fit_camera(
 class FrameRenderer:
     """Offscreen renderer of a world's poses; use as a context manager (it owns a GL context).
 
-    The camera is fitted to the relax pose (refit with `fit`, or `fit_trajectory` for a fixed camera) and, if the
-    view follows, moves with the COM horizontally at constant height. The world's lights always move with the COM.
+    The camera is fitted to the relax pose (refit with `fit`, or `fit_trajectory` for a fixed
+    camera) and, if the view follows, moves with the COM horizontally at constant height. The
+    world's lights always move with the COM.
     """
 
-    def __init__(self, world: World, width: int = 640, height: int = 480, view: CameraView = CameraView()):
+    def __init__(
+        self, world: World, width: int = 640, height: int = 480, view: CameraView = CameraView()
+    ):
         self.world = world
         self.model = visual_model(world, width, height)
         self.data = mujoco.MjData(self.model)
@@ -147,14 +159,17 @@ class FrameRenderer:
     def fit(self, points: np.ndarray, centre: np.ndarray | None = None) -> None:
         """Aim the camera so the world points (m) fill the view (see `fit_camera`)."""
         width, height = self.renderer.width, self.renderer.height
-        lookat, distance = fit_camera(points, self.view, width / height, self.model.vis.global_.fovy, centre)
+        lookat, distance = fit_camera(
+            points, self.view, width / height, self.model.vis.global_.fovy, centre
+        )
         self.camera.distance = self.view.distance_m or distance
         self.height_m = float(lookat[2])
         self.lookat_offset = lookat[:2] - self.relax_com[:2]
         self.camera.lookat[:] = lookat
 
     def fit_trajectory(self, qpos: np.ndarray, samples: int = 40) -> None:
-        """Frame up to `samples` evenly spread poses of a trajectory (T × nq) at once, for a fixed camera."""
+        """Frame up to `samples` evenly spread poses of a trajectory (T × nq) at once, for a fixed
+        camera."""
         picks = qpos[np.unique(np.linspace(0, len(qpos) - 1, samples).astype(int))]
         self.fit(np.vstack([self._corners(q) for q in picks]))
 
@@ -172,22 +187,29 @@ class FrameRenderer:
     def close(self) -> None:
         self.renderer.close()
 
-    def render(self, qpos: np.ndarray, solid_rgba: tuple | None = None, contact_marks: bool = False) -> np.ndarray:
+    def render(
+        self, qpos: np.ndarray, solid_rgba: tuple | None = None, contact_marks: bool = False
+    ) -> np.ndarray:
         """RGB image (height × width × 3, uint8) of the pose (arguments: `update_scene`)."""
         self.update_scene(qpos, solid_rgba, contact_marks)
         return self.renderer.render()
 
-    def update_scene(self, qpos: np.ndarray, solid_rgba: tuple | None = None, contact_marks: bool = False) -> None:
-        """Build the scene of the pose; `add_marker` may add to it before `self.renderer.render()` draws it.
+    def update_scene(
+        self, qpos: np.ndarray, solid_rgba: tuple | None = None, contact_marks: bool = False
+    ) -> None:
+        """Build the scene of the pose; `add_marker` may add to it before `self.renderer.render()`
+        draws it.
 
-        `solid_rgba` recolours the creature in one flat colour. `contact_marks` draws a disc on the floor under
-        each foot touching it, in the foot's colour.
+        `solid_rgba` recolours the creature in one flat colour. `contact_marks` draws a disc on the
+        floor under each foot touching it, in the foot's colour.
         """
         self.data.qpos[:] = qpos
         mujoco.mj_kinematics(self.model, self.data)
         mujoco.mj_comPos(self.model, self.data)
         com = self.data.subtree_com[self.world.root_body]
-        self.data.light_xpos[self.world_lights, :2] = self.model.light_pos[self.world_lights, :2] + com[:2]
+        self.data.light_xpos[self.world_lights, :2] = (
+            self.model.light_pos[self.world_lights, :2] + com[:2]
+        )
         if self.view.follow:
             self.camera.lookat[:] = [*(com[:2] + self.lookat_offset), self.height_m]
         self.renderer.update_scene(self.data, self.camera)
@@ -196,8 +218,11 @@ class FrameRenderer:
         if contact_marks:
             self._add_contact_marks()
 
-    def add_marker(self, kind: int, size: tuple, pos: np.ndarray, rgba: tuple, mat: np.ndarray = np.eye(3)) -> None:
-        """Add one decorative geom (an `mjtGeom` type; size and position in m) to the scene being drawn."""
+    def add_marker(
+        self, kind: int, size: tuple, pos: np.ndarray, rgba: tuple, mat: np.ndarray = np.eye(3)
+    ) -> None:
+        """Add one decorative geom (an `mjtGeom` type; size and position in m) to the scene being
+        drawn."""
         scene = self.renderer.scene
         if scene.ngeom >= scene.maxgeom:
             return
@@ -240,9 +265,11 @@ def iter_frames(
     progress: bool = False,
     times: np.ndarray | None = None,
 ) -> Iterator[np.ndarray]:
-    """Frames of a qpos sequence (T × nq), one RGB uint8 image at a time, with a progress bar if asked.
+    """Frames of a qpos sequence (T × nq), one RGB uint8 image at a time, with a progress bar if
+    asked.
 
-    With `times` (s, one per pose) every frame is annotated: the time, and on a floor the feet on the ground.
+    With `times` (s, one per pose) every frame is annotated: the time, and on a floor the feet on
+    the ground.
     """
     from eigengait.render.contacts import contact_points, foot_colour, has_floor
     from eigengait.render.overlay import annotate
@@ -258,7 +285,9 @@ def iter_frames(
                 feet = (
                     [
                         (name, point is not None, foot_colour(k))
-                        for k, (name, point) in enumerate(contact_points(world, renderer.data).items())
+                        for k, (name, point) in enumerate(
+                            contact_points(world, renderer.data).items()
+                        )
                     ]
                     if marks
                     else []
@@ -286,17 +315,24 @@ def video_path(path: str | Path) -> Path:
     """The path, if its suffix names a format we write (.mp4 or .gif)."""
     path = Path(path)
     if path.suffix.lower() not in VIDEO_SUFFIXES:
-        raise UserInputError(f"cannot write video format '{path.suffix}'", file=path, fix="name the file .mp4 or .gif")
+        raise UserInputError(
+            f"cannot write video format '{path.suffix}'",
+            file=path,
+            fix="name the file .mp4 or .gif",
+        )
     return path
 
 
 def write_video(frames: Iterator[np.ndarray], path: str | Path, fps: float) -> int:
-    """Write frames to an .mp4 (H.264, yuv420p) or .gif (looping) chosen by suffix; returns the frame count.
+    """Write frames to an .mp4 (H.264, yuv420p) or .gif (looping) chosen by suffix; returns the
+    frame count.
 
-    The video is written under a temporary name and renamed when complete (`eigengait.outputs.replacing`)."""
+    The video is written under a temporary name and renamed when complete
+    (`eigengait.outputs.replacing`)."""
     path = video_path(path)
     count = 0
-    with replacing(path) as temporary, closing(_video_writer(temporary, fps)) as writer:  # closed on errors too
+    # closed on errors too
+    with replacing(path) as temporary, closing(_video_writer(temporary, fps)) as writer:
         for frame in frames:
             writer.append_data(frame)
             count += 1
@@ -333,10 +369,12 @@ def render_video(
     speed: float = 1.0,
     annotate: bool = True,
 ) -> int:
-    """Render a qpos sequence (T × nq) recorded at `source_fps` to a video file at exactly `fps` frames per
-    second, showing `speed` simulated seconds per second of video (1 = real time); returns the frame count.
+    """Render a qpos sequence (T × nq) recorded at `source_fps` to a video file at exactly `fps`
+    frames per second, showing `speed` simulated seconds per second of video (1 = real time);
+    returns the frame count.
 
-    `annotate` stamps each frame with its simulated time and marks the feet on the ground (see `iter_frames`).
+    `annotate` stamps each frame with its simulated time and marks the feet on the ground (see
+    `iter_frames`).
     """
     from eigengait.motion.resample import at_frame_rate, frame_times
 

@@ -1,4 +1,5 @@
-"""The MuJoCo world: a character at its relax pose with passive springs, ground contact and joint motors."""
+"""The MuJoCo world: a character at its relax pose with passive springs, ground contact and joint
+motors."""
 
 from eigengait.sim.world import World, WorldOptions, build_world
 

@@ -1,5 +1,6 @@
-"""Which build simulated a recording: a falling gait amplifies rounding, so its figures replay exactly only on the
-same MuJoCo and NumPy versions and the same kind of CPU (the vector instructions MuJoCo and NumPy may use)."""
+"""Which build simulated a recording: a falling gait amplifies rounding, so its figures replay
+exactly only on the same MuJoCo and NumPy versions and the same kind of CPU (the vector instructions
+MuJoCo and NumPy may use)."""
 
 from __future__ import annotations
 
@@ -13,7 +14,8 @@ VECTOR_FLAGS = ("sse4_2", "avx", "avx2", "fma", "avx512f", "avx512dq", "avx512vl
 
 
 def _cpu_flags(cpuinfo: Path = Path("/proc/cpuinfo")) -> list[str]:
-    """The vector-instruction flags of the first CPU listed in `cpuinfo` (none where the file is absent)."""
+    """The vector-instruction flags of the first CPU listed in `cpuinfo` (none where the file is
+    absent)."""
     try:
         text = cpuinfo.read_text(encoding="utf-8", errors="replace")
     except OSError:
@@ -26,7 +28,8 @@ def _cpu_flags(cpuinfo: Path = Path("/proc/cpuinfo")) -> list[str]:
 
 
 def build_fingerprint() -> dict:
-    """MuJoCo and NumPy versions, the machine architecture and its CPU's vector-instruction flags."""
+    """MuJoCo and NumPy versions, the machine architecture and its CPU's vector-instruction
+    flags."""
     return {
         "mujoco": mujoco.__version__,
         "numpy": np.__version__,

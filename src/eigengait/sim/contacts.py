@@ -1,7 +1,9 @@
-"""The one rule for "this foot is on the ground", shared by the controller, the gait metrics and the renderer.
+"""The one rule for "this foot is on the ground", shared by the controller, the gait metrics and the
+renderer.
 
-A foot touches the ground (`foot_touching`) when one of its contact spheres (the geoms the engine collides with the
-floor plane z = 0) has its bottom, centre z − radius, within `CONTACT_TOLERANCE` of the floor.
+A foot touches the ground (`foot_touching`) when one of its contact spheres (the geoms the engine
+collides with the floor plane z = 0) has its bottom, centre z − radius, within `CONTACT_TOLERANCE`
+of the floor.
 """
 
 from __future__ import annotations
@@ -17,5 +19,6 @@ def spheres_touching(centre_z: np.ndarray, radius: np.ndarray | float) -> np.nda
 
 
 def foot_touching(points: np.ndarray, radius: float) -> np.ndarray:
-    """Per row (…): one of a foot's contact spheres, centres `points` (…, k, 3) in m, touches the floor."""
+    """Per row (…): one of a foot's contact spheres, centres `points` (…, k, 3) in m, touches the
+    floor."""
     return spheres_touching(points[..., 2], radius).any(axis=-1)

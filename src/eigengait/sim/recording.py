@@ -1,10 +1,11 @@
-"""Named reads of recorded simulation: the world's MuJoCo full-physics states and sensor readings, as
-`mujoco.rollout` returns them and `mj_getState` / `data.sensordata` give them one at a time.
+"""Named reads of recorded simulation: the world's MuJoCo full-physics states and sensor readings,
+as `mujoco.rollout` returns them and `mj_getState` / `data.sensordata` give them one at a time.
 
-A full-physics state (`mjSTATE_FULLPHYSICS`) is [time (s), qpos (nq), qvel (nv), act (na), …]. The world's
-sensordata (`sim/world.py`) is [COM (3, m), COM velocity (3, m/s), then the world position (3, m) of each foot's
-contact-sphere centres, toe then heel]. Every accessor reads the last axis and keeps any leading shape (one row,
-steps, candidates × steps, …); the slices are views into their argument, not copies.
+A full-physics state (`mjSTATE_FULLPHYSICS`) is [time (s), qpos (nq), qvel (nv), act (na), …]. The
+world's sensordata (`sim/world.py`) is [COM (3, m), COM velocity (3, m/s), then the world position
+(3, m) of each foot's contact-sphere centres, toe then heel]. Every accessor reads the last axis and
+keeps any leading shape (one row, steps, candidates × steps, …); the slices are views into their
+argument, not copies.
 """
 
 from __future__ import annotations
@@ -23,8 +24,8 @@ if TYPE_CHECKING:
 
 @dataclass(frozen=True)
 class RolloutView:
-    """Where each simulation fact lives in a world's states and sensordata (build it with `of`, or use
-    `World.view`)."""
+    """Where each simulation fact lives in a world's states and sensordata (build it with `of`, or
+    use `World.view`)."""
 
     nq: int
     nv: int
@@ -32,7 +33,8 @@ class RolloutView:
     root: RootLayout
     com_at: int  # sensordata address of the whole creature's COM (3)
     com_velocity_at: int  # sensordata address of its COM velocity (3)
-    foot_points_at: dict[str, tuple[int, ...]]  # foot -> sensordata addresses of its sphere centres, toe then heel
+    # foot -> sensordata addresses of its sphere centres, toe then heel
+    foot_points_at: dict[str, tuple[int, ...]]
     foot_radius: dict[str, float]  # foot -> radius (m) of its contact spheres
 
     @classmethod
@@ -68,7 +70,8 @@ class RolloutView:
         return states[..., 1 + self.nq : 1 + self.nq + self.nv]
 
     def act(self, states: np.ndarray) -> np.ndarray:
-        """Actuator activations (…, na): the motors' filtered torques (N·m) when the world has an activation time."""
+        """Actuator activations (…, na): the motors' filtered torques (N·m) when the world has an
+        activation time."""
         start = 1 + self.nq + self.nv
         return states[..., start : start + self.na]
 
@@ -86,7 +89,8 @@ class RolloutView:
         return sensors[..., self.com_velocity_at : self.com_velocity_at + 3]
 
     def foot_points(self, sensors: np.ndarray, foot: str) -> np.ndarray:
-        """World positions (m) of the foot's contact-sphere centres, toe then heel (…, k, 3; a copy)."""
+        """World positions (m) of the foot's contact-sphere centres, toe then heel (…, k, 3; a
+        copy)."""
         return np.stack([sensors[..., a : a + 3] for a in self.foot_points_at[foot]], axis=-2)
 
     def toe(self, sensors: np.ndarray, foot: str) -> np.ndarray:
@@ -98,17 +102,21 @@ class RolloutView:
         return len(self.foot_points_at[foot]) > 1
 
     def heel(self, sensors: np.ndarray, foot: str) -> np.ndarray:
-        """World position (m) of the foot's heel sphere centre (…, 3); the foot must have one (`has_heel`)."""
+        """World position (m) of the foot's heel sphere centre (…, 3); the foot must have one
+        (`has_heel`)."""
         a = self.foot_points_at[foot][1]
         return sensors[..., a : a + 3]
 
     def feet_touching(self, sensors: np.ndarray) -> dict[str, np.ndarray]:
         """foot -> (…) bool: one of its contact spheres touches the ground (`sim/contacts.py`)."""
-        return {f: foot_touching(self.foot_points(sensors, f), r) for f, r in self.foot_radius.items()}
+        return {
+            f: foot_touching(self.foot_points(sensors, f), r) for f, r in self.foot_radius.items()
+        }
 
 
 def frame_rows(steps: int, timestep: float, fps: float) -> np.ndarray:
-    """Frames at t = k / fps (k = 0, 1, …) of a rollout of `steps` physics steps of `timestep` s, as row indices
-    into [initial state, state after step 1, …, state after step `steps`]: each frame is the nearest step."""
+    """Frames at t = k / fps (k = 0, 1, …) of a rollout of `steps` physics steps of `timestep` s, as
+    row indices into [initial state, state after step 1, …, state after step `steps`]: each frame is
+    the nearest step."""
     rows = np.round(np.arange(int(steps * timestep * fps) + 1) / fps / timestep).astype(int)
     return rows[rows <= steps]

@@ -1,8 +1,10 @@
-"""Where the creature's root lives in the state: a free joint, or a planar root's slide and hinge joints.
+"""Where the creature's root lives in the state: a free joint, or a planar root's slide and hinge
+joints.
 
-Frames: world axes, x forward, z up. A free root has position (x, y, z) and orientation quaternion in qpos, linear
-velocity (world) and angular velocity (root frame) in qvel. A planar root (e.g. slide x, slide z, hinge y) has one
-qpos/qvel entry per joint; its forward, vertical and pitch coordinates are the joints whose axis is x, z and ±y.
+Frames: world axes, x forward, z up. A free root has position (x, y, z) and orientation quaternion
+in qpos, linear velocity (world) and angular velocity (root frame) in qvel. A planar root
+(e.g. slide x, slide z, hinge y) has one qpos/qvel entry per joint; its forward, vertical and pitch
+coordinates are the joints whose axis is x, z and ±y.
 """
 
 from __future__ import annotations
@@ -32,7 +34,8 @@ class RootLayout:
     pitch_sign: float = 1.0  # +1 if that hinge's axis is +y
 
     def lift_and_pitch(self, qpos: np.ndarray, height: float, pitch: float) -> None:
-        """Raise the root by `height` (m) and pitch it by `pitch` (rad, about world +y), in place."""
+        """Raise the root by `height` (m) and pitch it by `pitch` (rad, about world +y), in
+        place."""
         if self.height_qpos is not None:
             qpos[self.height_qpos] += height
         if self.quat_qpos is not None:
@@ -44,7 +47,8 @@ class RootLayout:
             qpos[self.pitch_qpos] += self.pitch_sign * pitch
 
     def position(self, qpos: np.ndarray) -> np.ndarray:
-        """World position (…, 3) of the root for qpos rows (…, nq); a planar root's missing axes read 0."""
+        """World position (…, 3) of the root for qpos rows (…, nq); a planar root's missing axes
+        read 0."""
         if self.quat_qpos is not None:
             return qpos[..., self.quat_qpos - 3 : self.quat_qpos]
         out = np.zeros(qpos.shape[:-1] + (3,))
@@ -54,7 +58,8 @@ class RootLayout:
         return out
 
     def heading(self, qpos: np.ndarray) -> np.ndarray:
-        """Yaw (rad, about world z) of the root's x axis for qpos rows (…, nq); a planar root reads 0."""
+        """Yaw (rad, about world z) of the root's x axis for qpos rows (…, nq); a planar root
+        reads 0."""
         if self.quat_qpos is None:
             return np.zeros(qpos.shape[:-1])
         w, x, y, z = np.moveaxis(qpos[..., self.quat_qpos : self.quat_qpos + 4], -1, 0)
@@ -72,14 +77,16 @@ class RootLayout:
     def tilt_deg(self, qpos: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Pitch and roll (degrees) of the root for qpos rows (…, nq), independent of the heading.
 
-        A free root: `geometry.quat_pitch_roll` of its quaternion. A planar root: its hinge about ±y as pitch (same
-        sign convention) and roll 0. NaN for a planar root without that hinge.
+        A free root: `geometry.quat_pitch_roll` of its quaternion. A planar root: its hinge about ±y
+        as pitch (same sign convention) and roll 0. NaN for a planar root without that hinge.
         """
         if self.quat_qpos is not None:
             pitch, roll = quat_pitch_roll(qpos[..., self.quat_qpos : self.quat_qpos + 4])
             return np.degrees(pitch), np.degrees(roll)
         if self.pitch_qpos is not None:
-            return np.degrees(self.pitch_sign * qpos[..., self.pitch_qpos]), np.zeros(qpos.shape[:-1])
+            return np.degrees(self.pitch_sign * qpos[..., self.pitch_qpos]), np.zeros(
+                qpos.shape[:-1]
+            )
         return np.full(qpos.shape[:-1], np.nan), np.full(qpos.shape[:-1], np.nan)
 
 
@@ -98,7 +105,13 @@ def root_layout(model: mujoco.MjModel, root_body: int) -> RootLayout:
             translation.append(d)
         for name, world_axis in (("x", 0), ("y", 1), ("z", 2)):
             if abs(axis[world_axis]) >= AXIS_TOLERANCE:
-                found[("slide_" if slide else "hinge_") + name] = (a, d, float(np.sign(axis[world_axis])))
+                found[("slide_" if slide else "hinge_") + name] = (
+                    a,
+                    d,
+                    float(np.sign(axis[world_axis])),
+                )
     none = (None, None, 1.0)
     fx, fz, hy = (found.get(key, none) for key in ("slide_x", "slide_z", "hinge_y"))
-    return RootLayout("planar", tuple(translation), fx[0], fx[1], fz[0], fz[1], pitch_qpos=hy[0], pitch_sign=hy[2])
+    return RootLayout(
+        "planar", tuple(translation), fx[0], fx[1], fz[0], fz[1], pitch_qpos=hy[0], pitch_sign=hy[2]
+    )

@@ -1,20 +1,23 @@
 """Build the simulated world of a character.
 
-* Springs rest at the relax pose; damping = `damping_ratio` × stiffness (0.1 s by default). Isotropic joints use
-  MuJoCo's native `stiffness`/`damping`; anisotropic ball joints (kx, ky, kz in the joint frame) use three passive
-  actuators whose bias is −k_i·θ_i − d_i·θ̇_i, θ_i the rotation-vector component about joint axis i.
-* One motor per internal degree of freedom (`ctrl` = torque in N·m about that dof's axis, joint frame), in qvel
-  order: this is where controllers put their torques, within `motor_limits` (stiffness × `strength`, if the
-  character states one). With an `activation_time` τ (WorldOptions), each motor's torque follows its command
-  through a first-order lag, as a muscle's force follows its excitation (MuJoCo's exact filter, its state in
-  `data.act`): a step in the command reaches 63 % of its size after τ seconds. Without it, torques act at once.
-* Every body collides with the ground (not with itself); feet get toe and heel contact spheres from their sites.
-  `contact="feet"` lets only the spheres collide, and `set_stance_foot` restricts that to one foot (the thesis's
-  filtering).
-* Sensors: the COM and COM velocity of the whole creature, and the world position of every foot's toe and heel
-  (`World.view` reads them, and the recorded states, by name).
-* Everything added is named with a reserved prefix (`eigengait:`, `motor:`, `spring:`, `contact:`, `pos:`),
-  which `character/scene.py` forbids in models, so it cannot clash with the model's own names.
+* Springs rest at the relax pose; damping = `damping_ratio` × stiffness (0.1 s by default).
+  Isotropic joints use MuJoCo's native `stiffness`/`damping`; anisotropic ball joints (kx, ky, kz in
+  the joint frame) use three passive actuators whose bias is −k_i·θ_i − d_i·θ̇_i, θ_i the
+  rotation-vector component about joint axis i.
+* One motor per internal degree of freedom (`ctrl` = torque in N·m about that dof's axis, joint
+  frame), in qvel order: this is where controllers put their torques, within `motor_limits`
+  (stiffness × `strength`, if the character states one). With an `activation_time` τ (WorldOptions),
+  each motor's torque follows its command through a first-order lag, as a muscle's force follows its
+  excitation (MuJoCo's exact filter, its state in `data.act`): a step in the command reaches 63 % of
+  its size after τ seconds. Without it, torques act at once.
+* Every body collides with the ground (not with itself); feet get toe and heel contact spheres from
+  their sites. `contact="feet"` lets only the spheres collide, and `set_stance_foot` restricts that
+  to one foot (the thesis's filtering).
+* Sensors: the COM and COM velocity of the whole creature, and the world position of every foot's
+  toe and heel (`World.view` reads them, and the recorded states, by name).
+* Everything added is named with a reserved prefix (`eigengait:`, `motor:`, `spring:`, `contact:`,
+  `pos:`), which `character/scene.py` forbids in models, so it cannot clash with the model's own
+  names.
 """
 
 from __future__ import annotations
@@ -41,8 +44,8 @@ MAX_ACTIVATION_TIME = 1.0  # s
 
 @dataclass(frozen=True)
 class WorldOptions:
-    """gravity on/off; timestep in s; which geoms touch the ground; place the feet on the ground; the motors'
-    activation time constant in s (None: torques act at once)."""
+    """gravity on/off; timestep in s; which geoms touch the ground; place the feet on the ground;
+    the motors' activation time constant in s (None: torques act at once)."""
 
     gravity: bool = True
     timestep: float = 0.0005
@@ -61,7 +64,10 @@ class WorldOptions:
             raise UserInputError(
                 f"activation time {self.activation_time} s is out of range",
                 field="activation_time",
-                fix=f"use a time constant above 0 and at most {MAX_ACTIVATION_TIME} s (muscles: 0.01-0.05 s), or none",
+                fix=(
+                    f"use a time constant above 0 and at most {MAX_ACTIVATION_TIME} s (muscles: "
+                    "0.01-0.05 s), or none"
+                ),
             )
 
 
@@ -78,7 +84,8 @@ class World:
     internal_qvel: np.ndarray = None  # qvel indices of internal dofs, model order
     internal_qpos_joints: list[int] = None  # joint ids of internal joints, model order
     foot_spheres: dict[str, list[int]] = field(default_factory=dict)  # foot -> contact geom ids
-    foot_sensor: dict[str, int] = field(default_factory=dict)  # "<foot>_toe"/"<foot>_heel" -> sensordata adr
+    # "<foot>_toe"/"<foot>_heel" -> sensordata adr
+    foot_sensor: dict[str, int] = field(default_factory=dict)
     root: RootLayout = None  # where the root's coordinates are in qpos/qvel
 
     @property
@@ -99,8 +106,9 @@ class World:
         return RolloutView.of(self)
 
     def applied_motor_torques(self, states: np.ndarray, commands: np.ndarray) -> np.ndarray:
-        """Torques (N·m, … × nmotor) the motors applied: their filtered activations, read from full-physics
-        states (… × state size, after each step) when the motors have an activation time, else the commands."""
+        """Torques (N·m, … × nmotor) the motors applied: their filtered activations, read from
+        full-physics states (… × state size, after each step) when the motors have an activation
+        time, else the commands."""
         if not self.model.na:
             return commands
         return self.view.act(states)[..., : self.nmotor]
@@ -108,13 +116,15 @@ class World:
     @property
     def dof_stiffness(self) -> np.ndarray:
         """Spring stiffness (N·m/rad) of each internal dof, in motor order."""
-        return np.concatenate([np.atleast_1d(self.character.stiffness[j]) for j in self.character.joints])
+        return np.concatenate(
+            [np.atleast_1d(self.character.stiffness[j]) for j in self.character.joints]
+        )
 
     @property
     def motor_limits(self) -> np.ndarray:
-        """Largest torque (N·m) of each motor: its dof's stiffness × the character's `strength` (rad), so a joint is
-        as strong as its spring at that deflection (light, soft limbs cannot be driven like the legs); unlimited
-        (inf) when the character states no strength."""
+        """Largest torque (N·m) of each motor: its dof's stiffness × the character's `strength`
+        (rad), so a joint is as strong as its spring at that deflection (light, soft limbs cannot be
+        driven like the legs); unlimited (inf) when the character states no strength."""
         strength = self.character.meta.strength
         return np.full(self.nmotor, np.inf) if strength is None else strength * self.dof_stiffness
 
@@ -123,7 +133,8 @@ class World:
         return float(self.model.geom_size[self.foot_spheres[foot][0], 0])
 
     def foot_point_sensors(self, foot: str) -> list[int]:
-        """sensordata addresses of the world positions of the foot's contact-sphere centres (toe, then heel)."""
+        """sensordata addresses of the world positions of the foot's contact-sphere centres
+        (toe, then heel)."""
         points = self.character.feet[foot]
         return [self.foot_sensor[site] for site in (points.toe, points.heel) if site]
 
@@ -145,7 +156,8 @@ class World:
         return float(self.new_data().subtree_com[self.root_body][2])
 
     def set_stance_foot(self, foot: str | None) -> None:
-        """Thesis filtering: only `foot`'s spheres collide (None: all feet). Needs contact='feet'."""
+        """Thesis filtering: only `foot`'s spheres collide (None: all feet). Needs
+        contact='feet'."""
         for name, geoms in self.foot_spheres.items():
             on = foot is None or name == foot
             self.model.geom_contype[geoms] = FOOT_GROUP if on else 0
@@ -161,7 +173,8 @@ def _add_springs(spec: mujoco.MjSpec, character: Character) -> None:
     for name in character.joints:
         joint = spec.joint(name)
         k = character.stiffness[name]
-        user_damping = float(np.atleast_1d(joint.damping)[0])  # as written in the MJCF (the spec is unedited so far)
+        # as written in the MJCF (the spec is unedited so far)
+        user_damping = float(np.atleast_1d(joint.damping)[0])
         if np.ptp(k) == 0:
             joint.stiffness = _coefficients(k[0])
             joint.damping = _coefficients(user_damping if user_damping > 0 else ratio * k[0])
@@ -184,7 +197,11 @@ def _add_motors(spec: mujoco.MjSpec, character: Character, tau: float | None) ->
     for name in character.joints:
         for axis in range(character.joint_dofs[name]):
             act = spec.add_actuator()
-            act.name = f"motor:{name}:{'xyz'[axis]}" if character.joint_dofs[name] == 3 else f"motor:{name}"
+            act.name = (
+                f"motor:{name}:{'xyz'[axis]}"
+                if character.joint_dofs[name] == 3
+                else f"motor:{name}"
+            )
             act.target = name
             act.trntype = mujoco.mjtTrn.mjTRN_JOINT
             act.gear = np.eye(6)[axis] if character.joint_dofs[name] == 3 else np.eye(6)[0]
@@ -192,7 +209,8 @@ def _add_motors(spec: mujoco.MjSpec, character: Character, tau: float | None) ->
             if tau is not None:
                 act.dyntype = mujoco.mjtDyn.mjDYN_FILTEREXACT
                 act.dynprm[0] = tau
-                act.actearly = True  # the force of a step uses the activation at its end, as recorded
+                # the force of a step uses the activation at its end, as recorded
+                act.actearly = True
 
 
 def _set_contacts(spec: mujoco.MjSpec, character: Character, contact: str) -> None:
@@ -215,15 +233,18 @@ def _set_contacts(spec: mujoco.MjSpec, character: Character, contact: str) -> No
 
 
 def _hide_model_planes(spec: mujoco.MjSpec) -> None:
-    """A user's model may bring its own ground planes: they make no contacts (`_set_contacts`) but would be drawn in
-    the plane of eigengait's floor and flicker through it, so they are made invisible."""
+    """A user's model may bring its own ground planes: they make no contacts (`_set_contacts`) but
+    would be drawn in the plane of eigengait's floor and flicker through it, so they are made
+    invisible."""
     for geom in spec.worldbody.geoms:
         if geom.type == mujoco.mjtGeom.mjGEOM_PLANE:
             geom.material = ""
             geom.rgba = [0.0, 0.0, 0.0, 0.0]
 
 
-def _add_floor_and_sensors(spec: mujoco.MjSpec, character: Character, root_name: str, floor: bool) -> None:
+def _add_floor_and_sensors(
+    spec: mujoco.MjSpec, character: Character, root_name: str, floor: bool
+) -> None:
     if floor:
         _hide_model_planes(spec)
         tex = spec.add_texture(
@@ -239,17 +260,28 @@ def _add_floor_and_sensors(spec: mujoco.MjSpec, character: Character, root_name:
         mat.textures[mujoco.mjtTextureRole.mjTEXROLE_RGB] = tex.name
         mat.texrepeat = [1, 1]
         mat.texuniform = True
-        g = spec.worldbody.add_geom(name=FLOOR, type=mujoco.mjtGeom.mjGEOM_PLANE, size=[0, 0, 0.05], material=FLOOR)
+        g = spec.worldbody.add_geom(
+            name=FLOOR, type=mujoco.mjtGeom.mjGEOM_PLANE, size=[0, 0, 0.05], material=FLOOR
+        )
         g.contype, g.conaffinity = 0, FLOOR_AFFINITY
         g.friction = [1.0, 0.005, 0.0001]
     spec.worldbody.add_light(
-        pos=[0, 0, 6], dir=[0, 0, -1], type=mujoco.mjtLightType.mjLIGHT_DIRECTIONAL, diffuse=[0.7, 0.7, 0.7]
+        pos=[0, 0, 6],
+        dir=[0, 0, -1],
+        type=mujoco.mjtLightType.mjLIGHT_DIRECTIONAL,
+        diffuse=[0.7, 0.7, 0.7],
     )
-    cam = spec.worldbody.add_camera(name="eigengait:side", pos=[0.5, -4.0, 1.3], xyaxes=[1, 0, 0, 0, 0.3, 1])
+    cam = spec.worldbody.add_camera(
+        name="eigengait:side", pos=[0.5, -4.0, 1.3], xyaxes=[1, 0, 0, 0, 0.3, 1]
+    )
     cam.mode = mujoco.mjtCamLight.mjCAMLIGHT_TRACKCOM
     for kind in (mujoco.mjtSensor.mjSENS_SUBTREECOM, mujoco.mjtSensor.mjSENS_SUBTREELINVEL):
         s = spec.add_sensor(type=kind, objtype=mujoco.mjtObj.mjOBJ_BODY, objname=root_name)
-        s.name = "eigengait:com" if kind == mujoco.mjtSensor.mjSENS_SUBTREECOM else "eigengait:com_velocity"
+        s.name = (
+            "eigengait:com"
+            if kind == mujoco.mjtSensor.mjSENS_SUBTREECOM
+            else "eigengait:com_velocity"
+        )
     for f in character.feet.values():
         for point in filter(None, (f.toe, f.heel)):
             spec.add_sensor(
@@ -261,12 +293,16 @@ def _add_floor_and_sensors(spec: mujoco.MjSpec, character: Character, root_name:
 
 
 def _lowest_point(model: mujoco.MjModel, data: mujoco.MjData, geoms: list[int]) -> float:
-    """Lowest world z (m) over the given geoms (boxes by their corners, others by bounding sphere)."""
+    """Lowest world z (m) over the given geoms (boxes by their corners, others by bounding
+    sphere)."""
     low = np.inf
     for g in geoms:
         centre, rot, size = data.geom_xpos[g], data.geom_xmat[g].reshape(3, 3), model.geom_size[g]
         if model.geom_type[g] == mujoco.mjtGeom.mjGEOM_BOX:
-            corners = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)]) * size
+            corners = (
+                np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)])
+                * size
+            )
             low = min(low, float((centre + corners @ rot.T)[:, 2].min()))
         elif model.geom_type[g] == mujoco.mjtGeom.mjGEOM_SPHERE:
             low = min(low, float(centre[2] - size[0]))
@@ -281,14 +317,17 @@ def _in_subtree(model: mujoco.MjModel, body: int, root: int) -> bool:
     return body == root and root > 0
 
 
-def build_world(character: Character, pose: str | dict = DEFAULT_POSE, options: WorldOptions = WorldOptions()) -> World:
+def build_world(
+    character: Character, pose: str | dict = DEFAULT_POSE, options: WorldOptions = WorldOptions()
+) -> World:
     """Compile the character at `pose` into a world, standing with its lowest point on the floor."""
     spec = posed_spec(character, pose)
     root = spec.body(character.scene.root)
     spec.option.timestep = options.timestep
     spec.option.gravity = [0, 0, -GRAVITY if options.gravity else 0.0]
     spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
-    _add_motors(spec, character, options.activation_time)  # motors first: ctrl[:nmotor] are the joint torques
+    # motors first: ctrl[:nmotor] are the joint torques
+    _add_motors(spec, character, options.activation_time)
     _add_springs(spec, character)
     _set_contacts(spec, character, options.contact)
     _add_floor_and_sensors(spec, character, root.name, options.floor)
@@ -298,14 +337,19 @@ def build_world(character: Character, pose: str | dict = DEFAULT_POSE, options: 
     mujoco.mj_kinematics(model, data)
     sphere_ids = [i for i in range(model.ngeom) if model.geom(i).name.startswith("contact:")]
     root_id = model.body(root.name).id
-    body_geoms = [i for i in range(model.ngeom) if _in_subtree(model, int(model.geom_bodyid[i]), root_id)]
+    body_geoms = [
+        i for i in range(model.ngeom) if _in_subtree(model, int(model.geom_bodyid[i]), root_id)
+    ]
     low = _lowest_point(model, data, sphere_ids or body_geoms)
     root.pos = np.asarray(root.pos) - [0, 0, low]
     model = compile_spec(spec)
 
     internal_joints = [model.joint(j).id for j in character.joints]
     qvel = np.concatenate(
-        [model.jnt_dofadr[j] + np.arange(character.joint_dofs[n]) for j, n in zip(internal_joints, character.joints)]
+        [
+            model.jnt_dofadr[j] + np.arange(character.joint_dofs[n])
+            for j, n in zip(internal_joints, character.joints)
+        ]
     ).astype(int)
     feet = {
         foot: [model.geom(f"contact:{p}").id for p in filter(None, (f.toe, f.heel))]

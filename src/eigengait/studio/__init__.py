@@ -1,1 +1,2 @@
-"""The browser studio (viser): mode palette, live sketch, optimization and playback for one shared sketch."""
+"""The browser studio (viser): mode palette, live sketch, optimization and playback for one shared
+sketch."""

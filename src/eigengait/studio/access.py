@@ -1,13 +1,14 @@
 """Who may talk to the studio: its own page, on its own host and port, holding the access token.
 
-Every HTTP request and WebSocket handshake passes `AccessGate.refusal` before viser sees it, and is answered
-403 otherwise:
-- the Host header names the studio's port and a loopback name (localhost, 127.0.0.1, [::1]) or the bound address;
-  bound to all interfaces (0.0.0.0, ::), also any IP address or this machine's name. A DNS-rebound name is refused.
-- an Origin header, when the browser sends one, is the page's own (`http://` + Host): no other site's page may
-  open the studio's WebSocket.
-- the access token comes in the URL (`?token=…`, as the studio prints it) or in the cookie set by the first
-  request that carried it, so the page's assets and its WebSocket need nothing more.
+Every HTTP request and WebSocket handshake passes `AccessGate.refusal` before viser sees it, and is
+answered 403 otherwise:
+- the Host header names the studio's port and a loopback name (localhost, 127.0.0.1, [::1]) or the
+  bound address; bound to all interfaces (0.0.0.0, ::), also any IP address or this machine's name.
+  A DNS-rebound name is refused.
+- an Origin header, when the browser sends one, is the page's own (`http://` + Host): no other
+  site's page may open the studio's WebSocket.
+- the access token comes in the URL (`?token=…`, as the studio prints it) or in the cookie set by
+  the first request that carried it, so the page's assets and its WebSocket need nothing more.
 """
 
 from __future__ import annotations
@@ -58,7 +59,11 @@ class AccessGate:
 
     def _is_own(self, host: str) -> bool:
         name, port = _address(f"//{host}")
-        return bool(name) and port == self.port and (name in self.names or (self.all_interfaces and _is_ip(name)))
+        return (
+            bool(name)
+            and port == self.port
+            and (name in self.names or (self.all_interfaces and _is_ip(name)))
+        )
 
     def _has_token(self, request: Request) -> bool:
         return any(
@@ -67,11 +72,16 @@ class AccessGate:
         )
 
     def _cookie_tokens(self, request: Request) -> list[str]:
-        pairs = (p.strip().partition("=") for h in request.headers.get_all("Cookie") for p in h.split(";"))
+        pairs = (
+            p.strip().partition("=")
+            for h in request.headers.get_all("Cookie")
+            for p in h.split(";")
+        )
         return [value for key, _, value in pairs if key == self.cookie]
 
     def guard(self, process_request: ProcessRequest) -> Callable:
-        """A websockets `process_request` hook: refuse with 403, else run viser's own and hand out the cookie."""
+        """A websockets `process_request` hook: refuse with 403, else run viser's own and hand out
+        the cookie."""
 
         async def guarded(connection: websockets.asyncio.server.ServerConnection, request: Request):
             reason = self.refusal(request)
@@ -81,7 +91,9 @@ class AccessGate:
             if inspect.isawaitable(response):
                 response = await response
             if isinstance(response, Response) and _url_tokens(request):
-                response.headers["Set-Cookie"] = f"{self.cookie}={self.token}; Path=/; HttpOnly; SameSite=Strict"
+                response.headers["Set-Cookie"] = (
+                    f"{self.cookie}={self.token}; Path=/; HttpOnly; SameSite=Strict"
+                )
             return response
 
         return guarded
@@ -89,7 +101,8 @@ class AccessGate:
 
 @contextlib.contextmanager
 def guarded_serving(gate: AccessGate) -> Iterator[list[int]]:
-    """While viser starts its server, every `websockets.asyncio.server.serve` gets the gate as its request hook.
+    """While viser starts its server, every `websockets.asyncio.server.serve` gets the gate as its
+    request hook.
 
     Yields the ports served so far: empty afterwards means the gate was never installed.
     """
@@ -98,7 +111,9 @@ def guarded_serving(gate: AccessGate) -> Iterator[list[int]]:
 
     def serve(handler, host, port, *args, process_request: ProcessRequest = None, **kwargs):
         ports.append(port)
-        return original(handler, host, port, *args, process_request=gate.guard(process_request), **kwargs)
+        return original(
+            handler, host, port, *args, process_request=gate.guard(process_request), **kwargs
+        )
 
     websockets.asyncio.server.serve = serve
     try:

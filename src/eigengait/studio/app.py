@@ -1,8 +1,10 @@
-"""The eigengait studio: a viser server with the palette, the live sketch, optimization and playback.
+"""The eigengait studio: a viser server with the palette, the live sketch, optimization and
+playback.
 
-One `Studio` holds one shared state; every browser tab sees and edits the same sketch (viser GUI handles are
-server-wide). An animation thread pushes the palette's and the stage's frames at ANIMATION_FPS. Only the studio's
-own page, opened with the printed address and its token, gets through (`access.py`).
+One `Studio` holds one shared state; every browser tab sees and edits the same sketch (viser GUI
+handles are server-wide). An animation thread pushes the palette's and the stage's frames at
+ANIMATION_FPS. Only the studio's own page, opened with the printed address and its token, gets
+through (`access.py`).
 """
 
 from __future__ import annotations
@@ -35,7 +37,13 @@ CAMERA_LOOK_AT = (-2.5, 0.9, 1.3)
 
 
 class Studio:
-    def __init__(self, root: str | Path = ".", target: str | None = None, host: str = "127.0.0.1", port: int = 8080):
+    def __init__(
+        self,
+        root: str | Path = ".",
+        target: str | None = None,
+        host: str = "127.0.0.1",
+        port: int = 8080,
+    ):
         use_offscreen_gl()  # the videos the studio exports render offscreen, without a display
         self.sandbox = Sandbox(root)
         self.state = StudioState(self.sandbox)
@@ -44,18 +52,29 @@ class Studio:
         self.server.scene.set_up_direction("+z")
         self.server.scene.configure_environment_map(None)  # plain lights: far cheaper without a GPU
         self.server.scene.configure_default_lights(True, cast_shadow=False)
-        self.server.scene.add_light_hemisphere("/lights/sky", ground_color=(150, 150, 150), intensity=1.4)
-        self.server.gui.configure_theme(control_width="large", show_logo=False, show_share_button=False)
+        self.server.scene.add_light_hemisphere(
+            "/lights/sky", ground_color=(150, 150, 150), intensity=1.4
+        )
+        self.server.gui.configure_theme(
+            control_width="large", show_logo=False, show_share_button=False
+        )
         self.server.gui.add_markdown(
-            "**eigengait studio** — mode numbers start at 1 (lowest non-rigid mode); ψ in N·m.", order=0.0
+            "**eigengait studio** — mode numbers start at 1 (lowest non-rigid mode); ψ in N·m.",
+            order=0.0,
         )
         self.messages = Messages(self.server)
         self.stage = Stage(self.server)
         self.character_panel = CharacterPanel(self.server, self.state, self.messages, gui_order=1.0)
-        self.sketch_view = SketchView(self.server, self.state, self.stage, self.messages, gui_order=2.0)
+        self.sketch_view = SketchView(
+            self.server, self.state, self.stage, self.messages, gui_order=2.0
+        )
         self.palette = PaletteView(self.server, self.state, self.messages, gui_order=3.0)
-        self.play_panel = PlayPanel(self.server, self.sandbox, self.stage, self.messages, gui_order=5.0)
-        self.track_panel = TrackPanel(self.server, self.sandbox, self.stage, self.messages, gui_order=6.0)
+        self.play_panel = PlayPanel(
+            self.server, self.sandbox, self.stage, self.messages, gui_order=5.0
+        )
+        self.track_panel = TrackPanel(
+            self.server, self.sandbox, self.stage, self.messages, gui_order=6.0
+        )
         self.optimize_panel = OptimizePanel(
             self.server, self.state, self.messages, self.play_panel.play_file, gui_order=4.0
         )
@@ -63,7 +82,9 @@ class Studio:
         self.state.open(target)
         self.frames_sent = 0
         self.running = True
-        self.animation = threading.Thread(target=self._animate, name="studio-animation", daemon=True)
+        self.animation = threading.Thread(
+            target=self._animate, name="studio-animation", daemon=True
+        )
         self.animation.start()
 
     @property
@@ -98,8 +119,8 @@ class Studio:
 
 
 def start_server(gate: AccessGate, host: str, port: int) -> viser.ViserServer:
-    """A viser server on exactly `port` whose every HTTP request and WebSocket handshake passes the gate first
-    (viser's own banner, which gives the address without the token, is not shown)."""
+    """A viser server on exactly `port` whose every HTTP request and WebSocket handshake passes the
+    gate first (viser's own banner, which gives the address without the token, is not shown)."""
     with guarded_serving(gate) as ports, contextlib.redirect_stdout(io.StringIO()):
         server = viser.ViserServer(host=host, port=port, label="eigengait studio", verbose=False)
     if ports and server.get_port() == port:
@@ -113,11 +134,16 @@ def start_server(gate: AccessGate, host: str, port: int) -> viser.ViserServer:
     raise port_taken(host, port)  # taken since the check: viser moved on to another port
 
 
-def main(target: str | None = None, host: str = "127.0.0.1", port: int = 8080, root: str | Path = ".") -> None:
+def main(
+    target: str | None = None, host: str = "127.0.0.1", port: int = 8080, root: str | Path = "."
+) -> None:
     """Run the studio until interrupted, serving files from `root` only."""
     check_listen_address(host, port)
     studio = Studio(root, target, host, port)
-    print(f"eigengait studio: {studio.url}  (folder {studio.sandbox.root}; Ctrl+C to stop)", flush=True)
+    print(
+        f"eigengait studio: {studio.url}  (folder {studio.sandbox.root}; Ctrl+C to stop)",
+        flush=True,
+    )
     try:
         while True:
             time.sleep(3600)

@@ -13,7 +13,9 @@ CUSTOM_POSE = "(rotations below)"
 
 
 class CharacterPanel:
-    def __init__(self, server: viser.ViserServer, state: StudioState, messages: Messages, gui_order: float):
+    def __init__(
+        self, server: viser.ViserServer, state: StudioState, messages: Messages, gui_order: float
+    ):
         self.server, self.state, self.messages = server, state, messages
         self.syncing = False
         gui = server.gui
@@ -23,20 +25,27 @@ class CharacterPanel:
             self.path = gui.add_text(
                 "file",
                 "",
-                hint="an MJCF (.xml) or sketch (.yaml/.json) file inside the studio folder, or a shipped sketch name",
+                hint=(
+                    "an MJCF (.xml) or sketch (.yaml/.json) file inside the studio folder, or a "
+                    "shipped sketch name"
+                ),
             )
             self.load = gui.add_button("Load file", icon=viser.Icon.FOLDER_OPEN)
             self.pose = gui.add_dropdown("relax pose", ["default"], initial_value="default")
             self.rotations = gui.add_text(
                 "rotations",
                 "",
-                hint="per-joint rotations in degrees, joint frame: left_thigh=0,-30,0;right_shin=45,0,0",
+                hint=(
+                    "per-joint rotations in degrees, joint frame: "
+                    "left_thigh=0,-30,0;right_shin=45,0,0"
+                ),
             )
             self.apply_rotations = gui.add_button("Apply rotations")
             self.save_name = gui.add_text("save sketch as", "my-gait.sketch.yaml")
             self.save = gui.add_button("Save sketch", icon=viser.Icon.DEVICE_FLOPPY)
             gui.add_markdown(
-                f"Every change is autosaved to `{AUTOSAVE_NAME}`. Shipped sketches: {', '.join(preset_names())}."
+                f"Every change is autosaved to `{AUTOSAVE_NAME}`. Shipped sketches: "
+                f"{', '.join(preset_names())}."
             )
         self.builtin.on_update(messages.guarded(self._on_builtin))
         self.load.on_click(messages.guarded(self._on_load))
@@ -48,7 +57,9 @@ class CharacterPanel:
     def _on_builtin(self, event: viser.GuiEvent) -> None:
         if not self.syncing and self.builtin.value != self.state.sketch.character:
             self.state.load_character(self.builtin.value)
-            self.messages.info(f"Loaded the built-in character **{self.builtin.value}**.", event.client)
+            self.messages.info(
+                f"Loaded the built-in character **{self.builtin.value}**.", event.client
+            )
 
     def _on_load(self, event: viser.GuiEvent) -> None:
         text = self.path.value.strip()

@@ -1,7 +1,9 @@
-"""A character drawn as boxes: one box per geom (its local bounding box, exact for box geoms), posed by qpos.
+"""A character drawn as boxes: one box per geom (its local bounding box, exact for box geoms), posed
+by qpos.
 
-Poses come out as arrays ready for one viser batched mesh: positions (m) and wxyz quaternions per geom, and can
-be moved into a display cell (translated, scaled, turned about z) so many copies share one scene node.
+Poses come out as arrays ready for one viser batched mesh: positions (m) and wxyz quaternions per
+geom, and can be moved into a display cell (translated, scaled, turned about z) so many copies share
+one scene node.
 """
 
 from __future__ import annotations
@@ -15,7 +17,9 @@ from scipy.spatial.transform import Rotation
 from eigengait.render.video import creature_geoms
 from eigengait.sim.world import World
 
-UNIT_CUBE_VERTICES = np.array([[x, y, z] for x in (-0.5, 0.5) for y in (-0.5, 0.5) for z in (-0.5, 0.5)], np.float32)
+UNIT_CUBE_VERTICES = np.array(
+    [[x, y, z] for x in (-0.5, 0.5) for y in (-0.5, 0.5) for z in (-0.5, 0.5)], np.float32
+)
 
 
 def _outward_cube_faces() -> np.ndarray:
@@ -35,7 +39,8 @@ UNIT_CUBE_FACES = _outward_cube_faces()
 
 @dataclass(frozen=True)
 class Figure:
-    """The boxes of a creature: geom ids, full box sizes (G×3, m), box centres in geom frames, geom colours."""
+    """The boxes of a creature: geom ids, full box sizes (G×3, m), box centres in geom frames, geom
+    colours."""
 
     model: mujoco.MjModel
     geoms: np.ndarray
@@ -49,7 +54,9 @@ class Figure:
         geoms = creature_geoms(model, world.root_body)
         aabb = model.geom_aabb[geoms]
         colors = (np.clip(model.geom_rgba[geoms, :3], 0, 1) * 255).astype(np.uint8)
-        return cls(model=model, geoms=geoms, sizes=2 * aabb[:, 3:], centres=aabb[:, :3], colors=colors)
+        return cls(
+            model=model, geoms=geoms, sizes=2 * aabb[:, 3:], centres=aabb[:, :3], colors=colors
+        )
 
     @property
     def count(self) -> int:
@@ -65,7 +72,9 @@ class Figure:
             data.qpos[:] = q
             mujoco.mj_kinematics(self.model, data)
             matrices[t] = data.geom_xmat[self.geoms].reshape(-1, 3, 3)
-            positions[t] = data.geom_xpos[self.geoms] + np.einsum("gij,gj->gi", matrices[t], self.centres)
+            positions[t] = data.geom_xpos[self.geoms] + np.einsum(
+                "gij,gj->gi", matrices[t], self.centres
+            )
         xyzw = Rotation.from_matrix(matrices.reshape(-1, 3, 3)).as_quat()
         return positions, np.roll(xyzw, 1, axis=-1).reshape(len(qpos), self.count, 4)
 
@@ -79,9 +88,15 @@ class Figure:
 
 
 def place(
-    positions: np.ndarray, wxyz: np.ndarray, anchor: np.ndarray, cell: np.ndarray, scale: float, yaw_deg: float
+    positions: np.ndarray,
+    wxyz: np.ndarray,
+    anchor: np.ndarray,
+    cell: np.ndarray,
+    scale: float,
+    yaw_deg: float,
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Move posed boxes so `anchor` lands on `cell`, scaled by `scale` and turned by `yaw_deg` about z."""
+    """Move posed boxes so `anchor` lands on `cell`, scaled by `scale` and turned by `yaw_deg` about
+    z."""
     yaw = Rotation.from_euler("z", yaw_deg, degrees=True)
     moved = cell + scale * yaw.apply((positions - anchor).reshape(-1, 3)).reshape(positions.shape)
     turned = (yaw * Rotation.from_quat(np.roll(wxyz.reshape(-1, 4), -1, axis=-1))).as_quat()

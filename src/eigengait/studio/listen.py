@@ -1,4 +1,5 @@
-"""Where the studio listens: the port and address are checked before the server starts, with one clear error."""
+"""Where the studio listens: the port and address are checked before the server starts, with one
+clear error."""
 
 from __future__ import annotations
 
@@ -13,21 +14,23 @@ PORT_FIX = "choose a free port between 1 and 65535, e.g. port=8090"
 
 
 def check_listen_address(host: str, port: int) -> None:
-    """Refuse a port out of range or taken, or an address that cannot be bound; warn when the studio would be
-    reachable from other machines."""
+    """Refuse a port out of range or taken, or an address that cannot be bound; warn when the studio
+    would be reachable from other machines."""
     if not 1 <= port <= 65535:
         raise UserInputError(f"port {port} is out of range", field="port", fix=PORT_FIX)
     family, address = _resolve(host, port)
     try:
         with socket.socket(family, socket.SOCK_STREAM) as probe:
-            probe.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)  # as the server itself binds
+            # as the server itself binds
+            probe.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
             probe.bind(address)
     except OSError as exc:
         raise _bind_error(host, port, exc) from None
     if not ipaddress.ip_address(address[0]).is_loopback:
         print(
-            f"warning: the studio listens on {host} and is reachable from the network; only a browser opening "
-            "the printed address with its token can use it, and it reads and writes files in this folder.",
+            f"warning: the studio listens on {host} and is reachable from the network; only a "
+            "browser opening the printed address with its token can use it, and it reads and "
+            "writes files in this folder.",
             file=sys.stderr,
             flush=True,
         )

@@ -1,7 +1,9 @@
-"""Messages to the animator: a status line every tab sees, plus a notification in the tab that acted.
+"""Messages to the animator: a status line every tab sees, plus a notification in the tab that
+acted.
 
-`guarded` wraps GUI callbacks so bad input or a blow-up (an EigengaitError) becomes a red message instead of a
-server error; `write_asking` asks the tab before a save or export replaces an existing file.
+`guarded` wraps GUI callbacks so bad input or a blow-up (an EigengaitError) becomes a red message
+instead of a server error; `write_asking` asks the tab before a save or export replaces an existing
+file.
 """
 
 from __future__ import annotations
@@ -32,8 +34,11 @@ class Messages:
         for c in targets:
             c.add_notification("Refused", text, auto_close_seconds=8.0, color="red")
 
-    def guarded(self, callback: Callable[[viser.GuiEvent], None]) -> Callable[[viser.GuiEvent], None]:
-        """A GUI callback that reports an EigengaitError (and unexpected errors) instead of raising."""
+    def guarded(
+        self, callback: Callable[[viser.GuiEvent], None]
+    ) -> Callable[[viser.GuiEvent], None]:
+        """A GUI callback that reports an EigengaitError (and unexpected errors) instead of
+        raising."""
 
         @functools.wraps(callback)
         def run(event: viser.GuiEvent) -> None:
@@ -47,7 +52,9 @@ class Messages:
 
         return run
 
-    def write_asking(self, client: viser.ClientHandle, path: Path, shown: str, write: Callable[[], None]) -> None:
+    def write_asking(
+        self, client: viser.ClientHandle, path: Path, shown: str, write: Callable[[], None]
+    ) -> None:
         """Write a new file at once; an existing one only after the tab confirms in a dialog."""
         if not path.exists():
             write()

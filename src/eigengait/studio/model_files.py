@@ -1,9 +1,11 @@
-"""Every file a character file makes MuJoCo read must lie in the studio folder, or the character is refused.
+"""Every file a character file makes MuJoCo read must lie in the studio folder, or the character is
+refused.
 
-A character's MJCF may name other files: `<include file>`, `<model file>`, meshes, textures (`file`, `fileright`,
-…), height fields, skins, and folders for them (`<compiler meshdir texturedir assetdir>`); its sidecar
-`NAME.eigengait.yaml` may stand beside it. MuJoCo reads a name relative to the model's folder or to one of those
-folders, so each name is checked against all of them: every reading has to stay inside the studio folder.
+A character's MJCF may name other files: `<include file>`, `<model file>`, meshes, textures (`file`,
+`fileright`, …), height fields, skins, and folders for them
+(`<compiler meshdir texturedir assetdir>`); its sidecar `NAME.eigengait.yaml` may stand beside it.
+MuJoCo reads a name relative to the model's folder or to one of those folders, so each name is
+checked against all of them: every reading has to stay inside the studio folder.
 """
 
 from __future__ import annotations
@@ -21,13 +23,15 @@ FIX = "copy the file into the studio folder and name it by a path relative to th
 
 
 def confine_character(sandbox: Sandbox, path: Path) -> None:
-    """Refuse a character file (an MJCF, or a sidecar naming one) that is, or makes MuJoCo read, anything outside
-    the studio folder."""
+    """Refuse a character file (an MJCF, or a sidecar naming one) that is, or makes MuJoCo read,
+    anything outside the studio folder."""
     mjcf = _model_of(sandbox, Path(path))
     side = sidecar_path(mjcf)
     if side.exists() and not sandbox.contains(side):
         raise UserInputError(
-            "the character's sidecar leads outside the studio folder and was refused", file=side, fix=FIX
+            "the character's sidecar leads outside the studio folder and was refused",
+            file=side,
+            fix=FIX,
         )
     references = _references(sandbox, mjcf)
     bases = _bases(references, mjcf)
@@ -38,7 +42,9 @@ def confine_character(sandbox: Sandbox, path: Path) -> None:
 def _model_of(sandbox: Sandbox, path: Path) -> Path:
     """The MJCF file a character file stands for: itself, or the model its sidecar names."""
     if not sandbox.contains(path):
-        raise UserInputError("the character is outside the studio folder and was refused", file=path, fix=FIX)
+        raise UserInputError(
+            "the character is outside the studio folder and was refused", file=path, fix=FIX
+        )
     if not is_sidecar(path):
         return sandbox.root / path
     model = load_metadata(sandbox.root / path).model
@@ -52,13 +58,17 @@ def _model_of(sandbox: Sandbox, path: Path) -> Path:
     mjcf = sandbox.root / Path(path).parent / model
     if not sandbox.contains(mjcf):
         raise UserInputError(
-            "the sidecar's model is outside the studio folder and was refused", file=path, field="model", fix=FIX
+            "the sidecar's model is outside the studio folder and was refused",
+            file=path,
+            field="model",
+            fix=FIX,
         )
     return mjcf
 
 
 def _references(sandbox: Sandbox, mjcf: Path) -> list[tuple[Path, ET.Element, str]]:
-    """(XML file, element, attribute) of every file or folder name in the model and the MJCF it includes."""
+    """(XML file, element, attribute) of every file or folder name in the model and the MJCF it
+    includes."""
     found, pending, read = [], [mjcf], set()
     while pending:
         source = pending.pop()
@@ -82,7 +92,9 @@ def _bases(references: list[tuple[Path, ET.Element, str]], mjcf: Path) -> set[Pa
     return {f.parent / d for f in files for d in folders | {""}}
 
 
-def _check(sandbox: Sandbox, source: Path, element: ET.Element, name: str, bases: set[Path]) -> list[Path]:
+def _check(
+    sandbox: Sandbox, source: Path, element: ET.Element, name: str, bases: set[Path]
+) -> list[Path]:
     """Every reading of one file name, refused if any lands outside the studio folder."""
     value = element.get(name)
     readings = [(base / value).resolve() for base in bases]
@@ -100,5 +112,7 @@ def _parse(sandbox: Sandbox, path: Path) -> ET.Element:
         return ET.parse(path).getroot()
     except ET.ParseError as exc:
         raise UserInputError(
-            f"malformed MJCF: {exc}", file=sandbox.relative(path), fix="fix the XML so MuJoCo can load it"
+            f"malformed MJCF: {exc}",
+            file=sandbox.relative(path),
+            fix="fix the XML so MuJoCo can load it",
         ) from None

@@ -1,9 +1,11 @@
-"""Optimize the current sketch from the page: start, stop, resume, a live plot, play the best gait so far.
+"""Optimize the current sketch from the page: start, stop, resume, a live plot, play the best gait
+so far.
 
-The optimization is the CLI's own (`python -m eigengait optimize SKETCH -o FOLDER …`) run in a child process,
-so the page never waits on it and Stop simply ends the process; every generation is checkpointed, so Resume
-continues it (`--resume`). Runs go to `studio-runs/run-YYYYmmdd-HHMMSS/` in the studio folder; the plots
-follow the run's `log.csv` (log₁₀ of the best objective and best cycle violation per generation).
+The optimization is the CLI's own (`python -m eigengait optimize SKETCH -o FOLDER
+…`) run in a child process, so the page never waits on it and Stop simply ends the process; every
+generation is checkpointed, so Resume continues it (`--resume`). Runs go to
+`studio-runs/run-YYYYmmdd-HHMMSS/` in the studio folder; the plots follow the run's `log.csv`
+(log₁₀ of the best objective and best cycle violation per generation).
 """
 
 from __future__ import annotations
@@ -60,11 +62,15 @@ class OptimizePanel:
             self.budget = gui.add_number("max evaluations", 2000, min=50, step=50)
             self.start = gui.add_button("Start new run", icon=viser.Icon.PLAYER_PLAY)
             self.stop = gui.add_button("Stop", icon=viser.Icon.PLAYER_STOP, disabled=True)
-            self.resume = gui.add_button("Resume last run", icon=viser.Icon.PLAYER_TRACK_NEXT, disabled=True)
+            self.resume = gui.add_button(
+                "Resume last run", icon=viser.Icon.PLAYER_TRACK_NEXT, disabled=True
+            )
             self.progress = gui.add_markdown("No run yet.")
             self.cost_plot = self._plot("log₁₀ best objective f", "#2a6fb0")
             self.violation_plot = self._plot("log₁₀ cycle violation max|φᵢ|", "#c0392b")
-            self.play_best = gui.add_button("Play best gait so far", icon=viser.Icon.WALK, disabled=True)
+            self.play_best = gui.add_button(
+                "Play best gait so far", icon=viser.Icon.WALK, disabled=True
+            )
         self.start.on_click(messages.guarded(self._on_start))
         self.stop.on_click(messages.guarded(self._on_stop))
         self.resume.on_click(messages.guarded(self._on_resume))
@@ -72,7 +78,8 @@ class OptimizePanel:
         threading.Thread(target=self._poll, name="optimize-poll", daemon=True).start()
 
     def _plot(self, title: str, color: str) -> viser.GuiUplotHandle:
-        """A chart hidden until the first generation (viser's uPlot does not draw data given to an empty chart)."""
+        """A chart hidden until the first generation (viser's uPlot does not draw data given to an
+        empty chart)."""
         placeholder = np.array([0.0, 1.0])
         return self.server.gui.add_uplot(
             (placeholder, np.zeros(2)),
@@ -104,7 +111,11 @@ class OptimizePanel:
         ]
         log = open(folder / CHILD_LOG, "a")
         self.process = subprocess.Popen(
-            command, cwd=self.state.sandbox.root, stdout=log, stderr=subprocess.STDOUT, stdin=subprocess.DEVNULL
+            command,
+            cwd=self.state.sandbox.root,
+            stdout=log,
+            stderr=subprocess.STDOUT,
+            stdin=subprocess.DEVNULL,
         )
         log.close()
         self.folder = folder
@@ -115,7 +126,9 @@ class OptimizePanel:
         return self.process is not None and self.process.poll() is None
 
     def _on_start(self, event: viser.GuiEvent) -> None:
-        folder = self.state.sandbox.root / RUNS_FOLDER / datetime.now().strftime("run-%Y%m%d-%H%M%S")
+        folder = (
+            self.state.sandbox.root / RUNS_FOLDER / datetime.now().strftime("run-%Y%m%d-%H%M%S")
+        )
         self._launch(folder, resume=False)
         self.messages.info(f"Optimizing in `{self.state.sandbox.relative(folder)}`.", event.client)
 
@@ -124,7 +137,9 @@ class OptimizePanel:
             self.process.terminate()
             self.process.wait(timeout=30)
         self._buttons()
-        self.messages.info("Optimization stopped; Resume continues from the last generation.", event.client)
+        self.messages.info(
+            "Optimization stopped; Resume continues from the last generation.", event.client
+        )
 
     def _on_resume(self, event: viser.GuiEvent) -> None:
         if self.folder is None or not (self.folder / "checkpoint.npz").is_file():
@@ -135,7 +150,9 @@ class OptimizePanel:
     def _on_play_best(self, event: viser.GuiEvent) -> None:
         path = self.folder / "best_controller.json" if self.folder else None
         if path is None or not path.is_file():
-            raise UserInputError("no best controller yet", fix="wait for the first generation to finish")
+            raise UserInputError(
+                "no best controller yet", fix="wait for the first generation to finish"
+            )
         self.play(path, event.client)
 
     def _buttons(self) -> None:
@@ -143,7 +160,9 @@ class OptimizePanel:
         self.start.disabled = running
         self.stop.disabled = not running
         self.resume.disabled = running or self.folder is None
-        self.play_best.disabled = self.folder is None or not (self.folder / "best_controller.json").is_file()
+        self.play_best.disabled = (
+            self.folder is None or not (self.folder / "best_controller.json").is_file()
+        )
 
     def _poll(self) -> None:
         was_running = False
@@ -158,8 +177,11 @@ class OptimizePanel:
             was_running = self.running
 
     def _refresh(self, was_running: bool) -> None:
-        stage_one = self.folder / STAGE_ONE / "log.csv"  # the open-loop stage logs in its own folder
-        log = read_log(self.folder / "log.csv" if (self.folder / "log.csv").is_file() else stage_one)
+        # the open-loop stage logs in its own folder
+        stage_one = self.folder / STAGE_ONE / "log.csv"
+        log = read_log(
+            self.folder / "log.csv" if (self.folder / "log.csv").is_file() else stage_one
+        )
         if log and len(log["generation"]) != self.generations:
             self.generations = len(log["generation"])
             g = log["generation"]
@@ -177,7 +199,9 @@ class OptimizePanel:
             if code == 0:
                 self.messages.info(f"Optimization finished after {self.generations} generations.")
             elif code > 0:
-                tail = (self.folder / CHILD_LOG).read_text().strip().splitlines()[-1:] or ["(no output)"]
+                tail = (self.folder / CHILD_LOG).read_text().strip().splitlines()[-1:] or [
+                    "(no output)"
+                ]
                 self.messages.error(f"the optimization ended with status {code}: {tail[0]}")
             self._buttons()
 

@@ -1,14 +1,16 @@
 """The mode palette: every air and ground mode of the character vibrating, one small copy per mode.
 
-The copies stand on two walls behind the stage (air on the left, ground on the right), in frequency order,
-left to right and top to bottom, each labelled "N · f Hz" (mode 1 = lowest non-rigid mode) in text sized with
-the scene, so labels never run into each other at any zoom. A copy is coloured by its status in the sketch:
-green priority, grey-blue allowed, red excluded (the legend stands under each wall's title). Every copy loops its
-kinematic vibration ±A sin(2πt/LOOP_SECONDS), A turning the mode's most-moving joint by 25°, so every mode is
-equally visible and equally paced; the label gives the true natural frequency. All copies are one batched mesh,
-so a frame of the whole palette is one message.
+The copies stand on two walls behind the stage (air on the left, ground on the right), in frequency
+order, left to right and top to bottom, each labelled "N · f Hz" (mode 1 = lowest non-rigid mode) in
+text sized with the scene, so labels never run into each other at any zoom. A copy is coloured by
+its status in the sketch: green priority, grey-blue allowed, red excluded (the legend stands under
+each wall's title). Every copy loops its kinematic vibration ±A sin(2πt/LOOP_SECONDS), A turning the
+mode's most-moving joint by 25°, so every mode is equally visible and equally paced; the label gives
+the true natural frequency. All copies are one batched mesh, so a frame of the whole palette is one
+message.
 
-The GUI lists each phase's modes with a status dropdown, and an activation slider ψ (N·m) for priority modes.
+The GUI lists each phase's modes with a status dropdown, and an activation slider ψ (N·m) for
+priority modes.
 """
 
 from __future__ import annotations
@@ -45,7 +47,9 @@ PSI_LIMIT = 200.0  # N·m: slider range ±
 
 
 class PaletteView:
-    def __init__(self, server: viser.ViserServer, state: StudioState, messages: Messages, gui_order: float):
+    def __init__(
+        self, server: viser.ViserServer, state: StudioState, messages: Messages, gui_order: float
+    ):
         self.server, self.state, self.messages = server, state, messages
         self.gui_order = gui_order
         self.lock = threading.Lock()
@@ -66,14 +70,17 @@ class PaletteView:
         state.subscribe("model", self.rebuild)
         state.subscribe("sketch", self.sync)
 
-    # ---- scene ---------------------------------------------------------------------------------------------
+    # ---- scene -----------------------------------------------------------------------------------
     def rebuild(self) -> None:
-        """Recompute every mode's loop and lay the palette out again (character or relax pose changed)."""
+        """Recompute every mode's loop and lay the palette out again (character or relax pose
+        changed)."""
         world = self.state.system.world
         figure = Figure.of(world)
         low, high = figure.extent(world.model.qpos0[None])
         anchor = (low + high) / 2
-        spacing = COPY_SCALE * np.array([COLUMN_SPACING * (max(high[:2] - low[:2]) + 0.2), 1.45 * (high[2] - low[2])])
+        spacing = COPY_SCALE * np.array(
+            [COLUMN_SPACING * (max(high[:2] - low[:2]) + 0.2), 1.45 * (high[2] - low[2])]
+        )
         phase_t = np.sin(2 * np.pi * np.arange(LOOP_FRAMES) / LOOP_FRAMES)
         positions, wxyzs, copies, labels = [], [], [], []
         for side, phase in zip((-1, 1), PHASES):
@@ -91,12 +98,22 @@ class PaletteView:
                 wxyzs.append(q)
                 copies.append((phase, i + 1))
                 labels.append(
-                    (f"{phase}{i + 1}", f"{i + 1} · {modes.frequencies_hz[i]:.1f} Hz", cell - [0, 0, spacing[1] * 0.42])
+                    (
+                        f"{phase}{i + 1}",
+                        f"{i + 1} · {modes.frequencies_hz[i]:.1f} Hz",
+                        cell - [0, 0, spacing[1] * 0.42],
+                    )
                 )
-            title = f"{phase.upper()} phase modes" + (f" ({modes.foot} toe pinned)" if modes.foot else "")
+            title = f"{phase.upper()} phase modes" + (
+                f" ({modes.foot} toe pinned)" if modes.foot else ""
+            )
             top = rows * spacing[1]
-            labels.append((f"{phase}_title", title, [WALL_X, side * (WALL_GAP + width / 2), top + 0.4]))
-            labels.append((f"{phase}_legend", LEGEND, [WALL_X, side * (WALL_GAP + width / 2), top + 0.18]))
+            labels.append(
+                (f"{phase}_title", title, [WALL_X, side * (WALL_GAP + width / 2), top + 0.4])
+            )
+            labels.append(
+                (f"{phase}_legend", LEGEND, [WALL_X, side * (WALL_GAP + width / 2), top + 0.18])
+            )
         with self.lock:
             self._clear_scene()
             self.copies = copies
@@ -140,7 +157,9 @@ class PaletteView:
 
     def _colors(self) -> np.ndarray:
         geoms = len(self.geom_shade) // len(self.copies)
-        status = np.repeat([STATUS_RGB[self.state.status(ph, m)] for ph, m in self.copies], geoms, axis=0)
+        status = np.repeat(
+            [STATUS_RGB[self.state.status(ph, m)] for ph, m in self.copies], geoms, axis=0
+        )
         return (0.8 * status + 0.2 * self.geom_shade).astype(np.uint8)
 
     def tick(self, seconds: float) -> None:
@@ -153,7 +172,7 @@ class PaletteView:
             self.mesh.batched_positions = self.positions[k]
             self.mesh.batched_wxyzs = self.wxyzs[k]
 
-    # ---- GUI -----------------------------------------------------------------------------------------------
+    # ---- GUI -------------------------------------------------------------------------------------
     def _rebuild_gui(self) -> None:
         for folder in self.folders.values():
             folder.remove()
@@ -180,7 +199,9 @@ class PaletteView:
             hint=f"{phase}-phase mode {mode}: priority (green) keeps its activation "
             "sign and size, allowed may be used, excluded stays zero",
         )
-        slider = self.server.gui.add_slider(f"ψ {phase} {mode} (N·m)", -PSI_LIMIT, PSI_LIMIT, 0.5, 1.0, visible=False)
+        slider = self.server.gui.add_slider(
+            f"ψ {phase} {mode} (N·m)", -PSI_LIMIT, PSI_LIMIT, 0.5, 1.0, visible=False
+        )
 
         @status.on_update
         @self.messages.guarded

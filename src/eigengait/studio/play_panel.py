@@ -1,8 +1,9 @@
-"""Play a controller on the ground with gravity, report speed and cycles, export BVH and video, save a copy.
+"""Play a controller on the ground with gravity, report speed and cycles, export BVH and video, save
+a copy.
 
 A controller is a shipped gait name or a controller JSON inside the studio folder (e.g. a run's
-`best_controller.json`); the character it names must be built in or inside the folder too. Exports are written
-at exactly EXPORT_FPS, BVH lengths in metres (the CLI's defaults).
+`best_controller.json`); the character it names must be built in or inside the folder too. Exports
+are written at exactly EXPORT_FPS, BVH lengths in metres (the CLI's defaults).
 """
 
 from __future__ import annotations
@@ -13,7 +14,12 @@ import viser
 
 from eigengait.character import builtin_names
 from eigengait.control.binding import gait_system
-from eigengait.control.controller import ControllerFile, load_controller, save_controller, to_parameters
+from eigengait.control.controller import (
+    ControllerFile,
+    load_controller,
+    save_controller,
+    to_parameters,
+)
 from eigengait.control.library import gait_names, resolve
 from eigengait.control.playback import PlaybackResult, play
 from eigengait.errors import UserInputError
@@ -27,7 +33,14 @@ EXPORT_FPS = 30.0  # frames/s of exported BVH and video (the CLI's --fps default
 
 
 class PlayPanel:
-    def __init__(self, server: viser.ViserServer, sandbox: Sandbox, stage: Stage, messages: Messages, gui_order: float):
+    def __init__(
+        self,
+        server: viser.ViserServer,
+        sandbox: Sandbox,
+        stage: Stage,
+        messages: Messages,
+        gui_order: float,
+    ):
         self.server, self.sandbox, self.stage, self.messages = server, sandbox, stage, messages
         self.controller: ControllerFile | None = None
         self.world: World | None = None
@@ -52,7 +65,9 @@ class PlayPanel:
             self.video_name = gui.add_text("video file", "gait.mp4")
             self.export_video = gui.add_button("Export video", disabled=True)
             self.copy_name = gui.add_text("save controller as", "my-gait.controller.json")
-            self.save = gui.add_button("Save controller", disabled=True, icon=viser.Icon.DEVICE_FLOPPY)
+            self.save = gui.add_button(
+                "Save controller", disabled=True, icon=viser.Icon.DEVICE_FLOPPY
+            )
         self.play.on_click(messages.guarded(lambda e: self.play_file(self.path.value, e.client)))
         self.export_bvh.on_click(messages.guarded(self._on_bvh))
         self.export_video.on_click(messages.guarded(self._on_video))
@@ -66,14 +81,22 @@ class PlayPanel:
             text = self.sandbox.relative(Path(text))
         return self.sandbox.resolve(text, (".json",), must_exist=True)
 
-    def play_file(self, text: str | Path, client: viser.ClientHandle | None = None) -> PlaybackResult:
-        """Load a controller, play it with gravity and show it on the stage with the camera following."""
+    def play_file(
+        self, text: str | Path, client: viser.ClientHandle | None = None
+    ) -> PlaybackResult:
+        """Load a controller, play it with gravity and show it on the stage with the camera
+        following."""
         path = self._controller_path(str(text))
         controller = load_controller(path)
         if controller.character not in builtin_names():
             confine_character(self.sandbox, Path(controller.character))
         system = gait_system(controller, source=path)
-        result = play(system, to_parameters(controller, system, path), int(self.cycles.value), snap=self.snap.value)
+        result = play(
+            system,
+            to_parameters(controller, system, path),
+            int(self.cycles.value),
+            snap=self.snap.value,
+        )
         if len(result.qpos) == 0:
             raise UserInputError("the controller produced no motion", file=path)
         self.controller, self.world, self.result = controller, system.world, result
@@ -81,9 +104,10 @@ class PlayPanel:
         self.stage.show("playback", system.world, result.qpos, result.fps, follow=True)
         self.report.content = (
             f"**{path.name}** on {system.character.name}: {result.mean_speed_mps:.2f} m/s forward, "
-            f"{result.cycles_completed}/{int(self.cycles.value)} cycles{' (fell)' if result.fell else ''}, "
-            f"cost of transport {result.cost_of_transport:.3g}, cycle violation {result.cycle_violation:.3g}"
-            f"{', snapped each cycle' if result.snapped else ''}."
+            f"{result.cycles_completed}/{int(self.cycles.value)} "
+            f"cycles{' (fell)' if result.fell else ''}, cost of transport "
+            f"{result.cost_of_transport:.3g}, cycle violation "
+            f"{result.cycle_violation:.3g}{', snapped each cycle' if result.snapped else ''}."
         )
         for button in (self.export_bvh, self.export_video, self.save):
             button.disabled = False
@@ -127,6 +151,8 @@ class PlayPanel:
 
         def save() -> None:
             save_controller(controller, path)
-            self.messages.info(f"Saved the controller to `{self.sandbox.relative(path)}`.", event.client)
+            self.messages.info(
+                f"Saved the controller to `{self.sandbox.relative(path)}`.", event.client
+            )
 
         self.messages.write_asking(event.client, path, self.sandbox.relative(path), save)

@@ -1,4 +1,5 @@
-"""The studio's file sandbox: every path typed in the page is resolved inside one root folder, or refused."""
+"""The studio's file sandbox: every path typed in the page is resolved inside one root folder, or
+refused."""
 
 from __future__ import annotations
 
@@ -8,16 +9,20 @@ from eigengait.errors import UserInputError
 
 
 class Sandbox:
-    """Resolves user-typed paths against `root`; anything landing outside it (`..`, absolute, symlinks) is refused."""
+    """Resolves user-typed paths against `root`; anything landing outside it (`..`, absolute,
+    symlinks) is refused."""
 
     def __init__(self, root: str | Path):
         self.root = Path(root).resolve()
 
     def resolve(self, text: str, suffixes: tuple[str, ...] = (), must_exist: bool = False) -> Path:
-        """The absolute path of `text` inside the root, checked for suffix and (optionally) existence."""
+        """The absolute path of `text` inside the root, checked for suffix and (optionally)
+        existence."""
         text = text.strip()
         if not text:
-            raise UserInputError("no file name given", fix="type a file name relative to the studio folder")
+            raise UserInputError(
+                "no file name given", fix="type a file name relative to the studio folder"
+            )
         if not text.isprintable():
             raise UserInputError(
                 "the file name holds a control character (e.g. a NUL byte)",
@@ -46,7 +51,10 @@ class Sandbox:
         return str(Path(path).resolve().relative_to(self.root))
 
     def files(self, pattern: str) -> list[str]:
-        """Files inside the root matching a glob pattern (e.g. `**/*.xml`), as relative paths, sorted."""
+        """Files inside the root matching a glob pattern (e.g. `**/*.xml`), as relative paths,
+        sorted."""
         return sorted(
-            self.relative(p) for p in self.root.glob(pattern) if p.is_file() and p.resolve().is_relative_to(self.root)
+            self.relative(p)
+            for p in self.root.glob(pattern)
+            if p.is_file() and p.resolve().is_relative_to(self.root)
         )

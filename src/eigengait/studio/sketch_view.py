@@ -1,9 +1,10 @@
-"""The live sketch: the current pulse controller simulated with gravity off, replayed on the stage at real time.
+"""The live sketch: the current pulse controller simulated with gravity off, replayed on the stage
+at real time.
 
-Any change to the sketch (a status, a ψ slider, a timing value, the character) wakes a worker thread; it waits
-DEBOUNCE_SECONDS for the edits to settle, simulates SKETCH_CYCLES cycles with the system built once per
-character and pose, and swaps the new frames in. The panel reports the latency from the last edit to the new
-motion on screen.
+Any change to the sketch (a status, a ψ slider, a timing value, the character) wakes a worker
+thread; it waits DEBOUNCE_SECONDS for the edits to settle, simulates SKETCH_CYCLES cycles with the
+system built once per character and pose, and swaps the new frames in. The panel reports the latency
+from the last edit to the new motion on screen.
 """
 
 from __future__ import annotations
@@ -30,7 +31,12 @@ TIMING_FIELDS = (
 
 class SketchView:
     def __init__(
-        self, server: viser.ViserServer, state: StudioState, stage: Stage, messages: Messages, gui_order: float
+        self,
+        server: viser.ViserServer,
+        state: StudioState,
+        stage: Stage,
+        messages: Messages,
+        gui_order: float,
     ):
         self.server, self.state, self.stage, self.messages = server, state, stage, messages
         self.wake = threading.Event()
@@ -38,7 +44,9 @@ class SketchView:
         self.latency_s = float("nan")
         self.syncing = False
         with server.gui.add_folder("Sketch (gravity off)", order=gui_order):
-            self.sliders = {field: self._timing_slider(field, *spec) for field, *spec in TIMING_FIELDS}
+            self.sliders = {
+                field: self._timing_slider(field, *spec) for field, *spec in TIMING_FIELDS
+            }
             self.report = server.gui.add_markdown("")
             self.replay = server.gui.add_button("Show sketch on stage", icon=viser.Icon.PLAYER_PLAY)
         self.replay.on_click(lambda _: self._request())
@@ -89,8 +97,9 @@ class SketchView:
         self.latency_s = time.perf_counter() - edited
         priority = {ph: len(sketch.phase(ph).priority) for ph in ("air", "ground")}
         self.report.content = (
-            f"{priority['air']} air + {priority['ground']} ground priority modes · {seconds:.2f} s simulated in "
-            f"{run.wall_seconds * 1000:.0f} ms ({seconds / max(run.wall_seconds, 1e-9):.0f}× real time) · "
-            f"largest joint rotation {run.max_joint_rotation_deg:.0f}° · on stage "
+            f"{priority['air']} air + {priority['ground']} ground priority modes · {seconds:.2f} s "
+            f"simulated in {run.wall_seconds * 1000:.0f} ms "
+            f"({seconds / max(run.wall_seconds, 1e-9):.0f}× real time) · largest joint rotation "
+            f"{run.max_joint_rotation_deg:.0f}° · on stage "
             f"{self.latency_s * 1000:.0f} ms after the edit"
         )

@@ -1,8 +1,9 @@
 """The stage: one full-size character in front of the palette, playing a motion at real time.
 
-It shows either the live sketch (gravity off) or a controller played on the ground with gravity. When a motion
-is shown with `follow=True`, every tab's camera is carried along with the character's root (the animator can
-still orbit). Frames are precomputed box poses; `tick` picks the one for the wall-clock time.
+It shows either the live sketch (gravity off) or a controller played on the ground with gravity.
+When a motion is shown with `follow=True`, every tab's camera is carried along with the character's
+root (the animator can still orbit). Frames are precomputed box poses; `tick` picks the one for the
+wall-clock time.
 """
 
 from __future__ import annotations
@@ -36,13 +37,19 @@ class Stage:
         self.shown = 0  # how many motions have been shown (tests and latency read it)
         self.floor = add_floor(server)
 
-    def show(self, name: str, world: World, qpos: np.ndarray, fps: float, follow: bool = False) -> None:
+    def show(
+        self, name: str, world: World, qpos: np.ndarray, fps: float, follow: bool = False
+    ) -> None:
         """Play `qpos` (frames × nq at `fps`) in a loop from now on."""
         figure = Figure.of(world)
         positions, wxyzs = figure.poses(qpos)
         roots = qpos[:, :3].copy()
         with self.lock:
-            if self.mesh is None or len(self.mesh.batched_positions) != figure.count or self.showing != name:
+            if (
+                self.mesh is None
+                or len(self.mesh.batched_positions) != figure.count
+                or self.showing != name
+            ):
                 if self.mesh is not None:
                     self.mesh.remove()
                 self.mesh = self.server.scene.add_batched_meshes_simple(
@@ -95,13 +102,20 @@ class Stage:
 
 
 def add_floor(server: viser.ViserServer) -> viser.BatchedMeshHandle:
-    """A light floor with a line every FLOOR_LINE_SPACING m (flat boxes: cheap to draw, unlike a shader grid)."""
+    """A light floor with a line every FLOOR_LINE_SPACING m (flat boxes: cheap to draw, unlike a
+    shader grid)."""
     xs = np.arange(FLOOR_X[0], FLOOR_X[1] + 1e-9, FLOOR_LINE_SPACING)
     ys = np.arange(-FLOOR_HALF_WIDTH, FLOOR_HALF_WIDTH + 1e-9, FLOOR_LINE_SPACING)
     length, width = FLOOR_X[1] - FLOOR_X[0], 2 * FLOOR_HALF_WIDTH
     centre_x = (FLOOR_X[0] + FLOOR_X[1]) / 2
-    positions = [(centre_x, 0.0, -0.01)] + [(x, 0.0, 0.0) for x in xs] + [(centre_x, y, 0.0) for y in ys]
-    scales = [(length, width, 0.02)] + [(0.015, width, 0.002)] * len(xs) + [(length, 0.015, 0.002)] * len(ys)
+    positions = (
+        [(centre_x, 0.0, -0.01)] + [(x, 0.0, 0.0) for x in xs] + [(centre_x, y, 0.0) for y in ys]
+    )
+    scales = (
+        [(length, width, 0.02)]
+        + [(0.015, width, 0.002)] * len(xs)
+        + [(length, 0.015, 0.002)] * len(ys)
+    )
     colors = [(236, 236, 232)] + [(185, 185, 185)] * (len(xs) + len(ys))
     return server.scene.add_batched_meshes_simple(
         "/stage/floor",

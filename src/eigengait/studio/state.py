@@ -1,9 +1,10 @@
 """The one studio state every browser tab shares: the character, its modes, the sketch being edited.
 
-Every change goes through a method here, under one lock, and is followed by an autosave of the sketch to
-`studio-autosave.sketch.yaml` in the studio folder (the same format `eigengait sketch/optimize` read), so a
-dropped connection or a restarted studio loses nothing. Views subscribe to two events: `model` (character or
-relax pose changed, modes recomputed) and `sketch` (statuses, activations or timing changed).
+Every change goes through a method here, under one lock, and is followed by an autosave of the
+sketch to `studio-autosave.sketch.yaml` in the studio folder (the same format
+`eigengait sketch/optimize` read), so a dropped connection or a restarted studio loses nothing.
+Views subscribe to two events: `model` (character or relax pose changed, modes recomputed) and
+`sketch` (statuses, activations or timing changed).
 """
 
 from __future__ import annotations
@@ -37,7 +38,8 @@ class StudioState:
         self.sandbox = sandbox
         self.lock = threading.RLock()
         self.sketch: Sketch | None = None
-        self.system: GaitSystem | None = None  # the sketch's system with gravity off: modes and sketch simulation
+        # the sketch's system with gravity off: modes and sketch simulation
+        self.system: GaitSystem | None = None
         self._listeners: dict[str, list[Callable[[], None]]] = {"model": [], "sketch": []}
 
     @property
@@ -52,9 +54,10 @@ class StudioState:
             for callback in self._listeners[event]:
                 callback()
 
-    # ---- opening -------------------------------------------------------------------------------------------
+    # ---- opening ---------------------------------------------------------------------------------
     def open(self, target: str | None) -> None:
-        """Start on a built-in character, a shipped sketch, an MJCF or sketch file; else the autosave or humanoid."""
+        """Start on a built-in character, a shipped sketch, an MJCF or sketch file; else the
+        autosave or humanoid."""
         if target:
             is_sketch = target in preset_names() or target.lower().endswith(SKETCH_SUFFIXES)
             self.load_sketch(target) if is_sketch else self.load_character(target)
@@ -64,8 +67,8 @@ class StudioState:
             self.load_character("humanoid")
 
     def character_reference(self, text: str) -> str:
-        """A built-in name as is, or the absolute path of an MJCF file inside the studio folder that reads no file
-        outside it."""
+        """A built-in name as is, or the absolute path of an MJCF file inside the studio folder that
+        reads no file outside it."""
         text = text.strip()
         if text in builtin_names():
             return text
@@ -76,13 +79,16 @@ class StudioState:
         return str(path)
 
     def load_character(self, text: str) -> None:
-        """A fresh sketch for a character: lowest modes allowed, the rest excluded, no priority yet."""
+        """A fresh sketch for a character: lowest modes allowed, the rest excluded, no priority
+        yet."""
         reference = self.character_reference(text)
         character = load_character(reference)
         feet = character.meta.gait_order or list(character.feet)
         symmetric = len(feet) == 2 and character.meta.mirror is not None
         air = {"allowed": list(range(1, NEW_SKETCH_ALLOWED + 1))}
-        sketch = Sketch(character=reference, feet=feet or None, symmetric=symmetric, air=air, ground=air)
+        sketch = Sketch(
+            character=reference, feet=feet or None, symmetric=symmetric, air=air, ground=air
+        )
         self._install(sketch, clip=True)
 
     def load_sketch(self, text: str) -> None:
@@ -96,14 +102,16 @@ class StudioState:
         self._install(sketch, clip=False)
 
     def set_relax_pose(self, text: str) -> None:
-        """A preset name, `default`, or rotations `joint=rx,ry,rz;…` in degrees; modes are recomputed."""
+        """A preset name, `default`, or rotations `joint=rx,ry,rz;…` in degrees; modes are
+        recomputed."""
         with self.lock:
             data = self.sketch.model_dump()
         data["relax_pose"] = parse_relax_argument(text)
         self._install(Sketch.model_validate(data), clip=True)
 
     def _install(self, sketch: Sketch, clip: bool) -> None:
-        """Bind a sketch to its character (recomputing modes) and make it current; nothing changes on error."""
+        """Bind a sketch to its character (recomputing modes) and make it current; nothing changes
+        on error."""
         system = gait_system(sketch, gravity=False)
         if clip:
             sketch = _clipped(sketch, system)
@@ -113,7 +121,7 @@ class StudioState:
             self.autosave()
         self._notify("model", "sketch")
 
-    # ---- reading -------------------------------------------------------------------------------------------
+    # ---- reading ---------------------------------------------------------------------------------
     def modes(self, phase: str) -> ModeSet:
         """The palette's modes: air, or ground with the first stance foot's toe pinned."""
         system = self.system
@@ -130,15 +138,21 @@ class StudioState:
             return "excluded"
         return "allowed"
 
-    # ---- editing -------------------------------------------------------------------------------------------
+    # ---- editing ---------------------------------------------------------------------------------
     def set_status(self, phase: str, mode: int, status: str) -> None:
         if status not in STATUSES:
-            raise UserInputError(f"unknown mode status '{status}'", fix=f"use one of: {', '.join(STATUSES)}")
+            raise UserInputError(
+                f"unknown mode status '{status}'", fix=f"use one of: {', '.join(STATUSES)}"
+            )
         with self.lock:
             count = self.modes(phase).count
             statuses = {m: self.status(phase, m) for m in range(1, count + 1)}
             statuses[mode] = status
-            priority = {m: v for m, v in self.sketch.phase(phase).priority.items() if statuses[m] == "priority"}
+            priority = {
+                m: v
+                for m, v in self.sketch.phase(phase).priority.items()
+                if statuses[m] == "priority"
+            }
             if status == "priority" and mode not in priority:
                 priority[mode] = DEFAULT_ACTIVATION
             self._edit(
@@ -152,7 +166,8 @@ class StudioState:
             )
 
     def set_activation(self, phase: str, mode: int, psi: float) -> None:
-        """Priority activation ψ (N·m) of a priority mode; zero is refused (it would make the mode unused)."""
+        """Priority activation ψ (N·m) of a priority mode; zero is refused (it would make the mode
+        unused)."""
         if psi == 0:
             raise UserInputError(
                 f"priority mode {mode} needs a non-zero activation",
@@ -160,7 +175,9 @@ class StudioState:
             )
         with self.lock:
             if mode not in self.sketch.phase(phase).priority:
-                raise UserInputError(f"{phase} mode {mode} is not a priority mode", fix="mark it priority first")
+                raise UserInputError(
+                    f"{phase} mode {mode} is not a priority mode", fix="mark it priority first"
+                )
             priority = {**self.sketch.phase(phase).priority, mode: float(psi)}
             self._edit({phase: {**self.sketch.phase(phase).model_dump(), "priority": priority}})
 
@@ -180,7 +197,7 @@ class StudioState:
             self.autosave()
         self._notify("sketch")
 
-    # ---- files ---------------------------------------------------------------------------------------------
+    # ---- files -----------------------------------------------------------------------------------
     def save_sketch(self, text: str) -> Path:
         path = self.sandbox.resolve(text, SKETCH_SUFFIXES)
         with self.lock:
@@ -192,9 +209,12 @@ class StudioState:
 
 
 def write_sketch(sketch: Sketch, path: Path) -> None:
-    """Save a sketch; a character file is written relative to the sketch file, as `load_sketch` expects."""
+    """Save a sketch; a character file is written relative to the sketch file, as `load_sketch`
+    expects."""
     if Path(sketch.character).is_absolute():
-        sketch = sketch.model_copy(update={"character": os.path.relpath(sketch.character, path.parent)})
+        sketch = sketch.model_copy(
+            update={"character": os.path.relpath(sketch.character, path.parent)}
+        )
     dump(sketch, path)
 
 

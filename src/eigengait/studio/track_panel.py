@@ -1,9 +1,11 @@
-"""Track a motion-capture clip (a BVH file inside the studio folder) in physics with the balance controller.
+"""Track a motion-capture clip (a BVH file inside the studio folder) in physics with the balance
+controller.
 
-The robustness slider is the foot model's main parameter: 0 = physically correct (no artificial torque at the
-stance foot), 1 = the stance-foot torque fully cancelled (very stable); beside it, the cylinder foot's radius, COM
-height and friction set how much torque a given robustness cancels (control/balance/foot.py). The tracked motion
-plays on the stage with the camera following; the report gives the tracking errors and the artificial torque used.
+The robustness slider is the foot model's main parameter: 0 = physically correct (no artificial
+torque at the stance foot), 1 = the stance-foot torque fully cancelled (very stable); beside it, the
+cylinder foot's radius, COM height and friction set how much torque a given robustness cancels
+(control/balance/foot.py). The tracked motion plays on the stage with the camera following; the
+report gives the tracking errors and the artificial torque used.
 """
 
 from __future__ import annotations
@@ -21,7 +23,14 @@ TRACKING_CHARACTERS = ("walker", "humanoid")
 
 
 class TrackPanel:
-    def __init__(self, server: viser.ViserServer, sandbox: Sandbox, stage: Stage, messages: Messages, gui_order: float):
+    def __init__(
+        self,
+        server: viser.ViserServer,
+        sandbox: Sandbox,
+        stage: Stage,
+        messages: Messages,
+        gui_order: float,
+    ):
         self.sandbox, self.stage, self.messages = sandbox, stage, messages
         self.result = None
         gui = server.gui
@@ -38,9 +47,15 @@ class TrackPanel:
                 hint="0 = physically correct … 1 = stance-foot torque cancelled",
             )
             self.foot_radius = gui.add_number("foot radius (m)", 0.1, min=0.0, max=1.0, step=0.01)
-            self.foot_height = gui.add_number("foot COM height (m)", 0.05, min=0.0, max=1.0, step=0.01)
-            self.foot_friction = gui.add_number("foot friction μ", 1.0, min=0.01, max=10.0, step=0.1)
-            self.push = gui.add_text("push", "", hint="optional FORCE@TIME (N, s), sideways at the torso")
+            self.foot_height = gui.add_number(
+                "foot COM height (m)", 0.05, min=0.0, max=1.0, step=0.01
+            )
+            self.foot_friction = gui.add_number(
+                "foot friction μ", 1.0, min=0.01, max=10.0, step=0.1
+            )
+            self.push = gui.add_text(
+                "push", "", hint="optional FORCE@TIME (N, s), sideways at the torso"
+            )
             self.run = gui.add_button("Track in physics", icon=viser.Icon.RUN)
             self.report = gui.add_markdown("")
         self.run.on_click(messages.guarded(lambda e: self.track_file(self.clip.value, e.client)))
@@ -48,7 +63,9 @@ class TrackPanel:
     def track_file(self, text: str, client: viser.ClientHandle | None = None):
         """Retarget and track the clip; show the simulated motion and report its errors."""
         if not str(text).strip():
-            raise UserInputError("no clip given", field="BVH clip", fix="type the name of a .bvh file in the folder")
+            raise UserInputError(
+                "no clip given", field="BVH clip", fix="type the name of a .bvh file in the folder"
+            )
         path = self.sandbox.resolve(str(text).strip(), (".bvh",), must_exist=True)
         push = self.push.value.strip() or None
         foot = {
@@ -64,8 +81,9 @@ class TrackPanel:
         state = f"fell at {result.fall_time_s:.2f} s" if result.fell else "did not fall"
         self.report.content = (
             f"**{path.name}** on {self.character.value}: tracked {result.duration_s:.2f} s of "
-            f"{reference.duration:.2f} s ({state}); joint RMS {result.joint_rms_deg:.1f}°, COM error "
-            f"{result.com_error_m:.3f} m, mean artificial torque {result.artificial_torque:.1f} N·m."
+            f"{reference.duration:.2f} s ({state}); joint RMS {result.joint_rms_deg:.1f}°, COM "
+            f"error {result.com_error_m:.3f} m, mean artificial torque "
+            f"{result.artificial_torque:.1f} N·m."
         )
         self.messages.info(f"Tracking `{self.sandbox.relative(path)}` in physics.", client)
         return result

@@ -1,1 +1,2 @@
-"""Balance control: quaternion PD, momentum Jacobian, virtual force/torque, tunable foot compensation, tracking."""
+"""Balance control: quaternion PD, momentum Jacobian, virtual force/torque, tunable foot
+compensation, tracking."""

@@ -1,22 +1,25 @@
-"""The balance controller's law, stateless: joint PD (E1–E2) plus balance through the momentum Jacobian (E3–E29),
-with the tunable stance-foot compensation (E30–E32).
+"""The balance controller's law, stateless: joint PD (E1–E2) plus balance through the momentum
+Jacobian (E3–E29), with the tunable stance-foot compensation (E30–E32).
 
-`balance_torque(model, data, rig, target)` reads the simulation's current state (`data` after `mj_forward`) and
-one reference frame, and returns what to apply: joint torques for the motors and, per stance foot, the artificial
-torque (world axes, N·m) that cancels part of the balance torque reaching that foot. It keeps nothing between
-calls; the `BalanceRig` holds only the model's addresses, the gains and the foot model, fixed for a run. The
-simulation loop (`tracker.Tracker`) samples the reference, applies the result and steps the physics.
+`balance_torque(model, data, rig, target)` reads the simulation's current state (`data` after
+`mj_forward`) and one reference frame, and returns what to apply: joint torques for the motors and,
+per stance foot, the artificial torque (world axes, N·m) that cancels part of the balance torque
+reaching that foot. It keeps nothing between calls; the `BalanceRig` holds only the model's
+addresses, the gains and the foot model, fixed for a run. The simulation loop (`tracker.Tracker`)
+samples the reference, applies the result and steps the physics.
 
-1. joint PD: τ_pd = k_s e + k_d ω_d (`pd.pd_torques` for balls, `pd.hinge_pd_torques` for hinges, with ω_a = 0):
-   the −k_d ω_a term is the joint damping, which MuJoCo integrates implicitly (the caller sets `dof_damping` = k_d
-   and switches the passive springs off); a loaded foot's ankle targets the shin's world tilt (`stance_ankle`);
-2. stance feet = feet touching the floor; their normal forces weight the balance torques of each foot-rooted
-   Jacobian (`momentum.momentum_jacobian`; double support blends the two roots; flight has no balance torque);
+1. joint PD: τ_pd = k_s e + k_d ω_d (`pd.pd_torques` for balls, `pd.hinge_pd_torques` for hinges,
+   with ω_a = 0): the −k_d ω_a term is the joint damping, which MuJoCo integrates implicitly
+   (the caller sets `dof_damping` = k_d and switches the passive springs off); a loaded foot's ankle
+   targets the shin's world tilt (`stance_ankle`);
+2. stance feet = feet touching the floor; their normal forces weight the balance torques of each
+   foot-rooted Jacobian (`momentum.momentum_jacobian`; double support blends the two roots; flight
+   has no balance torque);
 3. virtual force/torque at the COM (`virtual.py`) → τ_eq = Jᵀ w;
-4. the balance torque that reaches each stance foot is split at its support polygon (`support.py`): the part its
-   contacts carry is left to them, the excess is partly cancelled by an external torque on that foot, the
-   artificial torque, and what remains of it is taken off the ankle (it would tip the foot); if the cancelled
-   fraction is below `tolerance` the balance torques are switched off;
+4. the balance torque that reaches each stance foot is split at its support polygon (`support.py`):
+   the part its contacts carry is left to them, the excess is partly cancelled by an external torque
+   on that foot, the artificial torque, and what remains of it is taken off the ankle (it would tip
+   the foot); if the cancelled fraction is below `tolerance` the balance torques are switched off;
 5. feet that the reference has on the floor but that carry less than their share are pressed down
    (`double_support.py`).
 """
@@ -30,19 +33,29 @@ import numpy as np
 
 from eigengait.control.balance.double_support import load_shares, pressing_force
 from eigengait.control.balance.foot import FootModel, compensation
-from eigengait.control.balance.momentum import centroidal_inertia, centroidal_momentum_matrix, momentum_jacobian
+from eigengait.control.balance.momentum import (
+    centroidal_inertia,
+    centroidal_momentum_matrix,
+    momentum_jacobian,
+)
 from eigengait.control.balance.pd import hinge_pd_torques, pd_torques
 from eigengait.control.balance.stance_ankle import heading_turn, levelled, stance_ankle_targets
 from eigengait.control.balance.support import carried_torque
-from eigengait.control.balance.virtual import VirtualGains, friction_bounded, virtual_force, virtual_torque
+from eigengait.control.balance.virtual import (
+    VirtualGains,
+    friction_bounded,
+    virtual_force,
+    virtual_torque,
+)
 from eigengait.geometry import quat_mul, quat_to_mat
 from eigengait.sim.world import FLOOR, GRAVITY, World
 
 
 @dataclass(frozen=True)
 class BalanceRig:
-    """What the law needs to know about one world, fixed for a run: addresses in MuJoCo's arrays, the PD gains
-    k_s (N·m/rad) and k_d (N·m·s/rad) per dof (nv), the virtual-wrench gains, the foot model and the tolerance."""
+    """What the law needs to know about one world, fixed for a run: addresses in MuJoCo's arrays,
+    the PD gains k_s (N·m/rad) and k_d (N·m·s/rad) per dof (nv), the virtual-wrench gains, the foot
+    model and the tolerance."""
 
     root_body: int
     root_qpos: int  # first qpos entry of the free root (position, then quaternion)
@@ -55,9 +68,12 @@ class BalanceRig:
     foot_bodies: dict[str, int]
     foot_spheres: dict[str, list[int]]
     foot_dofs: dict[str, list[int]]  # internal dofs of each foot's body
-    foot_ball_qpos: dict[str, int]  # qpos address of the ball joint turning each foot (feet on other joints: absent)
-    leg_dofs: dict[str, list[int]]  # internal dofs between the root body and each foot body (the foot's included)
-    foot_rest_up: dict[str, np.ndarray]  # world up in each foot body's frame in the relax pose (qpos0)
+    # qpos address of the ball joint turning each foot (feet on other joints: absent)
+    foot_ball_qpos: dict[str, int]
+    # internal dofs between the root body and each foot body (the foot's included)
+    leg_dofs: dict[str, list[int]]
+    # world up in each foot body's frame in the relax pose (qpos0)
+    foot_rest_up: dict[str, np.ndarray]
     floor: int  # floor geom id
     mass: float  # kg
     k_s: np.ndarray
@@ -69,9 +85,9 @@ class BalanceRig:
 
 @dataclass(frozen=True)
 class BalanceCommand:
-    """One control step's output: torques (nv, N·m; the motors take `torque[rig.joint_dofs]`), the artificial
-    torque (world, N·m) to put on each stance foot's body (foot name → (3,)), their total magnitude (N·m) and
-    whether the character is in flight."""
+    """One control step's output: torques (nv, N·m; the motors take `torque[rig.joint_dofs]`), the
+    artificial torque (world, N·m) to put on each stance foot's body (foot name → (3,)), their total
+    magnitude (N·m) and whether the character is in flight."""
 
     torque: np.ndarray
     foot_torques: dict[str, np.ndarray]
@@ -80,14 +96,19 @@ class BalanceCommand:
 
 
 def joint_layout(model: mujoco.MjModel, joints: list[int]) -> dict[str, np.ndarray]:
-    """Ball and hinge joints among `joints`, with their qpos and dof addresses (the rig's ball_/hinge_ fields)."""
+    """Ball and hinge joints among `joints`, with their qpos and dof addresses (the rig's
+    ball_/hinge_ fields)."""
     ball = [j for j in joints if int(model.jnt_type[j]) == int(mujoco.mjtJoint.mjJNT_BALL)]
     hinge = [j for j in joints if int(model.jnt_type[j]) == int(mujoco.mjtJoint.mjJNT_HINGE)]
     return {
         "ball": ball,
         "hinge": hinge,
-        "ball_qpos": np.array([model.jnt_qposadr[j] + np.arange(4) for j in ball], int).reshape(-1, 4),
-        "ball_dof": np.array([model.jnt_dofadr[j] + np.arange(3) for j in ball], int).reshape(-1, 3),
+        "ball_qpos": np.array([model.jnt_qposadr[j] + np.arange(4) for j in ball], int).reshape(
+            -1, 4
+        ),
+        "ball_dof": np.array([model.jnt_dofadr[j] + np.arange(3) for j in ball], int).reshape(
+            -1, 3
+        ),
         "hinge_qpos": np.array([model.jnt_qposadr[j] for j in hinge], int),
         "hinge_dof": np.array([model.jnt_dofadr[j] for j in hinge], int),
     }
@@ -104,8 +125,9 @@ def joint_gains(
     damping_ratio: float,
 ) -> tuple[np.ndarray, np.ndarray]:
     """PD gains per dof (nv): a joint whose name ends with a key of `named_gains` gets that k_s and
-    k_d = damping_time × k_s; any other joint k_s = stiffness_scale × m g l and k_d = 2 ζ √(k_s m l²), with m the
-    mass and l the COM distance of the joint's subtree (positions from `data`)."""
+    k_d = damping_time × k_s; any other joint k_s = stiffness_scale × m g l and k_d = 2 ζ
+    √(k_s m l²), with m the mass and l the COM distance of the joint's subtree (positions from
+    `data`)."""
     k_s, k_d = np.zeros(model.nv), np.zeros(model.nv)
     for j in ball + hinge:
         n = 3 if j in ball else 1
@@ -123,11 +145,15 @@ def joint_gains(
     return k_s, k_d
 
 
-def _subtree_mass_and_arm(model: mujoco.MjModel, data: mujoco.MjData, body: int) -> tuple[float, float]:
+def _subtree_mass_and_arm(
+    model: mujoco.MjModel, data: mujoco.MjData, body: int
+) -> tuple[float, float]:
     ids = [b for b in range(body, model.nbody) if _is_descendant(model, b, body)]
     mass = model.body_mass[ids]
     com = (mass[:, None] * data.xipos[ids]).sum(0) / mass.sum()
-    return float(mass.sum()), max(float(np.linalg.norm(com - data.xanchor[model.body_jntadr[body]])), 0.05)
+    return float(mass.sum()), max(
+        float(np.linalg.norm(com - data.xanchor[model.body_jntadr[body]])), 0.05
+    )
 
 
 def _is_descendant(model: mujoco.MjModel, body: int, ancestor: int) -> bool:
@@ -145,7 +171,8 @@ def balance_rig(
     virtual: VirtualGains,
     tolerance: float = 0.0,
 ) -> BalanceRig:
-    """The rig of `world`'s character on `model` (the world's model or a copy of it) with the given gains."""
+    """The rig of `world`'s character on `model` (the world's model or a copy of it) with the given
+    gains."""
     joints = joint_layout(model, world.internal_qpos_joints)
     root_joint = int(model.body_jntadr[world.root_body])
     joint_dofs = np.asarray(world.internal_qvel)
@@ -172,11 +199,15 @@ def balance_rig(
             f: [d for d in joint_dofs if _is_descendant(model, b, int(model.dof_bodyid[d]))]
             for f, b in foot_bodies.items()
         },
-        foot_rest_up={f: relaxed.xmat[b].reshape(3, 3).T @ np.array([0.0, 0.0, 1.0]) for f, b in foot_bodies.items()},
+        foot_rest_up={
+            f: relaxed.xmat[b].reshape(3, 3).T @ np.array([0.0, 0.0, 1.0])
+            for f, b in foot_bodies.items()
+        },
         foot_ball_qpos={
             f: int(model.jnt_qposadr[model.body_jntadr[b]])
             for f, b in foot_bodies.items()
-            if model.body_jntnum[b] == 1 and model.jnt_type[model.body_jntadr[b]] == mujoco.mjtJoint.mjJNT_BALL
+            if model.body_jntnum[b] == 1
+            and model.jnt_type[model.body_jntadr[b]] == mujoco.mjtJoint.mjJNT_BALL
         },
         floor=mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_GEOM, FLOOR),
         mass=float(model.body_subtreemass[world.root_body]),
@@ -188,7 +219,9 @@ def balance_rig(
     )
 
 
-def foot_contacts(model: mujoco.MjModel, data: mujoco.MjData, rig: BalanceRig) -> dict[str, np.ndarray]:
+def foot_contacts(
+    model: mujoco.MjModel, data: mujoco.MjData, rig: BalanceRig
+) -> dict[str, np.ndarray]:
     """Per foot, its floor contacts that push (k, 4): world position (m) and normal force (N)."""
     found: dict[str, list] = {f: [] for f in rig.foot_bodies}
     wrench = np.zeros(6)
@@ -211,8 +244,8 @@ def stance_forces(model: mujoco.MjModel, data: mujoco.MjData, rig: BalanceRig) -
 
 
 def pd_torque(data: mujoco.MjData, rig: BalanceRig, target: dict[str, np.ndarray]) -> np.ndarray:
-    """Joint PD torques (nv, N·m) toward the target's qpos and qvel; the −k_d ω_a term is left to the implicit
-    joint damping, so the actual velocity enters as zero."""
+    """Joint PD torques (nv, N·m) toward the target's qpos and qvel; the −k_d ω_a term is left to
+    the implicit joint damping, so the actual velocity enters as zero."""
     tau = np.zeros(len(rig.k_s))
     if len(rig.ball_qpos):
         dof = rig.ball_dof
@@ -227,7 +260,12 @@ def pd_torque(data: mujoco.MjData, rig: BalanceRig, target: dict[str, np.ndarray
     if len(rig.hinge_qpos):
         dof, adr = rig.hinge_dof, rig.hinge_qpos
         tau[dof] = hinge_pd_torques(
-            data.qpos[adr], target["qpos"][adr], 0.0, target["qvel"][dof], rig.k_s[dof], rig.k_d[dof]
+            data.qpos[adr],
+            target["qpos"][adr],
+            0.0,
+            target["qvel"][dof],
+            rig.k_s[dof],
+            rig.k_d[dof],
         )
     return tau
 
@@ -239,9 +277,9 @@ def pd_target(
     target: dict[str, np.ndarray],
     contacts: dict[str, np.ndarray],
 ) -> np.ndarray:
-    """The PD's target qpos: the reference's, with the loaded feet's ankles tracking the shins' world orientation
-    (`stance_ankle`; the reference's turned about the vertical to the character's heading); the reference's own
-    when it has no body orientations."""
+    """The PD's target qpos: the reference's, with the loaded feet's ankles tracking the shins'
+    world orientation (`stance_ankle`; the reference's turned about the vertical to the character's
+    heading); the reference's own when it has no body orientations."""
     qpos = target["qpos"]
     if target.get("body_quat") is None or not rig.foot_ball_qpos:
         return qpos
@@ -268,8 +306,9 @@ def equilibrium_torque(
     target: dict[str, np.ndarray],
     contacts: dict[str, np.ndarray],
 ) -> tuple[np.ndarray, dict[str, np.ndarray], float]:
-    """τ_eq (nv), the artificial torque (world, N·m) per stance foot and their total magnitude; all zero in
-    flight or when the cancelled fraction is below the tolerance. `contacts`: `foot_contacts`."""
+    """τ_eq (nv), the artificial torque (world, N·m) per stance foot and their total magnitude; all
+    zero in flight or when the cancelled fraction is below the tolerance. `contacts`:
+    `foot_contacts`."""
     root = rig.root_body
     tau = np.zeros(model.nv)
     forces = {f: float(c[:, 3].sum()) for f, c in contacts.items()}
@@ -280,7 +319,11 @@ def equilibrium_torque(
     points = {f: data.geom_xpos[rig.foot_spheres[f]][:, :2].mean(axis=0) for f in stance}
     support = np.mean(list(points.values()), axis=0)
     mujoco.mj_subtreeVel(model, data)
-    com, com_vel, angmom = data.subtree_com[root], data.subtree_linvel[root], data.subtree_angmom[root]
+    com, com_vel, angmom = (
+        data.subtree_com[root],
+        data.subtree_linvel[root],
+        data.subtree_angmom[root],
+    )
     gains = rig.virtual
     force = virtual_force(
         com,
@@ -299,14 +342,28 @@ def equilibrium_torque(
     omega = quat_to_mat(quat) @ data.qvel[rig.root_dofs[3:]]
     omega_ref = quat_to_mat(quat_ref) @ target["qvel"][rig.root_dofs[3:]]
     torque = virtual_torque(
-        quat, quat_ref, omega, omega_ref, angmom, target["angular_momentum"], gains, target["angular_momentum_rate"]
+        quat,
+        quat_ref,
+        omega,
+        omega_ref,
+        angmom,
+        target["angular_momentum"],
+        gains,
+        target["angular_momentum_rate"],
     )
     wrench = np.concatenate([torque, force])
     momentum = centroidal_momentum_matrix(model, data, root)
     inertia = centroidal_inertia(model, data, root)
     for f, normal in stance.items():
         jac = momentum_jacobian(
-            model, data, root, rig.foot_bodies[f], rig.root_dofs, rig.joint_dofs, momentum=momentum, inertia=inertia
+            model,
+            data,
+            root,
+            rig.foot_bodies[f],
+            rig.root_dofs,
+            rig.joint_dofs,
+            momentum=momentum,
+            inertia=inertia,
         )
         tau[rig.joint_dofs] += normal / total * (jac.T @ wrench)
     artificial, ratios = {}, []
@@ -316,7 +373,9 @@ def equilibrium_torque(
         mujoco.mj_jacBody(model, data, None, jacr, body)
         dofs = rig.foot_dofs[f]
         foot_torque = jacr[:, dofs] @ tau[dofs]
-        excess = foot_torque - carried_torque(foot_torque, normal, data.xpos[body], contacts[f][:, :3])
+        excess = foot_torque - carried_torque(
+            foot_torque, normal, data.xpos[body], contacts[f][:, :3]
+        )
         artificial[f], ratio = compensation(excess, rig.foot)
         ratios.append(ratio)
         if dofs:  # the excess not cancelled would tip the foot: the ankle does not apply it
@@ -334,16 +393,19 @@ def equilibrium_torque(
 def balance_torque(
     model: mujoco.MjModel, data: mujoco.MjData, rig: BalanceRig, target: dict[str, np.ndarray]
 ) -> BalanceCommand:
-    """The controller's output for the state in `data` (positions, velocities and contacts computed, as after
-    `mj_forward`) and one reference frame `target` (qpos, qvel, com, com_vel, com_acc, angular_momentum,
-    angular_momentum_rate, support; `reference.Reference` sampled at the current time). Writes only MuJoCo's
-    derived quantities (subtree velocities) into `data`."""
+    """The controller's output for the state in `data` (positions, velocities and contacts computed,
+    as after `mj_forward`) and one reference frame `target` (qpos, qvel, com, com_vel, com_acc,
+    angular_momentum, angular_momentum_rate, support; `reference.Reference` sampled at the current
+    time). Writes only MuJoCo's derived quantities (subtree velocities) into `data`."""
     contacts = foot_contacts(model, data, rig)
     tau_pd = pd_torque(data, rig, {**target, "qpos": pd_target(model, data, rig, target, contacts)})
     tau_eq, foot_torques, artificial = equilibrium_torque(model, data, rig, target, contacts)
     airborne = not any(len(c) for c in contacts.values())
     return BalanceCommand(
-        tau_pd + tau_eq + press_torque(model, data, rig, target, contacts), foot_torques, artificial, airborne
+        tau_pd + tau_eq + press_torque(model, data, rig, target, contacts),
+        foot_torques,
+        artificial,
+        airborne,
     )
 
 
@@ -354,8 +416,8 @@ def press_torque(
     target: dict[str, np.ndarray],
     contacts: dict[str, np.ndarray],
 ) -> np.ndarray:
-    """Leg torques (nv) pressing down the feet that carry less than their reference share (`double_support`);
-    zero when the target has no foot heights."""
+    """Leg torques (nv) pressing down the feet that carry less than their reference share
+    (`double_support`); zero when the target has no foot heights."""
     tau = np.zeros(model.nv)
     if target.get("foot_height") is None:
         return tau
@@ -374,7 +436,8 @@ def press_torque(
 
 
 def apply_foot_torques(data: mujoco.MjData, rig: BalanceRig, command: BalanceCommand) -> None:
-    """Put the command's artificial torques on the feet (`xfrc_applied`, torque part); other feet get none."""
+    """Put the command's artificial torques on the feet (`xfrc_applied`, torque part); other feet
+    get none."""
     data.xfrc_applied[list(set(rig.foot_bodies.values())), 3:] = 0.0
     for foot, torque in command.foot_torques.items():
         data.xfrc_applied[rig.foot_bodies[foot], 3:] = torque

@@ -1,14 +1,17 @@
-"""E30–E32: tunable compensation of the balance torque on the stance foot, from a cylinder-foot friction cone.
+"""E30–E32: tunable compensation of the balance torque on the stance foot, from a cylinder-foot
+friction cone.
 
-The foot is modelled as a cylinder of radius r whose COM is h above the floor; the largest ground reaction
-GRF_max = m lies on the friction cone's edge at θ = atan(1/μ) from the horizontal. The largest torque the ground
-can absorb is ‖τ_comp‖ = |h m cosθ + r m sinθ| (E30). ratio = min(1, ‖τ_comp‖ / ‖horizontal ^foot τ_eq‖) (E31)
-is the fraction of the horizontal balance torque on the foot cancelled by an artificial torque (E32); the
-vertical part is cancelled by the same robustness fraction (the chapter always cancels it fully, which would
-leave artificial torque even at robustness 0).
+The foot is modelled as a cylinder of radius r whose COM is h above the floor; the largest ground
+reaction GRF_max = m lies on the friction cone's edge at θ = atan(1/μ) from the horizontal. The
+largest torque the ground can absorb is ‖τ_comp‖ = |h m cosθ + r m sinθ| (E30). ratio = min(1,
+‖τ_comp‖ / ‖horizontal ^foot τ_eq‖) (E31) is the fraction of the horizontal balance torque on the
+foot cancelled by an artificial torque (E32); the vertical part is cancelled by the same robustness
+fraction (the chapter always cancels it fully, which would leave artificial torque even at
+robustness 0).
 
-Robustness R ∈ [0, 1] sets m = R/(1 − R) × body weight: R = 0 cancels nothing (physically correct), R = 1 cancels
-the whole stance-foot torque (very stable), R = 0.5 lets the model foot carry the body weight at the cone edge.
+Robustness R ∈ [0, 1] sets m = R/(1 − R) × body weight: R = 0 cancels nothing (physically correct),
+R = 1 cancels the whole stance-foot torque (very stable), R = 0.5 lets the model foot carry the body
+weight at the cone edge.
 """
 
 from __future__ import annotations
@@ -24,7 +27,8 @@ UP = np.array([0.0, 0.0, 1.0])
 
 @dataclass(frozen=True)
 class FootModel:
-    """Cylinder foot: radius_m, com_height_m, grf_max_n (N, may be inf), friction μ; robustness it came from."""
+    """Cylinder foot: radius_m, com_height_m, grf_max_n (N, may be inf), friction μ; robustness it
+    came from."""
 
     radius_m: float
     com_height_m: float
@@ -38,7 +42,10 @@ class FootModel:
             return 0.0
         theta = np.arctan(1.0 / self.friction)
         return float(
-            abs(self.com_height_m * self.grf_max_n * np.cos(theta) + self.radius_m * self.grf_max_n * np.sin(theta))
+            abs(
+                self.com_height_m * self.grf_max_n * np.cos(theta)
+                + self.radius_m * self.grf_max_n * np.sin(theta)
+            )
         )
 
 
@@ -57,7 +64,8 @@ def foot_model_for_robustness(
 
 
 def compensation(foot_torque: np.ndarray, foot: FootModel) -> tuple[np.ndarray, float]:
-    """E31–E32 for the balance torque on a stance foot (world, N·m): the artificial torque to add and the ratio."""
+    """E31–E32 for the balance torque on a stance foot (world, N·m): the artificial torque to add
+    and the ratio."""
     vertical = UP * (foot_torque @ UP)
     horizontal = foot_torque - vertical
     size = float(np.linalg.norm(horizontal))

@@ -1,16 +1,17 @@
 """Give the tracked character's feet a sole: an area of support instead of a heel-toe line.
 
-A world's feet touch the floor only through their contact spheres (`sim.world`: one at the toe, one at the heel, on
-the foot's centre line). A stance foot can then carry no roll torque: standing on one foot, the character's sideways
-balance rests on the artificial torque alone, and a walk or a weight shift falls sideways (docs/balance.md). The
-walker's foot body carries a box (its visible foot, 22 × 10 cm) whose bottom is 3 cm above the spheres' bottoms, so
-it touches the floor only when the foot tips; on the tracker's private model copy that box is moved down onto the
-plane of the spheres' bottoms and set to touch the floor as a foot, so a flat stance foot stands on its whole
-rectangle, as the chapter's foot (a cylinder of radius r) does. Mass and inertia stay as compiled; the
-spheres keep touching, so the reference's foot measures (`motion.soles`) still hold.
+A world's feet touch the floor only through their contact spheres (`sim.world`: one at the toe, one
+at the heel, on the foot's centre line). A stance foot can then carry no roll torque: standing on
+one foot, the character's sideways balance rests on the artificial torque alone, and a walk or a
+weight shift falls sideways (docs/balance.md). The walker's foot body carries a box (its visible
+foot, 22 × 10 cm) whose bottom is 3 cm above the spheres' bottoms, so it touches the floor only when
+the foot tips; on the tracker's private model copy that box is moved down onto the plane of the
+spheres' bottoms and set to touch the floor as a foot, so a flat stance foot stands on its whole
+rectangle, as the chapter's foot (a cylinder of radius r) does. Mass and inertia stay as compiled;
+the spheres keep touching, so the reference's foot measures (`motion.soles`) still hold.
 
-Only a box whose axes are the foot body's own (identity geom frame, up to a turn about z) is used: its bottom face
-is then level when the foot is.
+Only a box whose axes are the foot body's own (identity geom frame, up to a turn about z) is used:
+its bottom face is then level when the foot is.
 """
 
 from __future__ import annotations
@@ -30,8 +31,9 @@ def _level_box(model: mujoco.MjModel, geom: int) -> bool:
 
 
 def add_soles(model: mujoco.MjModel, foot_spheres: dict[str, list[int]]) -> list[int]:
-    """Make each foot body's level boxes touch the floor, their bottoms on the plane of the foot's contact spheres'
-    bottoms (body frame); returns the geoms changed. Modifies `model` (a private copy)."""
+    """Make each foot body's level boxes touch the floor, their bottoms on the plane of the foot's
+    contact spheres' bottoms (body frame); returns the geoms changed. Modifies `model` (a private
+    copy)."""
     changed = []
     for spheres in foot_spheres.values():
         body = int(model.geom_bodyid[spheres[0]])

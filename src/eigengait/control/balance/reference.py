@@ -1,12 +1,15 @@
-"""Reference quantities from a kinematic replay of a pose sequence on the simulated character's own model.
+"""Reference quantities from a kinematic replay of a pose sequence on the simulated character's own
+model.
 
-For every frame: qpos is set, ``mj_forward`` gives the COM, every body's world orientation and each foot's sole
-centre and height, qvel comes from central differences (``mj_differentiatePos``) smoothed by a 5-frame moving
-average (mocap is noisy), and ``mj_subtreeVel`` gives the COM velocity and the angular momentum about the COM; their
-rates (the COM acceleration and dL/dt, the momentum feed-forward) are central differences of those, smoothed the
-same way. All vectors are in world axes, SI units.
-A foot is in reference contact when its lowest contact point is within ``CONTACT_HEIGHT`` of the floor; the
-support point is the mean of the contacting feet's toe/heel midpoints, held through flight phases.
+For every frame: qpos is set, ``mj_forward`` gives the COM, every body's world orientation and each
+foot's sole centre and height, qvel comes from central differences (``mj_differentiatePos``)
+smoothed by a 5-frame moving average (mocap is noisy), and ``mj_subtreeVel`` gives the COM velocity
+and the angular momentum about the COM; their rates (the COM acceleration and dL/dt, the momentum
+feed-forward) are central differences of those, smoothed the same way. All vectors are in world
+axes, SI units.
+A foot is in reference contact when its lowest contact point is within ``CONTACT_HEIGHT`` of the
+floor; the support point is the mean of the contacting feet's toe/heel midpoints, held through
+flight phases.
 """
 
 from __future__ import annotations
@@ -38,7 +41,8 @@ class Reference:
     com_acc: np.ndarray | None = None  # (F, 3) m/s²
     angular_momentum_rate: np.ndarray | None = None  # (F, 3) N·m
     body_quat: np.ndarray | None = None  # (F, nbody, 4) world orientation of every body
-    foot_points: np.ndarray | None = None  # (F, n_feet, 2) m, horizontal centre of each foot's contact spheres
+    # (F, n_feet, 2) m, horizontal centre of each foot's contact spheres
+    foot_points: np.ndarray | None = None
     foot_height: np.ndarray | None = None  # (F, n_feet) m, height of each foot's lowest sole point
 
     def __post_init__(self):
@@ -104,7 +108,11 @@ def kinematic_replay(world: World, qpos: np.ndarray, frame_time: float) -> Refer
         data.qpos[:], data.qvel[:] = qpos[i], qvel[i]
         mujoco.mj_forward(model, data)
         mujoco.mj_subtreeVel(model, data)
-        com[i], com_vel[i], ang[i] = data.subtree_com[root], data.subtree_linvel[root], data.subtree_angmom[root]
+        com[i], com_vel[i], ang[i] = (
+            data.subtree_com[root],
+            data.subtree_linvel[root],
+            data.subtree_angmom[root],
+        )
         body_quat[i] = data.xquat
         points = foot_points(world, data)
         low = [points[f][:, 2].min() - world.foot_radius(f) for f in feet]
@@ -112,7 +120,9 @@ def kinematic_replay(world: World, qpos: np.ndarray, frame_time: float) -> Refer
         heights[i] = low
         contact[i] = np.array(low) < CONTACT_HEIGHT
         if contact[i].any():
-            support[i] = np.mean([points[f][:, :2].mean(axis=0) for f, c in zip(feet, contact[i]) if c], axis=0)
+            support[i] = np.mean(
+                [points[f][:, :2].mean(axis=0) for f, c in zip(feet, contact[i]) if c], axis=0
+            )
     support = _hold(support, com[:, :2])
     return Reference(
         frame_time=frame_time,
@@ -131,7 +141,8 @@ def kinematic_replay(world: World, qpos: np.ndarray, frame_time: float) -> Refer
 
 
 def _hold(support: np.ndarray, fallback: np.ndarray) -> np.ndarray:
-    """Fill flight frames with the last support point (the COM projection before the first contact)."""
+    """Fill flight frames with the last support point (the COM projection before the first
+    contact)."""
     out = support.copy()
     last = fallback[0]
     for i in range(len(out)):

@@ -1,11 +1,13 @@
-"""The support polygon of a stance foot from its actual contacts, and the part of an ankle torque it can carry.
+"""The support polygon of a stance foot from its actual contacts, and the part of an ankle torque it
+can carry.
 
-A foot resting on the floor with normal force N (newtons) balances a horizontal torque τ from its ankle (world,
-N·m, about the ankle) only by moving its centre of pressure to the offset r = (τ_y, −τ_x) / N from the ankle's floor
-point (horizontal forces and the foot's own dynamics neglected). The ground can put the centre of pressure only
-inside the convex hull of the foot's contact points; a torque asking for a point outside tips the foot about the
-hull's edge, and the foot-rooted Jacobian's premise (the foot stays put) fails. `carried_torque` returns the part
-of τ the contacts carry: the torque of the centre of pressure moved to the hull's nearest point.
+A foot resting on the floor with normal force N (newtons) balances a horizontal torque τ from its
+ankle (world, N·m, about the ankle) only by moving its centre of pressure to the offset r = (τ_y,
+−τ_x) / N from the ankle's floor point (horizontal forces and the foot's own dynamics neglected).
+The ground can put the centre of pressure only inside the convex hull of the foot's contact points;
+a torque asking for a point outside tips the foot about the hull's edge, and the foot-rooted
+Jacobian's premise (the foot stays put) fails. `carried_torque` returns the part of τ the contacts
+carry: the torque of the centre of pressure moved to the hull's nearest point.
 """
 
 from __future__ import annotations
@@ -19,8 +21,8 @@ def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 
 def convex_hull(points: np.ndarray) -> np.ndarray:
-    """Vertices (k, 2) of the convex hull of horizontal points (n, 2), counter-clockwise (monotone chain); one or
-    two vertices when the points are one point or on a line."""
+    """Vertices (k, 2) of the convex hull of horizontal points (n, 2), counter-clockwise (monotone
+    chain); one or two vertices when the points are one point or on a line."""
     pts = np.unique(np.round(np.asarray(points, float), 9), axis=0)
     if len(pts) <= 2:
         return pts
@@ -39,7 +41,8 @@ def convex_hull(points: np.ndarray) -> np.ndarray:
 
 
 def nearest_in_hull(point: np.ndarray, hull: np.ndarray) -> np.ndarray:
-    """The point of the convex polygon `hull` (k, 2; k = 1 or 2: a point or a segment) nearest to `point` (2,)."""
+    """The point of the convex polygon `hull` (k, 2; k = 1 or 2: a point or a segment) nearest to
+    `point` (2,)."""
     if len(hull) == 1:
         return hull[0].copy()
     if len(hull) >= 3:
@@ -56,10 +59,12 @@ def nearest_in_hull(point: np.ndarray, hull: np.ndarray) -> np.ndarray:
     return np.asarray(best, float).copy()
 
 
-def carried_torque(torque: np.ndarray, normal: float, ankle: np.ndarray, contacts: np.ndarray) -> np.ndarray:
-    """Horizontal part (3,) of the ankle's torque on the foot `torque` (3,) that the foot's contact points
-    `contacts` (n, 3, world, m) carry with normal force `normal` (N) about the ankle at `ankle` (3,); see the
-    module doc. Zero without normal force or contacts."""
+def carried_torque(
+    torque: np.ndarray, normal: float, ankle: np.ndarray, contacts: np.ndarray
+) -> np.ndarray:
+    """Horizontal part (3,) of the ankle's torque on the foot `torque` (3,) that the foot's contact
+    points `contacts` (n, 3, world, m) carry with normal force `normal` (N) about the ankle at
+    `ankle` (3,); see the module doc. Zero without normal force or contacts."""
     if normal <= 0.0 or len(contacts) == 0:
         return np.zeros(3)
     needed = ankle[:2] + np.array([torque[1], -torque[0]]) / normal

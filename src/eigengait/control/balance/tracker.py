@@ -1,11 +1,12 @@
-"""Track a reference motion in physics with the balance controller (`controller.py`: joint PD, balance through the
-momentum Jacobian, the tunable stance-foot compensation).
+"""Track a reference motion in physics with the balance controller (`controller.py`: joint PD,
+balance through the momentum Jacobian, the tunable stance-foot compensation).
 
-`Tracker` is the simulation loop around the stateless control law. On a private copy of the world's model (the
-passive springs switched off; the PD's −k_d ω_a term as implicit joint damping; the feet given soles, `foot_sole`),
-every ``control_every`` physics steps it samples the reference at the current time (its COM target shifted after
-a flight, `landing`), asks `controller.balance_torque` for the motor torques and the stance feet's artificial
-torques, applies them and the active pushes (torques held in between), steps the physics and checks for a fall.
+`Tracker` is the simulation loop around the stateless control law. On a private copy of the world's
+model (the passive springs switched off; the PD's −k_d ω_a term as implicit joint damping; the feet
+given soles, `foot_sole`), every ``control_every`` physics steps it samples the reference at the
+current time (its COM target shifted after a flight, `landing`), asks `controller.balance_torque`
+for the motor torques and the stance feet's artificial torques, applies them and the active pushes
+(torques held in between), steps the physics and checks for a fall.
 """
 
 from __future__ import annotations
@@ -47,8 +48,8 @@ class BodyPush:
     body: str = "torso"
 
 
-# Stiff tracking gains (N·m/rad) by joint-name suffix, for the built-in bipeds (legs 400–1000, as in the
-# momentum-Jacobian tracking literature's 300–1000 range); k_d = damping_time × k_s.
+# Stiff tracking gains (N·m/rad) by joint-name suffix, for the built-in bipeds (legs 400–1000, as in
+# the momentum-Jacobian tracking literature's 300–1000 range); k_d = damping_time × k_s.
 BIPED_GAINS = {
     "torso": 800.0,
     "head": 100.0,
@@ -62,12 +63,13 @@ BIPED_GAINS = {
 
 @dataclass(frozen=True)
 class TrackerSettings:
-    """Joint gains: a joint whose name ends with a key of ``joint_gains`` gets that k_s (N·m/rad) and
-    k_d = damping_time × k_s; any other joint k_s = stiffness_scale × m g l and k_d = 2 ζ √(k_s m l²), with m the
-    mass and l the COM distance of the joint's subtree in the relax pose. The controller runs every
-    ``control_every`` physics steps. ``virtual``: the virtual wrench's gains (None: `virtual.mass_scaled_gains`
-    for the character's mass). Foot: radius and COM height (m), friction μ (the compensation's model, E30);
-    ``soles``: the feet stand on their boxes, not only on their heel and toe spheres (`foot_sole`)."""
+    """Joint gains: a joint whose name ends with a key of ``joint_gains`` gets that k_s (N·m/rad)
+    and k_d = damping_time × k_s; any other joint k_s = stiffness_scale × m g l and k_d = 2 ζ
+    √(k_s m l²), with m the mass and l the COM distance of the joint's subtree in the relax pose.
+    The controller runs every ``control_every`` physics steps. ``virtual``: the virtual wrench's
+    gains (None: `virtual.mass_scaled_gains` for the character's mass). Foot: radius and COM height
+    (m), friction μ (the compensation's model, E30); ``soles``: the feet stand on their boxes, not
+    only on their heel and toe spheres (`foot_sole`)."""
 
     joint_gains: dict = field(default_factory=lambda: dict(BIPED_GAINS))
     damping_time: float = 0.1
@@ -84,8 +86,8 @@ class TrackerSettings:
 
 @dataclass
 class TrackingResult:
-    """Outcome of a tracking run; errors are RMS over control steps, torques mean magnitudes (N·m); foot skate of
-    the simulated motion (m, mean per stance) when the caller measured it."""
+    """Outcome of a tracking run; errors are RMS over control steps, torques mean magnitudes (N·m);
+    foot skate of the simulated motion (m, mean per stance) when the caller measured it."""
 
     duration_s: float
     fell: bool
@@ -118,7 +120,11 @@ class Tracker:
     """Closed-loop tracking of a Reference on a private copy of the world's model."""
 
     def __init__(
-        self, world: World, reference: Reference, robustness: float, settings: TrackerSettings = TrackerSettings()
+        self,
+        world: World,
+        reference: Reference,
+        robustness: float,
+        settings: TrackerSettings = TrackerSettings(),
     ):
         self.world, self.reference, self.settings = world, reference, settings
         self.model = model = copy.deepcopy(world.model)
@@ -128,7 +134,11 @@ class Tracker:
         mujoco.mj_forward(model, self.data)
         self.mass = float(model.body_subtreemass[world.root_body])
         self.foot = foot_model_for_robustness(
-            robustness, self.mass * GRAVITY, settings.foot_radius_m, settings.foot_com_height_m, settings.foot_friction
+            robustness,
+            self.mass * GRAVITY,
+            settings.foot_radius_m,
+            settings.foot_com_height_m,
+            settings.foot_friction,
         )
         joints = joint_layout(model, world.internal_qpos_joints)
         self._switch_springs_off()
@@ -144,18 +154,20 @@ class Tracker:
         )
         virtual = settings.virtual or mass_scaled_gains(self.mass)
         self.rig = balance_rig(world, model, k_s, k_d, self.foot, virtual, settings.tolerance)
-        model.dof_damping[self.rig.joint_dofs] = k_d[self.rig.joint_dofs]  # the PD's −k_d ω_a, integrated implicitly
+        # the PD's −k_d ω_a, integrated implicitly
+        model.dof_damping[self.rig.joint_dofs] = k_d[self.rig.joint_dofs]
         self.foot_body_set = set(self.rig.foot_bodies.values())
 
     def _switch_springs_off(self) -> None:
-        """The character's passive springs (joint stiffness and spring actuators) off: the PD holds the pose."""
+        """The character's passive springs (joint stiffness and spring actuators) off: the PD holds
+        the pose."""
         model = self.model
         model.jnt_stiffness[:] = 0.0
         for a in range(model.nu):
             if model.actuator(a).name.startswith("spring:"):
                 model.actuator_biasprm[a, :3] = 0.0
 
-    # ------------------------------------------------------------------------------------------ reference
+    # ------------------------------------------------------------------------------------ reference
 
     def _reference_at(self, t: float) -> dict[str, np.ndarray]:
         ref, rig = self.reference, self.rig
@@ -177,12 +189,15 @@ class Tracker:
                 "foot_height",
             )
         }
-        quats = ref.body_quat[j] * np.where(np.sum(ref.body_quat[i] * ref.body_quat[j], axis=1) < 0, -1.0, 1.0)[:, None]
+        quats = (
+            ref.body_quat[j]
+            * np.where(np.sum(ref.body_quat[i] * ref.body_quat[j], axis=1) < 0, -1.0, 1.0)[:, None]
+        )
         body_quat = (1 - a) * ref.body_quat[i] + a * quats
         body_quat /= np.linalg.norm(body_quat, axis=1, keepdims=True)
         return {"qpos": qpos, "body_quat": body_quat, **blend}
 
-    # ------------------------------------------------------------------------------------------- stepping
+    # ------------------------------------------------------------------------------------- stepping
 
     def _touches_floor_off_feet(self) -> bool:
         model, data, floor = self.model, self.data, self.rig.floor
@@ -190,7 +205,10 @@ class Tracker:
             c = data.contact[i]
             if floor in (c.geom1, c.geom2):
                 other = int(model.geom_bodyid[c.geom2 if c.geom1 == floor else c.geom1])
-                if other not in self.foot_body_set and self.model.body_parentid[other] not in self.foot_body_set:
+                if (
+                    other not in self.foot_body_set
+                    and self.model.body_parentid[other] not in self.foot_body_set
+                ):
                     return True
         return False
 
@@ -200,20 +218,24 @@ class Tracker:
         for push, body in zip(pushes, ids):
             if body < 0:
                 raise UserInputError(
-                    f"the push names body '{push.body}', which the character does not have.", field="push"
+                    f"the push names body '{push.body}', which the character does not have.",
+                    field="push",
                 )
         return ids
 
     def _apply_pushes(self, pushes: Sequence[BodyPush], bodies: list[int], t: float) -> None:
-        """Set the external forces (N, world) of the pushes active at time t (s); all others are zero."""
+        """Set the external forces (N, world) of the pushes active at time t (s); all others are
+        zero."""
         self.data.xfrc_applied[:, :3] = 0.0
         for push, body in zip(pushes, bodies):
             if push.time_s <= t < push.time_s + PUSH_DURATION:
                 self.data.xfrc_applied[body, :3] += push.force
 
-    def run(self, duration_s: float | None = None, pushes: Sequence[BodyPush] = ()) -> TrackingResult:
-        """Simulate from the reference's first frame for duration_s (default: the whole reference), with the
-        given pushes."""
+    def run(
+        self, duration_s: float | None = None, pushes: Sequence[BodyPush] = ()
+    ) -> TrackingResult:
+        """Simulate from the reference's first frame for duration_s (default: the whole reference),
+        with the given pushes."""
         model, data, ref = self.model, self.data, self.reference
         duration = ref.duration if duration_s is None else min(duration_s, ref.duration)
         data.qpos[:] = ref.qpos[0]
@@ -242,7 +264,8 @@ class Tracker:
             joint_err.append(quat_angle(data.qpos[ball], target["qpos"][ball]))
             com_err.append(np.linalg.norm(data.subtree_com[self.world.root_body] - reference_com))
             torques.append(command.artificial)
-            step(self.world, data, self.settings.control_every, model)  # a blow-up raises, naming time and body
+            # a blow-up raises, naming time and body
+            step(self.world, data, self.settings.control_every, model)
             com_z = data.subtree_com[self.world.root_body][2]
             up_z = self.world.root.up_z(data.qpos)
             if has_fallen(com_z, reference_com[2], up_z, self._touches_floor_off_feet()):
