@@ -6,14 +6,17 @@ import pytest
 
 from eigengait.control.balance.landing import EASE_S, LandingShift
 from eigengait.control.balance.stance_ankle import (
+    FLAT_TILT,
     FULL_LOAD,
     MAX_CORRECTION,
+    TIPPED_TILT,
+    flatness,
     heading_turn,
     levelled,
     stance_ankle_targets,
 )
 from eigengait.control.balance.virtual import VirtualGains, friction_bounded, mass_scaled_gains
-from eigengait.geometry import quat_angle, quat_conj, quat_exp, quat_mul
+from eigengait.geometry import quat_angle, quat_conj, quat_exp, quat_mul, quat_to_mat
 
 IDENTITY = np.array([1.0, 0.0, 0.0, 0.0])
 
@@ -90,3 +93,27 @@ def test_a_levelled_foot_keeps_its_heading_and_loses_its_tilt():
     foot = quat_mul(_rot([0, 0, 1], 30), _rot([0, 1, 0], 8))  # toe-out 30°, pitched 8°
     flat = levelled(foot, np.array([0.0, 0.0, 1.0]))
     assert np.degrees(quat_angle(flat, _rot([0, 0, 1], 30))) == pytest.approx(0.0, abs=1e-6)
+
+
+def test_flatness_is_one_on_a_flat_foot_and_zero_on_its_toe():
+    up = np.array([0.0, 0.0, 1.0])
+    assert flatness(_rot([0, 0, 1], 70), up) == pytest.approx(1.0)  # turned, not tilted
+    assert flatness(_rot([0, 1, 0], np.degrees(FLAT_TILT) - 1), up) == pytest.approx(1.0)
+    middle = np.degrees(FLAT_TILT + TIPPED_TILT) / 2  # halfway in tilt: half the correction
+    assert flatness(_rot([1, 0, 0], middle), up) == pytest.approx(0.5)
+    assert flatness(_rot([0, 1, 0], np.degrees(TIPPED_TILT) + 5), up) == 0.0
+    # the rest up axis is the foot's own: a foot whose rest pose is pitched 30° stands flat there
+    rest_up = quat_to_mat(quat_conj(_rot([0, 1, 0], 30))) @ up
+    assert flatness(_rot([0, 1, 0], 30), rest_up) == pytest.approx(1.0)
+
+
+def test_a_reference_foot_on_its_toe_keeps_its_own_ankle():
+    # Reference foot pitched 45° (push-off), the simulated one too, fully loaded: laid flat, the
+    # ankle would be turned MAX_CORRECTION off the reference's; weighted by flatness it is not.
+    foot = _rot([0, 1, 0], 45)
+    flat_foot = levelled(foot, np.array([0.0, 0.0, 1.0]))
+    args = ({"f": IDENTITY}, {"f": IDENTITY}, {"f": flat_foot}, {"f": foot}, {"f": 1.0})
+    unweighted = stance_ankle_targets(*args)
+    assert quat_angle(unweighted["f"], foot) == pytest.approx(MAX_CORRECTION, abs=1e-6)
+    toe = flatness(foot, np.array([0.0, 0.0, 1.0]))
+    np.testing.assert_allclose(stance_ankle_targets(*args, {"f": toe})["f"], foot, atol=1e-12)

@@ -8,7 +8,14 @@ import pytest
 
 from eigengait.character import load_character
 from eigengait.motion.bvh import read_bvh
-from eigengait.motion.foot_cleanup import MAX_CORRECTION_SPEED, clean_feet, foot_corrections
+from eigengait.motion.foot_cleanup import (
+    CLEARANCE_M,
+    MAX_CORRECTION_SPEED,
+    PACE_FRACTION,
+    clean_feet,
+    foot_corrections,
+    root_pace,
+)
 from eigengait.motion.foot_metrics import foot_report
 from eigengait.motion.lead_in import first_frame_after_lead_in
 from eigengait.motion.retarget import builtin_mapping, retarget
@@ -72,3 +79,40 @@ def test_holds_that_meet_are_joined_without_a_jump():
     assert len(holds) == 2
     steps = np.linalg.norm(np.diff(correction[:, :2], axis=0), axis=1)
     assert steps.max() <= MAX_CORRECTION_SPEED * frame_time + 1e-9
+
+
+def _runner_foot(frame_time: float) -> np.ndarray:
+    """Sole points (F, 2, 3) of a runner's foot: 0.25 s on the floor sliding at 1.1 m/s (a
+    retargeted stance), 0.3 s of swing 8 cm up at 4.4 m/s, 0.25 s on the floor again."""
+    n_stance, n_swing = int(round(0.25 / frame_time)), int(round(0.3 / frame_time))
+    speed = np.concatenate([np.full(n_stance, 1.1), np.full(n_swing, 4.4), np.full(n_stance, 1.1)])
+    x = np.cumsum(speed) * frame_time
+    z = np.concatenate([np.zeros(n_stance), np.full(n_swing, 0.08), np.zeros(n_stance)])
+    points = np.zeros((len(x), 2, 3))
+    points[:, 0, 0], points[:, 1, 0] = x, x + 0.18
+    points[..., 2] = z[:, None]
+    return points
+
+
+def test_a_runners_sliding_stance_is_found_at_its_pace():
+    # At 2.4 m/s the bound is PACE_FRACTION × 2.4 = 1.2 m/s: both sliding stances are found and
+    # held (not lifted as swing feet); with the walking bound (0.8 m/s) neither is, and the feet on
+    # the floor are lifted to the swing clearance.
+    frame_time = 1 / 120
+    points = _runner_foot(frame_time)
+    pace = np.full(len(points), 2.4)
+    assert PACE_FRACTION * 2.4 > 1.1
+    correction, holds = foot_corrections(points, frame_time, pace)
+    assert len(holds) == 2
+    assert holds[0][0] == 0 and holds[1][1] == len(points)
+    assert np.abs(correction[:, 2]).max() < 1e-9  # on the floor, nothing to lift
+    walking, none = foot_corrections(points, frame_time)
+    assert none == [] and walking[10, 2] == pytest.approx(CLEARANCE_M)
+
+
+def test_root_pace_is_the_roots_horizontal_speed(cleaned):
+    world, poses, _ = cleaned
+    qpos = np.tile(poses.qpos[0], (100, 1))
+    qpos[:, 0] = 1.5 * np.arange(100) * 0.01  # 1.5 m/s along x, 2 m/s up: not counted
+    qpos[:, 2] += 2.0 * np.arange(100) * 0.01
+    np.testing.assert_allclose(root_pace(world, qpos, 0.01), 1.5, rtol=1e-9)

@@ -11,7 +11,7 @@ samples the reference, applies the result and steps the physics.
 1. joint PD: τ_pd = k_s e + k_d ω_d (`pd.pd_torques` for balls, `pd.hinge_pd_torques` for hinges,
    with ω_a = 0): the −k_d ω_a term is the joint damping, which MuJoCo integrates implicitly
    (the caller sets `dof_damping` = k_d and switches the passive springs off); a loaded foot's ankle
-   targets the shin's world tilt (`stance_ankle`);
+   targets the shin's world tilt (`stance_ankle`) where the reference foot stands about flat;
 2. stance feet = feet touching the floor; their normal forces weight the balance torques of each
    foot-rooted Jacobian (`momentum.momentum_jacobian`; double support blends the two roots; flight
    has no balance torque);
@@ -39,7 +39,12 @@ from eigengait.control.balance.momentum import (
     momentum_jacobian,
 )
 from eigengait.control.balance.pd import hinge_pd_torques, pd_torques
-from eigengait.control.balance.stance_ankle import heading_turn, levelled, stance_ankle_targets
+from eigengait.control.balance.stance_ankle import (
+    flatness,
+    heading_turn,
+    levelled,
+    stance_ankle_targets,
+)
 from eigengait.control.balance.support import carried_torque
 from eigengait.control.balance.virtual import (
     VirtualGains,
@@ -279,7 +284,8 @@ def pd_target(
 ) -> np.ndarray:
     """The PD's target qpos: the reference's, with the loaded feet's ankles tracking the shins'
     world orientation (`stance_ankle`; the reference's turned about the vertical to the character's
-    heading); the reference's own when it has no body orientations."""
+    heading) as far as the reference foot stands flat; the reference's own when it has no body
+    orientations."""
     qpos = target["qpos"]
     if target.get("body_quat") is None or not rig.foot_ball_qpos:
         return qpos
@@ -293,6 +299,7 @@ def pd_target(
         {f: levelled(data.xquat[rig.foot_bodies[f]], rig.foot_rest_up[f]) for f in feet},
         {f: qpos[a : a + 4] for f, a in feet.items()},
         {f: float(contacts[f][:, 3].sum()) / (rig.mass * GRAVITY) for f in feet},
+        {f: flatness(target["body_quat"][rig.foot_bodies[f]], rig.foot_rest_up[f]) for f in feet},
     )
     for f, adr in feet.items():
         qpos[adr : adr + 4] = ankles[f]

@@ -18,6 +18,13 @@ difference between the two pelvises' headings, so a character walking a few degr
 reference's course is not asked to lean sideways. The correction is bounded to MAX_CORRECTION, and
 the target is blended from the reference's own ankle rotation to it as the foot's normal force grows
 to FULL_LOAD of the body weight.
+
+Only a reference foot standing about flat is laid flat: one pitched well off level stands on its
+heel or toe on purpose (a heel strike, a push-off, a runner's forefoot stance), and laying it flat
+would undo the motion (measured on the CMU run: the push-off ankle held 15° short of the
+reference's, the body sank 4 cm and the next swing foot struck the floor). The blend is further
+weighted by `flatness`: 1 while the reference foot's tilt from its standing orientation is at most
+FLAT_TILT, falling linearly to 0 at TIPPED_TILT.
 """
 
 from __future__ import annotations
@@ -37,6 +44,8 @@ from eigengait.geometry import (
 # share of the body weight from which a foot's ankle fully tracks the leg's world orientation
 FULL_LOAD = 0.25
 MAX_CORRECTION = np.radians(15.0)  # largest departure of an ankle target from the reference's (rad)
+FLAT_TILT = np.radians(20.0)  # reference foot tilt (rad) up to which it counts as standing flat
+TIPPED_TILT = np.radians(40.0)  # tilt (rad) from which it stands on its heel or toe: no correction
 UP = np.array([0.0, 0.0, 1.0])
 
 
@@ -46,6 +55,15 @@ def levelled(foot_quat: np.ndarray, rest_up: np.ndarray) -> np.ndarray:
     flat, heading kept."""
     tilt = min_arc(quat_to_mat(foot_quat) @ rest_up, UP)
     return quat_mul(mat_to_quat(tilt), foot_quat)
+
+
+def flatness(foot_quat: np.ndarray, rest_up: np.ndarray) -> float:
+    """How flat a foot orientation (unit quaternion, world) stands, in [0, 1]: 1 while its rest up
+    axis `rest_up` (foot frame) is within FLAT_TILT of the world vertical, 0 from TIPPED_TILT,
+    linear in the tilt angle between."""
+    cos_tilt = float(np.clip((quat_to_mat(foot_quat) @ rest_up) @ UP, -1.0, 1.0))
+    tilt = float(np.arccos(cos_tilt))
+    return float(np.clip((TIPPED_TILT - tilt) / (TIPPED_TILT - FLAT_TILT), 0.0, 1.0))
 
 
 def heading_turn(quat_from: np.ndarray, quat_to: np.ndarray) -> np.ndarray:
@@ -72,14 +90,16 @@ def stance_ankle_targets(
     foot_quat: dict[str, np.ndarray],
     ankle_ref: dict[str, np.ndarray],
     load: dict[str, float],
+    flat: dict[str, float] | None = None,
 ) -> dict[str, np.ndarray]:
     """Ankle target rotations (unit quaternions, w x y z) per foot from the foot body's fixed frame
     in its parent `body_quat[foot]`, the parent's reference world orientation, the foot's actual
-    world orientation, the reference's ankle rotation and the foot's load (normal force over body
-    weight)."""
+    world orientation (laid flat, `levelled`), the reference's ankle rotation, the foot's load
+    (normal force over body weight) and the reference foot's `flatness` (default 1)."""
     out = {}
     for foot, ref in ankle_ref.items():
         weight = float(np.clip(load.get(foot, 0.0) / FULL_LOAD, 0.0, 1.0))
+        weight *= 1.0 if flat is None else float(flat.get(foot, 1.0))
         if weight == 0.0:
             out[foot] = ref
             continue
