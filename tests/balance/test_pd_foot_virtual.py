@@ -110,7 +110,7 @@ def test_virtual_force_compensates_gravity_and_pulls_toward_reference():
     np.testing.assert_allclose(f[:2], [-100.0, 0.0])
     # Feed-forward: the reference's momentum rate m·a_ref is added (scaled by `feedforward`).
     acc = np.array([2.0, 0.0, -1.0])
-    f0 = virtual_force(
+    at_rest = (
         np.zeros(3),
         np.zeros(3),
         np.zeros(2),
@@ -119,20 +119,9 @@ def test_virtual_force_compensates_gravity_and_pulls_toward_reference():
         np.zeros(2),
         70.0,
         9.81,
-        gains,
     )
-    f1 = virtual_force(
-        np.zeros(3),
-        np.zeros(3),
-        np.zeros(2),
-        np.zeros(3),
-        np.zeros(3),
-        np.zeros(2),
-        70.0,
-        9.81,
-        gains,
-        acc,
-    )
+    f0 = virtual_force(*at_rest, gains)
+    f1 = virtual_force(*at_rest, gains, acc)
     np.testing.assert_allclose(f1 - f0, 70.0 * acc)
     off = VirtualGains(k_fs=100, k_fd=10, k_P=0, k_ts=0, k_td=0, k_ma=0, feedforward=0.0)
     np.testing.assert_allclose(
