@@ -12,6 +12,7 @@ from eigengait.control.balance.controller import (
     foot_contacts,
     pd_target,
     pd_torque,
+    plant_torque,
     press_torque,
     stance_forces,
 )
@@ -59,9 +60,10 @@ def test_the_command_is_the_pd_plus_the_balance_on_the_stance_feet(standing):
     command = balance_torque(model, data, rig, target)
     tau_eq, feet, magnitude = equilibrium_torque(model, data, rig, target, contacts)
     tau_pd = pd_torque(data, rig, {**target, "qpos": pd_target(model, data, rig, target, contacts)})
-    np.testing.assert_array_equal(
-        command.torque, tau_pd + tau_eq + press_torque(model, data, rig, target, contacts)
-    )
+    press = press_torque(model, data, rig, target, contacts)
+    plant = plant_torque(model, data, rig, target, contacts)
+    np.testing.assert_array_equal(command.torque, tau_pd + tau_eq + press + plant)
+    assert not plant.any()  # both feet carry their share of the weight
     assert not command.airborne
     assert (
         magnitude == pytest.approx(sum(np.linalg.norm(t) for t in feet.values())) and magnitude > 0
@@ -91,7 +93,9 @@ def test_in_flight_there_is_no_balance_torque_and_the_legs_reach_for_the_floor(s
     # the PD toward the reference's own pose, and the feet that the reference has on the floor
     # pressed down
     press = press_torque(model, data, rig, target, foot_contacts(model, data, rig))
-    np.testing.assert_array_equal(command.torque, pd_torque(data, rig, target) + press)
+    plant = plant_torque(model, data, rig, target, foot_contacts(model, data, rig))
+    np.testing.assert_array_equal(command.torque, pd_torque(data, rig, target) + press + plant)
+    assert not plant.any()  # a metre up: the feet are not near the floor
     # legs only
     assert np.abs(press[rig.leg_dofs["left"]]).max() > 0 and not press[rig.ball_dof[0]].any()
 

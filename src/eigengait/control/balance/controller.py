@@ -21,7 +21,8 @@ samples the reference, applies the result and steps the physics.
    on that foot, the artificial torque, and what remains of it is taken off the ankle (it would tip
    the foot); if the cancelled fraction is below `tolerance` the balance torques are switched off;
 5. feet that the reference has on the floor but that carry less than their share are pressed down
-   (`double_support.py`).
+   (`double_support.py`), and those of them still carrying little load are held from sliding
+   (`planting.py`).
 """
 
 from __future__ import annotations
@@ -39,6 +40,7 @@ from eigengait.control.balance.momentum import (
     momentum_jacobian,
 )
 from eigengait.control.balance.pd import hinge_pd_torques, pd_torques
+from eigengait.control.balance.planting import planting_torque
 from eigengait.control.balance.stance_ankle import (
     flatness,
     heading_turn,
@@ -409,7 +411,10 @@ def balance_torque(
     tau_eq, foot_torques, artificial = equilibrium_torque(model, data, rig, target, contacts)
     airborne = not any(len(c) for c in contacts.values())
     return BalanceCommand(
-        tau_pd + tau_eq + press_torque(model, data, rig, target, contacts),
+        tau_pd
+        + tau_eq
+        + press_torque(model, data, rig, target, contacts)
+        + plant_torque(model, data, rig, target, contacts),
         foot_torques,
         artificial,
         airborne,
@@ -442,6 +447,31 @@ def press_torque(
     return tau
 
 
+def plant_torque(
+    model: mujoco.MjModel,
+    data: mujoco.MjData,
+    rig: BalanceRig,
+    target: dict[str, np.ndarray],
+    contacts: dict[str, np.ndarray],
+) -> np.ndarray:
+    """Leg torques (nv) stopping the slide of lightly loaded feet that the reference has down
+    (`planting`); zero when the target has no foot heights."""
+    if target.get("foot_height") is None:
+        return np.zeros(model.nv)
+    normals = {f: float(c[:, 3].sum()) for f, c in contacts.items()}
+    return planting_torque(
+        model,
+        data,
+        target["foot_height"],
+        normals,
+        rig.foot_bodies,
+        rig.foot_spheres,
+        rig.leg_dofs,
+        rig.mass,
+        GRAVITY,
+    )
+
+
 def apply_foot_torques(data: mujoco.MjData, rig: BalanceRig, command: BalanceCommand) -> None:
     """Put the command's artificial torques on the feet (`xfrc_applied`, torque part); other feet
     get none."""
@@ -461,6 +491,7 @@ __all__ = [
     "joint_gains",
     "joint_layout",
     "pd_target",
+    "plant_torque",
     "press_torque",
     "pd_torque",
     "stance_forces",

@@ -1,0 +1,65 @@
+"""Planting: a foot the reference has put down stops sliding before it takes the load.
+
+Tracked walks skated 11-17 cm per stance (docs/balance.md) although the cleaned reference's feet
+stand still (0.4 cm). Most of it happened while the foot was not yet, or no longer, loaded: the
+swing foot reaches the floor a little late, its heel skims the floor for 0.1 s still moving forward
+at 0.3-0.5 m/s, and at push-off the toe is dragged forward before it lifts. Friction cannot stop a
+foot that carries no weight, and the joint PD tracks angles, not where the foot is on the floor.
+
+For each foot that the reference has on the floor (its lowest sole point within CONTACT_M) and that
+is itself within CONTACT_M of it while it carries less than LIGHT_LOAD of the body weight, the
+leg's joints get τ = J_footᵀ (−D v_xy, 0): a horizontal damping force at the centre of the foot's
+contact spheres, D = DAMPING_PER_KG × body mass (on a leg of about a sixth of the body, a time
+constant of about 17 ms), J_foot that point's translational Jacobian on the leg's own joints
+(pelvis-rooted, as `double_support` presses a foot down). Loaded feet are left to friction: pulling
+them through the leg would push the pelvis instead (measured: applying it at every load doubled
+the joint error of the 07_06 walk). So are feet still in the air: a late landing foot pulled back
+through the leg pitches the body (measured: the forward jump fell on landing).
+"""
+
+from __future__ import annotations
+
+import mujoco
+import numpy as np
+
+from eigengait.control.balance.double_support import CONTACT_M
+
+DAMPING_PER_KG = 10.0  # N·s/m per kg of body mass
+LIGHT_LOAD = 0.25  # share of the body weight below which a foot is damped
+
+
+def sliding_force(velocity: np.ndarray, damping: float) -> np.ndarray:
+    """World force (3,) N opposing a foot point's horizontal velocity (3,) m/s; no vertical part."""
+    return np.array([-damping * velocity[0], -damping * velocity[1], 0.0])
+
+
+def planting_torque(
+    model: mujoco.MjModel,
+    data: mujoco.MjData,
+    foot_heights: np.ndarray,
+    normals: dict[str, float],
+    foot_bodies: dict[str, int],
+    foot_spheres: dict[str, list[int]],
+    leg_dofs: dict[str, list[int]],
+    mass: float,
+    gravity: float,
+) -> np.ndarray:
+    """Leg torques (nv, N·m) damping the horizontal slide of the feet (in `foot_bodies` order, as
+    `foot_heights`, the reference's lowest sole heights, m) that the reference has down, whose
+    contact spheres reach within CONTACT_M of the floor (z = 0) and that carry (`normals`, N) less
+    than LIGHT_LOAD of the weight `mass` × `gravity`."""
+    tau = np.zeros(model.nv)
+    jacp = np.zeros((3, model.nv))
+    damping = DAMPING_PER_KG * mass
+    for foot, height in zip(foot_bodies, foot_heights):
+        if height > CONTACT_M or normals[foot] >= LIGHT_LOAD * mass * gravity:
+            continue
+        spheres = foot_spheres[foot]
+        lowest = float(np.min(data.geom_xpos[spheres, 2] - model.geom_size[spheres, 0]))
+        if lowest > CONTACT_M:
+            continue
+        point = data.geom_xpos[spheres].mean(axis=0)
+        mujoco.mj_jac(model, data, jacp, None, point, foot_bodies[foot])
+        chain = leg_dofs[foot]
+        tau[chain] += jacp[:, chain].T @ sliding_force(jacp @ data.qvel, damping)
+    return tau
