@@ -11,6 +11,7 @@ from eigengait.control.balance.planting import (
     LIGHT_LOAD,
     planting_torque,
     sliding_force,
+    transition_windows,
 )
 from eigengait.control.balance.standing import standing_reference
 from eigengait.control.balance.tracker import Tracker
@@ -28,12 +29,12 @@ def walker():
     return model, data, rig
 
 
-def _torque(walker, heights, normals):
+def _torque(walker, planting, normals):
     model, data, rig = walker
     return planting_torque(
         model,
         data,
-        np.asarray(heights),
+        np.asarray(planting),
         normals,
         rig.foot_bodies,
         rig.foot_spheres,
@@ -50,7 +51,7 @@ def test_the_sliding_force_opposes_the_horizontal_velocity_only():
 def test_an_unloaded_planted_foot_is_damped_as_a_point_force_on_its_leg(walker):
     model, data, rig = walker
     feet = list(rig.foot_bodies)
-    tau = _torque(walker, [0.0, 0.0], {f: 0.0 for f in feet})
+    tau = _torque(walker, [True, True], {f: 0.0 for f in feet})
     for foot in feet:
         spheres = rig.foot_spheres[foot]
         point = data.geom_xpos[spheres].mean(axis=0)
@@ -64,13 +65,13 @@ def test_an_unloaded_planted_foot_is_damped_as_a_point_force_on_its_leg(walker):
     assert not np.delete(tau, legs).any()  # nothing on the root or the upper body
 
 
-def test_loaded_lifted_or_reference_swing_feet_are_left_alone(walker):
+def test_loaded_lifted_or_mid_stance_feet_are_left_alone(walker):
     _, data, rig = walker
     left, right = rig.foot_bodies
     weight = rig.mass * GRAVITY
-    loaded = _torque(walker, [0.0, 0.0], {left: LIGHT_LOAD * weight, right: weight})
-    swinging = _torque(walker, [0.05, 0.03], {left: 0.0, right: 0.0})
-    assert not loaded.any() and not swinging.any()
+    loaded = _torque(walker, [True, True], {left: LIGHT_LOAD * weight, right: weight})
+    outside = _torque(walker, [False, False], {left: 0.0, right: 0.0})
+    assert not loaded.any() and not outside.any()
     # the simulated foot 5 cm up while the reference has it down: not damped either
     lifted_data = mujoco.MjData(walker[0])
     lifted_data.qpos[:] = data.qpos
@@ -80,7 +81,7 @@ def test_loaded_lifted_or_reference_swing_feet_are_left_alone(walker):
     lifted = planting_torque(
         walker[0],
         lifted_data,
-        np.zeros(2),
+        np.array([True, True]),
         {left: 0.0, right: 0.0},
         rig.foot_bodies,
         rig.foot_spheres,
@@ -89,3 +90,13 @@ def test_loaded_lifted_or_reference_swing_feet_are_left_alone(walker):
         GRAVITY,
     )
     assert not lifted.any()
+
+
+def test_windows_surround_touchdowns_and_lift_offs_of_a_down_foot():
+    # 100 frames at 0.01 s: foot 0 in the air until frame 30, down to frame 70, then up; foot 1
+    # down throughout (a standing foot has no transition)
+    heights = np.zeros((100, 2))
+    heights[:30, 0] = heights[70:, 0] = 0.1
+    windows = transition_windows(heights, 0.01, window_s=0.05)
+    np.testing.assert_array_equal(np.flatnonzero(windows[:, 0]), [*range(30, 35), *range(65, 70)])
+    assert not windows[:, 1].any()

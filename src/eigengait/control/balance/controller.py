@@ -455,14 +455,14 @@ def plant_torque(
     contacts: dict[str, np.ndarray],
 ) -> np.ndarray:
     """Leg torques (nv) stopping the slide of lightly loaded feet that the reference has down
-    (`planting`); zero when the target has no foot heights."""
-    if target.get("foot_height") is None:
+    (`planting`); zero when the target has no foot transitions."""
+    if target.get("foot_transition") is None:
         return np.zeros(model.nv)
     normals = {f: float(c[:, 3].sum()) for f, c in contacts.items()}
     return planting_torque(
         model,
         data,
-        target["foot_height"],
+        target["foot_transition"] > 0.5,
         normals,
         rig.foot_bodies,
         rig.foot_spheres,

@@ -19,6 +19,7 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
+from eigengait.control.balance.planting import transition_windows
 from eigengait.sim.world import World
 
 CONTACT_HEIGHT = 0.05  # m
@@ -44,12 +45,17 @@ class Reference:
     # (F, n_feet, 2) m, horizontal centre of each foot's contact spheres
     foot_points: np.ndarray | None = None
     foot_height: np.ndarray | None = None  # (F, n_feet) m, height of each foot's lowest sole point
+    # (F, n_feet) 1.0 where a foot is down near its touchdown or lift-off (`planting`), else 0.0
+    foot_transition: np.ndarray | None = None
 
     def __post_init__(self):
         if self.com_acc is None:
             self.com_acc = _rate(self.com_vel, self.frame_time)
         if self.angular_momentum_rate is None:
             self.angular_momentum_rate = _rate(self.angular_momentum, self.frame_time)
+        if self.foot_transition is None and self.foot_height is not None:
+            windows = transition_windows(self.foot_height, self.frame_time)
+            self.foot_transition = windows.astype(float)
 
     @property
     def n_frames(self) -> int:

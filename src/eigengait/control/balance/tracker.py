@@ -187,6 +187,7 @@ class Tracker:
                 "angular_momentum_rate",
                 "foot_points",
                 "foot_height",
+                "foot_transition",
             )
         }
         quats = (
