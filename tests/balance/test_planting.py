@@ -35,6 +35,7 @@ def _torque(walker, planting, normals):
         model,
         data,
         np.asarray(planting),
+        np.zeros((2, 2)),
         normals,
         rig.foot_bodies,
         rig.foot_spheres,
@@ -45,7 +46,8 @@ def _torque(walker, planting, normals):
 
 
 def test_the_sliding_force_opposes_the_horizontal_velocity_only():
-    np.testing.assert_allclose(sliding_force(np.array([0.4, -0.1, 2.0]), 700.0), [-280, 70, 0])
+    force = sliding_force(np.array([0.4, -0.1, 2.0]), np.array([0.1, 0.0]), 700.0)
+    np.testing.assert_allclose(force, [-210, 70, 0])
 
 
 def test_an_unloaded_planted_foot_is_damped_as_a_point_force_on_its_leg(walker):
@@ -82,6 +84,7 @@ def test_loaded_lifted_or_mid_stance_feet_are_left_alone(walker):
         walker[0],
         lifted_data,
         np.array([True, True]),
+        np.zeros((2, 2)),
         {left: 0.0, right: 0.0},
         rig.foot_bodies,
         rig.foot_spheres,

@@ -463,6 +463,7 @@ def plant_torque(
         model,
         data,
         target["foot_transition"] > 0.5,
+        target["foot_velocity"],
         normals,
         rig.foot_bodies,
         rig.foot_spheres,

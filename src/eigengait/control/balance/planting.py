@@ -9,15 +9,18 @@ foot that carries no weight, and the joint PD tracks angles, not where the foot 
 For each foot that the reference has on the floor (its lowest sole point within CONTACT_M) within
 TRANSITION_S of its touchdown or lift-off (`transition_windows`), and that is itself within
 CONTACT_M of the floor while it carries less than LIGHT_LOAD of the body weight, the leg's joints
-get τ = J_footᵀ (−D v_xy, 0): a horizontal damping force at the centre of the foot's
-contact spheres, D = DAMPING_PER_KG × body mass (on a leg of about a sixth of the body, a time
-constant of about 17 ms), J_foot that point's translational Jacobian on the leg's own joints
-(pelvis-rooted, as `double_support` presses a foot down). Loaded feet are left to friction: pulling
-them through the leg would push the pelvis instead (measured: applying it at every load doubled
-the joint error of the 07_06 walk). So are feet still in the air: a late landing foot pulled back
-through the leg pitches the body (measured: the forward jump fell on landing). And so are feet in
-the middle of a stance: standing after a sideways push, the unloaded foot damped through the leg
-pushed the body about (COM error 1.5 -> 5.7 cm RMS, skate 3.0 -> 6.6 cm), with the window none.
+get τ = J_footᵀ (−D (v_xy − v_ref), 0): a horizontal damping force toward the reference foot's own
+velocity v_ref (zero for a cleaned reference's planted foot; a `--raw-feet` reference's feet slide,
+and damping them to rest pulled the body 6 cm off such a walk's COM in its first second), at the
+centre of the foot's contact spheres, D = DAMPING_PER_KG × body mass (on a leg of about a sixth of
+the body, a time constant of about 17 ms), J_foot that point's translational Jacobian on the leg's
+own joints (pelvis-rooted, as `double_support` presses a foot down). Loaded feet are left to
+friction: pulling them through the leg would push the pelvis instead (measured: applying it at every
+load doubled the joint error of the 07_06 walk). So are feet still in the air: a late landing foot
+pulled back through the leg pitches the body (measured: the forward jump fell on landing). And so
+are feet in the middle of a stance: standing after a sideways push, the unloaded foot damped through
+the leg pushed the body about (COM error 1.5 -> 5.7 cm RMS, skate 3.0 -> 6.6 cm), with the window
+none.
 """
 
 from __future__ import annotations
@@ -47,15 +50,19 @@ def transition_windows(
     return near & down
 
 
-def sliding_force(velocity: np.ndarray, damping: float) -> np.ndarray:
-    """World force (3,) N opposing a foot point's horizontal velocity (3,) m/s; no vertical part."""
-    return np.array([-damping * velocity[0], -damping * velocity[1], 0.0])
+def sliding_force(velocity: np.ndarray, reference: np.ndarray, damping: float) -> np.ndarray:
+    """World force (3,) N opposing a foot point's horizontal velocity (3,) m/s relative to the
+    reference foot's (2,) m/s; no vertical part."""
+    return np.array(
+        [-damping * (velocity[0] - reference[0]), -damping * (velocity[1] - reference[1]), 0.0]
+    )
 
 
 def planting_torque(
     model: mujoco.MjModel,
     data: mujoco.MjData,
     planting: np.ndarray,
+    reference_velocity: np.ndarray,
     normals: dict[str, float],
     foot_bodies: dict[str, int],
     foot_spheres: dict[str, list[int]],
@@ -65,12 +72,13 @@ def planting_torque(
 ) -> np.ndarray:
     """Leg torques (nv, N·m) damping the horizontal slide of the feet (in `foot_bodies` order, as
     `planting`, the reference's `transition_windows` at this instant, bool) that are being planted
-    or lifted, whose contact spheres reach within CONTACT_M of the floor (z = 0) and that carry
+    or lifted, toward the reference feet's horizontal velocities (`reference_velocity`, n_feet × 2,
+    m/s), whose contact spheres reach within CONTACT_M of the floor (z = 0) and that carry
     (`normals`, N) less than LIGHT_LOAD of the weight `mass` × `gravity`."""
     tau = np.zeros(model.nv)
     jacp = np.zeros((3, model.nv))
     damping = DAMPING_PER_KG * mass
-    for foot, planted in zip(foot_bodies, planting):
+    for foot, planted, v_ref in zip(foot_bodies, planting, reference_velocity):
         if not planted or normals[foot] >= LIGHT_LOAD * mass * gravity:
             continue
         spheres = foot_spheres[foot]
@@ -80,5 +88,5 @@ def planting_torque(
         point = data.geom_xpos[spheres].mean(axis=0)
         mujoco.mj_jac(model, data, jacp, None, point, foot_bodies[foot])
         chain = leg_dofs[foot]
-        tau[chain] += jacp[:, chain].T @ sliding_force(jacp @ data.qvel, damping)
+        tau[chain] += jacp[:, chain].T @ sliding_force(jacp @ data.qvel, v_ref, damping)
     return tau

@@ -47,6 +47,8 @@ class Reference:
     foot_height: np.ndarray | None = None  # (F, n_feet) m, height of each foot's lowest sole point
     # (F, n_feet) 1.0 where a foot is down near its touchdown or lift-off (`planting`), else 0.0
     foot_transition: np.ndarray | None = None
+    # (F, n_feet, 2) m/s, horizontal velocity of each foot's sole centre (`foot_points`' rate)
+    foot_velocity: np.ndarray | None = None
 
     def __post_init__(self):
         if self.com_acc is None:
@@ -56,6 +58,8 @@ class Reference:
         if self.foot_transition is None and self.foot_height is not None:
             windows = transition_windows(self.foot_height, self.frame_time)
             self.foot_transition = windows.astype(float)
+        if self.foot_velocity is None and self.foot_points is not None:
+            self.foot_velocity = _rate(self.foot_points, self.frame_time)
 
     @property
     def n_frames(self) -> int:

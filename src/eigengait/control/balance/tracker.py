@@ -188,6 +188,7 @@ class Tracker:
                 "foot_points",
                 "foot_height",
                 "foot_transition",
+                "foot_velocity",
             )
         }
         quats = (
