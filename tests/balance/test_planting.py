@@ -29,8 +29,10 @@ def walker():
     return model, data, rig
 
 
-def _torque(walker, planting, normals):
-    model, data, rig = walker
+def _torque(walker, planting, normals, data=None):
+    """`planting_torque` on the walker's state (or `data`), the reference feet at rest."""
+    model, walker_data, rig = walker
+    data = walker_data if data is None else data
     return planting_torque(
         model,
         data,
@@ -80,18 +82,7 @@ def test_loaded_lifted_or_mid_stance_feet_are_left_alone(walker):
     lifted_data.qvel[:] = data.qvel
     lifted_data.qpos[rig.root_qpos + 2] += 0.05
     mujoco.mj_forward(walker[0], lifted_data)
-    lifted = planting_torque(
-        walker[0],
-        lifted_data,
-        np.array([True, True]),
-        np.zeros((2, 2)),
-        {left: 0.0, right: 0.0},
-        rig.foot_bodies,
-        rig.foot_spheres,
-        rig.leg_dofs,
-        rig.mass,
-        GRAVITY,
-    )
+    lifted = _torque(walker, [True, True], {left: 0.0, right: 0.0}, lifted_data)
     assert not lifted.any()
 
 

@@ -245,9 +245,14 @@ def foot_contacts(
     return {f: np.array(rows).reshape(-1, 4) for f, rows in found.items()}
 
 
+def normal_forces(contacts: dict[str, np.ndarray]) -> dict[str, float]:
+    """Per foot, the total normal force (N) of its `foot_contacts`."""
+    return {f: float(c[:, 3].sum()) for f, c in contacts.items()}
+
+
 def stance_forces(model: mujoco.MjModel, data: mujoco.MjData, rig: BalanceRig) -> dict[str, float]:
     """Normal contact force (N) between the floor and each foot body."""
-    return {f: float(c[:, 3].sum()) for f, c in foot_contacts(model, data, rig).items()}
+    return normal_forces(foot_contacts(model, data, rig))
 
 
 def pd_torque(data: mujoco.MjData, rig: BalanceRig, target: dict[str, np.ndarray]) -> np.ndarray:
@@ -295,12 +300,13 @@ def pd_target(
     feet = rig.foot_ball_qpos
     parents = {f: int(model.body_parentid[rig.foot_bodies[f]]) for f in feet}
     turn = heading_turn(target["body_quat"][rig.root_body], data.xquat[rig.root_body])
+    normals = normal_forces(contacts)
     ankles = stance_ankle_targets(
         {f: model.body_quat[rig.foot_bodies[f]] for f in feet},
         {f: quat_mul(turn, target["body_quat"][p]) for f, p in parents.items()},
         {f: levelled(data.xquat[rig.foot_bodies[f]], rig.foot_rest_up[f]) for f in feet},
         {f: qpos[a : a + 4] for f, a in feet.items()},
-        {f: float(contacts[f][:, 3].sum()) / (rig.mass * GRAVITY) for f in feet},
+        {f: normals[f] / (rig.mass * GRAVITY) for f in feet},
         {f: flatness(target["body_quat"][rig.foot_bodies[f]], rig.foot_rest_up[f]) for f in feet},
     )
     for f, adr in feet.items():
@@ -320,7 +326,7 @@ def equilibrium_torque(
     `foot_contacts`."""
     root = rig.root_body
     tau = np.zeros(model.nv)
-    forces = {f: float(c[:, 3].sum()) for f, c in contacts.items()}
+    forces = normal_forces(contacts)
     stance = {f: n for f, n in forces.items() if n > 1e-6}
     if not stance:
         return tau, {}, 0.0
@@ -436,7 +442,7 @@ def press_torque(
     feet = list(rig.foot_bodies)
     shares = load_shares(target["com"], target["foot_points"], target["foot_height"])
     jacp = np.zeros((3, model.nv))
-    normals = {f: float(c[:, 3].sum()) for f, c in contacts.items()}
+    normals = normal_forces(contacts)
     load = max(rig.mass * GRAVITY, sum(normals.values()))
     for foot, share in zip(feet, shares):
         force = pressing_force(share, load, normals[foot])
@@ -458,7 +464,7 @@ def plant_torque(
     (`planting`); zero when the target has no foot transitions."""
     if target.get("foot_transition") is None:
         return np.zeros(model.nv)
-    normals = {f: float(c[:, 3].sum()) for f, c in contacts.items()}
+    normals = normal_forces(contacts)
     return planting_torque(
         model,
         data,
