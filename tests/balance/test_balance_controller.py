@@ -81,6 +81,25 @@ def test_the_command_is_the_pd_plus_the_balance_on_the_stance_feet(standing):
     assert np.abs(expected).max() > 0
 
 
+def test_a_foot_carries_the_support_asked_of_it_not_a_larger_measured_force(standing):
+    """With the COM target 15 cm ahead the feet cannot carry the balance torque: part of it is
+    cancelled by the artificial torque. Measured normal forces 3 or 30 times the standing ones (an
+    ankle pressing one edge of the foot into the floor raises them) change nothing: the torque a
+    foot carries is bounded by the vertical support the balance asks of it."""
+    tracker, target = standing
+    model, data, rig = tracker.model, tracker.data, tracker.rig
+    ahead = {**target, "com": target["com"] + np.array([0.15, 0.0, 0.0])}
+    contacts = foot_contacts(model, data, rig)
+    results = []
+    for scale in (3.0, 30.0):
+        scaled = {f: c * np.array([1.0, 1.0, 1.0, scale]) for f, c in contacts.items()}
+        results.append(equilibrium_torque(model, data, rig, ahead, scaled))
+    (tau_a, feet_a, size_a), (tau_b, feet_b, size_b) = results
+    assert size_a > 1.0
+    assert size_b == pytest.approx(size_a, rel=1e-9)
+    np.testing.assert_allclose(tau_b, tau_a, atol=1e-9)
+
+
 def test_in_flight_there_is_no_balance_torque_and_the_legs_reach_for_the_floor(standing):
     tracker, target = standing
     model, rig = tracker.model, tracker.rig
