@@ -38,9 +38,8 @@ def cleaned():
 
 
 def test_cleaned_skate_is_a_fraction_of_the_raw_one(cleaned):
-    # Measured: raw 0.298 m per stance, cleaned 0.069 m (the grounded reference keeps its feet
-    # within 2 cm of the floor for longer than before grounding, when it measured 0.079 and
-    # 0.006 m).
+    # Measured: raw 0.298 m per stance, cleaned 0.024 m (0.069 m when a foot sliding mid-stance
+    # without leaving the floor was found as two stances back to back).
     world, poses, result = cleaned
     raw = foot_report(sole_points(world, poses.qpos), poses.frame_time)
     clean = foot_report(sole_points(world, result.qpos), poses.frame_time)
@@ -65,20 +64,37 @@ def test_only_the_legs_move(cleaned):
     assert np.abs(result.qpos[:, legs] - poses.qpos[:, legs]).max() > 0.01
 
 
-def test_holds_that_meet_are_joined_without_a_jump():
-    # A foot found as two stances back to back that ask for positions 0.2 m apart: the correction's
-    # step at the junction is bounded by MAX_CORRECTION_SPEED, inside the stances it follows the
-    # slip.
-    frame_time, n = 0.01, 200
+def _stand_move_stand(lift_m: float, frame_time: float = 0.01, n: int = 200) -> np.ndarray:
+    """Sole points (n, 2, 3) of a foot that stands, moves 0.2 m forward in 0.2 s (1 m/s: faster
+    than a stance) with its sole `lift_m` up at the middle of the move, and stands again."""
     points = np.zeros((n, 2, 3))
     points[:, 1, 0] = 0.18
     slide = np.concatenate([np.zeros(60), np.linspace(0.0, 0.2, 20), np.full(n - 80, 0.2)])
-    # stands, slides 0.2 m in 0.2 s (1 m/s: not a stance), stands again
+    lift = np.zeros(n)
+    lift[60:80] = lift_m * np.sin(np.linspace(0.0, np.pi, 20))
     points[..., 0] += slide[:, None]
-    correction, holds = foot_corrections(points, frame_time)
+    points[..., 2] += lift[:, None]
+    return points
+
+
+def test_holds_that_meet_are_joined_without_a_jump():
+    # A shuffle step (the sole 3 cm up between two stances, found back to back) asks for positions
+    # 0.2 m apart: the correction's step at the junction is bounded by MAX_CORRECTION_SPEED.
+    frame_time = 0.01
+    correction, holds = foot_corrections(_stand_move_stand(0.03), frame_time)
     assert len(holds) == 2
     steps = np.linalg.norm(np.diff(correction[:, :2], axis=0), axis=1)
     assert steps.max() <= MAX_CORRECTION_SPEED * frame_time + 1e-9
+
+
+def test_a_foot_that_slides_without_leaving_the_floor_is_one_stance_held_still():
+    # The same move with the sole on the floor throughout (a retargeted foot sliding 0.2 m
+    # mid-stance): one stance, and the corrected sole stays where it stood at mid-stance.
+    points = _stand_move_stand(0.0)
+    correction, holds = foot_corrections(points, 0.01)
+    assert len(holds) == 1 and holds[0] == (0, len(points))
+    held = points[..., :2] + correction[:, None, :2]
+    np.testing.assert_allclose(held, np.broadcast_to(held[100], held.shape), atol=1e-9)
 
 
 def _runner_foot(frame_time: float) -> np.ndarray:

@@ -9,7 +9,11 @@ the reference.
    found; a swing foot passing low over the floor moves faster, at one to three times the body's
    pace). A retargeted runner's stance feet slide at up to 1.5 m/s at 2.2 m/s (CMU 16_36): with
    the walking bound alone two of its four stances were missed and then lifted as swing feet
-   (step 3), so that the reference ran on feet 5 cm above the floor.
+   (step 3), so that the reference ran on feet 5 cm above the floor. Two such runs between which
+   the foot's lowest sole point stays within TOUCH_M of the floor are one stance: a retargeted foot
+   sliding fast mid-stance without leaving the floor (CMU 07_06, 05_01) was otherwise found as two
+   stances back to back, each held where it stood at its own middle, and the bounded change
+   between them (step 4) left 10-16 cm of skate in a stance.
 2. Each stance is held from its start to its end, grown by up to EXTEND_S on each side while the
    foot stays within STANCE_M (touch-down and lift-off). Over the hold, the foot's slip is the
    cumulative horizontal displacement of its touching sole points (those within TOUCH_M of its
@@ -20,7 +24,7 @@ the reference.
    half the gap to the next hold). A swing foot lower than CLEARANCE_M is lifted to it, the lift
    growing over LIFT_S from the hold's edge, so a foot skimming the floor is not taken for a sliding
    stance.
-4. Where two holds of a foot meet (less than 2 BLEND_S apart: a foot pivoting in place is found as
+4. Where two holds of a foot meet (less than 2 BLEND_S apart: a low shuffle step is found as
    stances back to back), they may ask for different positions, and a jump between them would put a
    velocity spike of metres per second into the reference: within BLEND_S of such a junction the
    horizontal correction changes by at most MAX_CORRECTION_SPEED.
@@ -98,7 +102,7 @@ def _holds(
 ) -> list[tuple[int, int, int, int]]:
     """(hold start, core start, core end, hold end) per stance: the still core (speed at most
     `bound`, m/s, per frame or one value) grown while the foot stays low."""
-    cores = runs((low <= STANCE_M) & (speed <= bound), frame_time, MIN_STANCE_S)
+    cores = _joined(runs((low <= STANCE_M) & (speed <= bound), frame_time, MIN_STANCE_S), low)
     grow, out = int(round(EXTEND_S / frame_time)), []
     for k, (a, b) in enumerate(cores):
         first = out[-1][3] if out else 0
@@ -109,6 +113,19 @@ def _holds(
         while end < min(last, b + grow) and low[end] <= STANCE_M:
             end += 1
         out.append((start, a, b, end))
+    return out
+
+
+def _joined(cores: list[tuple[int, int]], low: np.ndarray) -> list[tuple[int, int]]:
+    """Still cores [start, end) with each pair between which the foot's lowest sole height `low`
+    (F,) m stays within TOUCH_M of the floor joined into one: a foot that never leaves the floor
+    is one stance, however fast its raw sole slides in between."""
+    out: list[tuple[int, int]] = []
+    for a, b in cores:
+        if out and low[out[-1][1] : a].max(initial=0.0) <= TOUCH_M:
+            out[-1] = (out[-1][0], b)
+        else:
+            out.append((a, b))
     return out
 
 
