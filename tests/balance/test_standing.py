@@ -66,6 +66,11 @@ def test_a_foot_model_of_no_size_cancels_no_horizontal_torque():
     sized = _balance(*pushed)
     assert sized["artificial_torque"] > 10.0
     assert out["artificial_torque"] < 0.1 * sized["artificial_torque"]
+    # standing still, unpushed, the no-size foot cancels nothing worth naming
+    still = _balance(
+        "--robustness", "0.5", "--foot-radius", "0", "--foot-height", "0", "--duration", "0.3"
+    )
+    assert still["artificial_torque_max"] < 1.0
 
 
 def test_a_huge_push_fells_the_character_soon_after_it():
