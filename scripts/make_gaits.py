@@ -120,6 +120,7 @@ def hardened(controller, folder: Path, minutes: float, seed: int):
         controller.name,
         lookahead=planner,
         sketch=controller.sketch,
+        timing=load_sketch(resolve("sketch", GAITS[controller.name])).timing,
     )
     out = load_controller(folder / "best_controller.json")
     # earlier hardening of the start included

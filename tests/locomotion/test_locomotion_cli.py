@@ -119,6 +119,16 @@ def test_controller_for_another_relax_pose_is_refused(tmp_path, eigengait_cli):
     bad.write_text(json.dumps(controller))
     result = eigengait_cli("play", bad, "--json")
     assert result.returncode == 2 and "was made for character" in result.stderr.replace("\n", "")
+    # the same character and pose whose model has changed since: said so, with the frequencies
+    controller = json.loads((run / "best_controller.json").read_text())
+    controller["air_frequencies_hz"] = [1.1 * f for f in controller["air_frequencies_hz"]]
+    changed = tmp_path / "changed.json"
+    changed.write_text(json.dumps(controller))
+    result = eigengait_cli("play", changed, "--json")
+    message = " ".join(result.stderr.split())
+    assert result.returncode == 2 and "have changed since" in message
+    shipped = ", ".join(f"{f:.2f}" for f in controller["air_frequencies_hz"][:3])
+    assert f"air modes at {shipped} Hz" in message
     (tmp_path / "broken.json").write_text("{ not json")
     result = eigengait_cli("play", tmp_path / "broken.json")
     assert result.returncode == 2 and "cannot parse" in result.stderr

@@ -10,6 +10,8 @@ from eigengait.control.closed_loop import PUSH_SECONDS
 from eigengait.control.binding import gait_system
 from eigengait.control.controller import load_controller, to_parameters
 from eigengait.control.library import resolve
+from eigengait.control.sketch import load_sketch
+from eigengait.optimize.parameters import timing_bounds
 from eigengait.optimize.survival import (
     CHECKPOINT,
     StartingFigures,
@@ -61,6 +63,25 @@ def test_zero_offsets_decode_to_the_starting_gait(kangaroo):
         k for k in start.activations if not np.allclose(moved.activations[k], start.activations[k])
     ]
     assert changed and not np.allclose(moved.feedback.hip, start.feedback.hip)
+
+
+def test_with_the_sketch_timing_the_search_stays_within_the_optimizer_bounds(kangaroo):
+    system, start = kangaroo
+    timing = load_sketch(resolve("sketch", "kangaroo")).timing
+    bounds = timing_bounds(timing)
+    free, kept = SurvivalSpace(system, start), SurvivalSpace(system, start, timing)
+    for push in (-10.0, 0.0, 10.0):
+        z = np.zeros(free.size)
+        z[:4] = push
+        p, q = free.decode(z), kept.decode(z)
+        for key, (low, high) in bounds.items():
+            assert low <= getattr(q, key) <= high
+            assert getattr(q, key) == pytest.approx(np.clip(getattr(p, key), low, high))
+    # the shipped hop's period had already left the sketch's bounds: free, hardening goes further
+    assert start.period < bounds["period"][0]
+    z = np.zeros(free.size)
+    z[0] = -10.0
+    assert free.decode(z).period < 0.81 * start.period
 
 
 def test_a_resumed_run_continues_the_same_search(kangaroo, tmp_path):
@@ -125,11 +146,17 @@ def test_harden_command_writes_a_playable_controller_and_refuses_to_clobber(tmp_
         "4",
     ]
     done = subprocess.run(
-        [*args, "--max-minutes", "0.05"], capture_output=True, text=True, timeout=300
+        [*args, "--max-minutes", "0.05", "--sketch", "kangaroo"],
+        capture_output=True,
+        text=True,
+        timeout=300,
     )
     assert done.returncode == 0, done.stderr
     assert "survival with no reset (20 cycles):" in done.stdout
     assert (run / "best_controller.json").is_file() and (run / "log.csv").is_file()
+    # the sketch's timing bounds hold (the shipped hop's own period lies below them)
+    low, high = timing_bounds(load_sketch(resolve("sketch", "kangaroo")).timing)["period"]
+    assert low <= json.loads((run / "best_controller.json").read_text())["period"] <= high
     played = subprocess.run(
         [
             sys.executable,

@@ -302,6 +302,12 @@ def harden_command(
         help="Stance-foot slip penalized beyond this (m, mean per stance; 0: not penalized).",
     ),
     workers: int = typer.Option(1, "--workers", help="Simulation threads."),
+    sketch: str = typer.Option(
+        None,
+        "--sketch",
+        help="Sketch file or preset the gait was made from: its timing stays within the bounds "
+        "`optimize` kept it in.",
+    ),
     resume: bool = RESUME_OPTION,
     force: bool = START_OVER_OPTION,
 ):
@@ -311,6 +317,7 @@ def harden_command(
     from eigengait.control.controller import load_controller, to_parameters
     from eigengait.control.library import resolve
     from eigengait.control.playback import play
+    from eigengait.control.sketch import load_sketch
     from eigengait.optimize.survival import CHECKPOINT, StartingFigures, SurvivalSettings, harden
 
     for value, option, low, high in (
@@ -360,6 +367,7 @@ def harden_command(
         console.print,
         lookahead=planner,
         sketch=c.sketch,
+        timing=load_sketch(resolve("sketch", sketch)).timing if sketch else None,
     )
     after = play(system, result, cycles=20)
     console.print(

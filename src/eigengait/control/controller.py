@@ -241,13 +241,25 @@ def to_parameters(
     model = system.world.model
     freqs = system.air_modes.frequencies_hz[:FINGERPRINT_MODES]
     same_pose = controller.relax_pose == system.pose
-    if not same_pose or not np.allclose(freqs, controller.air_frequencies_hz, rtol=1e-4):
+    same_modes = np.allclose(freqs, controller.air_frequencies_hz, rtol=1e-4)
+    if not same_pose:
         raise UserInputError(
             f"this controller was made for character '{controller.character}' at relax pose "
             f"'{controller.relax_pose}', not for '{system.character.name}' at '{system.pose}'",
             file=source,
             field="character / relax_pose",
             fix="load it with its own character and relax pose, or optimize a new one",
+        )
+    if not same_modes:
+        raise UserInputError(
+            f"this controller was made for character '{controller.character}' with its lowest air "
+            f"modes at {_hz(controller.air_frequencies_hz)} Hz; '{system.character.name}' at relax "
+            f"pose '{system.pose}' has them at {_hz(freqs)} Hz (another relax pose, or the "
+            "character's masses, joints or stiffness have changed since), so the controller's mode "
+            "activations would not mean the motion they were optimized for",
+            file=source,
+            field="character / relax_pose",
+            fix="load it with the character and relax pose it was made for, or optimize a new one",
         )
     for field, values, size in (
         ("initial_qpos", controller.initial_qpos, model.nq),
@@ -275,3 +287,8 @@ def to_parameters(
         qvel0=np.array(controller.initial_qvel),
         feedback=controller.feedback.gains(),
     )
+
+
+def _hz(frequencies) -> str:
+    """The first three frequencies as text, e.g. "1.70, 1.77, 2.07"."""
+    return ", ".join(f"{f:.2f}" for f in list(frequencies)[:3])

@@ -19,7 +19,7 @@ from eigengait.sim.stepping import MAX_SPEED
 from eigengait.control.activations import mode_index, psi_key
 from eigengait.control.feedback import FEATURES, HIP_GAINS, FeedbackGains
 from eigengait.control.gait import GaitParameters, GaitSystem
-from eigengait.control.sketch import Sketch
+from eigengait.control.sketch import Sketch, Timing
 from eigengait.sim.world import FLOOR, GRAVITY
 
 MAX_JOINT_ANGLE = 0.3  # rad: largest joint rotation of one initial-pose mode coordinate
@@ -30,6 +30,20 @@ AIR_RATIO_SPAN = 0.25  # α stays within ± this of the sketch's (α → 0 or 1 
 HIP_GAIN_RANGE = 0.3  # |hip gains| ≤ this × m g h (N·m per normalized feature unit)
 # |modal gains| ≤ this × the sketch's activation scale (N·m per normalized feature unit)
 MODAL_GAIN_RANGE = 2.0
+
+
+def timing_bounds(t: Timing) -> dict[str, tuple[float, float]]:
+    """(low, high) of each timing parameter a gait made from a sketch with timing `t` keeps:
+    period and pulse durations (s), air ratio."""
+    return {
+        "period": (PERIOD_RANGE[0] * t.period, PERIOD_RANGE[1] * t.period),
+        "air_ratio": (
+            max(0.02, t.air_ratio - AIR_RATIO_SPAN),
+            min(0.98, t.air_ratio + AIR_RATIO_SPAN),
+        ),
+        "pulse_air": (PULSE_RANGE[0] * t.pulse_air, PULSE_RANGE[1] * t.pulse_air),
+        "pulse_ground": (PULSE_RANGE[0] * t.pulse_ground, PULSE_RANGE[1] * t.pulse_ground),
+    }
 
 
 @dataclass
@@ -57,24 +71,10 @@ class ParameterSpace:
     def __init__(self, system: GaitSystem, sketch: Sketch):
         self.system, self.sketch = system, sketch
         t = sketch.timing
-        period_lo, period_hi = PERIOD_RANGE[0] * t.period, PERIOD_RANGE[1] * t.period
+        bounds = timing_bounds(t)
         self.entries: list[Entry] = [
-            Entry("period", period_lo, period_hi, t.period),
-            Entry(
-                "air_ratio",
-                max(0.02, t.air_ratio - AIR_RATIO_SPAN),
-                min(0.98, t.air_ratio + AIR_RATIO_SPAN),
-                t.air_ratio,
-            ),
-            Entry(
-                "pulse_air", PULSE_RANGE[0] * t.pulse_air, PULSE_RANGE[1] * t.pulse_air, t.pulse_air
-            ),
-            Entry(
-                "pulse_ground",
-                PULSE_RANGE[0] * t.pulse_ground,
-                PULSE_RANGE[1] * t.pulse_ground,
-                t.pulse_ground,
-            ),
+            Entry(key, *bounds[key], getattr(t, key))
+            for key in ("period", "air_ratio", "pulse_air", "pulse_ground")
         ]
         self.psi_slots: list[tuple[str, str, int]] = []
         for foot in system.active_feet:

@@ -23,8 +23,10 @@ fall it has to prevent.
 
 Searched (normalized, 0 = the starting gait): the period (±20 %), the air ratio (±0.1), both pulse
 durations (±30 %), every non-zero activation ψ (± half its size, at least ±5 N·m) and the eight
-`hip` feedback gains (± 0.3 m g h per normalized unit, added when the gait had none). The initial
-state and the trigger are kept.
+`hip` feedback gains (± 0.3 m g h per normalized unit, added when the gait had none). Given the
+sketch's timing, the period, air ratio and pulse durations also stay within the bounds `optimize`
+keeps them in (`optimize/parameters.py`), so that hardening a gait again and again cannot walk its
+timing away from the sketch. The initial state and the trigger are kept.
 
 A run folder holds `survival.json` (settings and every generation's candidates and costs: the
 checkpoint, replayed on resume through CMA-ES from the same seed), `log.csv` and
@@ -47,7 +49,9 @@ from eigengait.control.feedback import FeedbackGains
 from eigengait.control.gait_metrics import rollout_stance_slips
 from eigengait.control.gait import GaitParameters, GaitSystem
 from eigengait.control.lookahead import LookaheadSettings
+from eigengait.control.sketch import Timing
 from eigengait.errors import UserInputError
+from eigengait.optimize.parameters import timing_bounds
 from eigengait.outputs import write_atomically
 from eigengait.sim.world import GRAVITY
 
@@ -92,10 +96,12 @@ class SurvivalSettings:
 
 
 class SurvivalSpace:
-    """Normalized offsets z from a starting gait, and back (`decode`)."""
+    """Normalized offsets z from a starting gait, and back (`decode`); with the sketch's `timing`,
+    the decoded timing is clipped to the bounds `optimize` keeps it in."""
 
-    def __init__(self, system: GaitSystem, start: GaitParameters):
+    def __init__(self, system: GaitSystem, start: GaitParameters, timing: Timing | None = None):
         self.start = start
+        self.bounds = timing_bounds(timing) if timing is not None else None
         self.slots = [
             (key, int(i)) for key, psi in start.activations.items() for i in np.flatnonzero(psi)
         ]
@@ -112,12 +118,17 @@ class SurvivalSpace:
         activations = {k: v.copy() for k, v in s.activations.items()}
         for (key, i), scale, dz in zip(self.slots, self.psi_scale, z[4 : 4 + n]):
             activations[key][i] += scale * dz
+        timing = {
+            "period": s.period * (1 + 0.2 * np.tanh(z[0])),
+            "air_ratio": float(np.clip(s.air_ratio + 0.1 * np.tanh(z[1]), 0.02, 0.98)),
+            "pulse_air": s.pulse_air * (1 + 0.3 * np.tanh(z[2])),
+            "pulse_ground": s.pulse_ground * (1 + 0.3 * np.tanh(z[3])),
+        }
+        if self.bounds is not None:
+            timing = {key: float(np.clip(v, *self.bounds[key])) for key, v in timing.items()}
         return replace(
             s,
-            period=s.period * (1 + 0.2 * np.tanh(z[0])),
-            air_ratio=float(np.clip(s.air_ratio + 0.1 * np.tanh(z[1]), 0.02, 0.98)),
-            pulse_air=s.pulse_air * (1 + 0.3 * np.tanh(z[2])),
-            pulse_ground=s.pulse_ground * (1 + 0.3 * np.tanh(z[3])),
+            **timing,
             activations=activations,
             feedback=FeedbackGains(
                 hip=self.hip0 + self.gain_scale * z[4 + n :], modal=s.feedback.modal
@@ -207,13 +218,15 @@ def harden(
     progress=print,
     lookahead: LookaheadSettings | None = None,
     sketch: dict | None = None,
+    timing: Timing | None = None,
 ) -> GaitParameters:
     """Run (or resume) the survival optimization in `folder`; returns the best controller, also
-    saved there with the starting controller's `lookahead` settings and `sketch` modes."""
+    saved there with the starting controller's `lookahead` settings and `sketch` modes. `timing`:
+    the sketch's, whose bounds the searched timing keeps."""
     folder.mkdir(parents=True, exist_ok=True)
     checkpoint = folder / CHECKPOINT
     history = _load_history(checkpoint, settings) if resume else []
-    space = SurvivalSpace(system, start)
+    space = SurvivalSpace(system, start, timing)
     scorer = SurvivalScorer(system, start, settings, figures)
     es = cma.CMAEvolutionStrategy(
         np.zeros(space.size),
