@@ -502,7 +502,13 @@ def demo_command(
         figures = StartingFigures.of(before)
         settings = SurvivalSettings(minutes=harden_minutes, seed=seed, threads=os.cpu_count() or 1)
         params = harden(
-            system, params, figures, folder / "hardening", settings, progress=lambda _: None
+            system,
+            params,
+            figures,
+            folder / "hardening",
+            settings,
+            progress=lambda _: None,
+            timing=sketch.timing,
         )
         after = play(system, params, cycles=20)
         console.print(
