@@ -2,6 +2,7 @@
 search."""
 
 import json
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -82,6 +83,22 @@ def test_with_the_sketch_timing_the_search_stays_within_the_optimizer_bounds(kan
     z = np.zeros(free.size)
     z[0] = -10.0
     assert free.decode(z).period < 0.81 * start.period
+
+
+def test_a_run_bounded_by_a_sketch_resumes_only_with_the_same_bounds(kangaroo, tmp_path):
+    from eigengait.errors import UserInputError
+
+    system, start = kangaroo
+    timing = load_sketch(resolve("sketch", "kangaroo")).timing
+    settings = SurvivalSettings(minutes=60, popsize=4, copies=1, horizon=4, generations=1)
+    harden(system, start, FIGURES, tmp_path, settings, progress=lambda _: None, timing=timing)
+    with pytest.raises(UserInputError) as caught:
+        harden(system, start, FIGURES, tmp_path, settings, resume=True, progress=lambda _: None)
+    assert "sketch_timing_bounds" in str(caught.value)
+    resumed = replace(settings, generations=2)
+    harden(system, start, FIGURES, tmp_path, resumed, True, progress=lambda _: None, timing=timing)
+    generations = json.loads((tmp_path / CHECKPOINT).read_text())["generations"]
+    assert len(generations) == 2
 
 
 def test_a_resumed_run_continues_the_same_search(kangaroo, tmp_path):

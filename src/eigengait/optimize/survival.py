@@ -93,6 +93,12 @@ class SurvivalSettings:
     max_slip: float | None = 0.03
     sigma0: float = 0.3
     threads: int = 1
+    # (low, high) of the period (s), air ratio and pulse durations (s) from the sketch's timing, in
+    # `TIMING_KEYS` order (None: the timing is not bounded); `harden` sets it from `timing`
+    sketch_timing_bounds: tuple[tuple[float, float], ...] | None = None
+
+
+TIMING_KEYS = ("period", "air_ratio", "pulse_air", "pulse_ground")
 
 
 class SurvivalSpace:
@@ -102,6 +108,9 @@ class SurvivalSpace:
     def __init__(self, system: GaitSystem, start: GaitParameters, timing: Timing | None = None):
         self.start = start
         self.bounds = timing_bounds(timing) if timing is not None else None
+        self.timing_rows = (
+            None if self.bounds is None else tuple(self.bounds[key] for key in TIMING_KEYS)
+        )
         self.slots = [
             (key, int(i)) for key, psi in start.activations.items() for i in np.flatnonzero(psi)
         ]
@@ -225,8 +234,9 @@ def harden(
     the sketch's, whose bounds the searched timing keeps."""
     folder.mkdir(parents=True, exist_ok=True)
     checkpoint = folder / CHECKPOINT
-    history = _load_history(checkpoint, settings) if resume else []
     space = SurvivalSpace(system, start, timing)
+    settings = replace(settings, sketch_timing_bounds=space.timing_rows)
+    history = _load_history(checkpoint, settings) if resume else []
     scorer = SurvivalScorer(system, start, settings, figures)
     es = cma.CMAEvolutionStrategy(
         np.zeros(space.size),
@@ -310,7 +320,7 @@ def _load_history(path: Path, settings: SurvivalSettings) -> list[dict]:
     mine = {
         k: v for k, v in asdict(settings).items() if k not in ("minutes", "generations", "threads")
     }
-    theirs = {k: (tuple(v) if isinstance(v, list) else v) for k, v in saved.items() if k in mine}
+    theirs = {k: _tuples(v) for k, v in saved.items() if k in mine}
     if theirs != mine:
         changed = ", ".join(k for k in mine if theirs.get(k) != mine[k])
         raise UserInputError(
@@ -328,3 +338,8 @@ def _log(path: Path, history: list[dict]) -> None:
             f"{g},{h['best']['horizon']},{h['best']['cost']:.6f},{min(h['costs']):.6f},{h['elapsed']:.1f}"
         )
     write_atomically(path, "\n".join(rows) + "\n")
+
+
+def _tuples(value):
+    """JSON lists (nested too) back to the tuples the settings hold."""
+    return tuple(_tuples(v) for v in value) if isinstance(value, list) else value
