@@ -194,6 +194,15 @@ def test_harden_command_writes_a_playable_controller_and_refuses_to_clobber(tmp_
     assert json.loads(played.stdout)["controller"] == str(run / "best_controller.json")
     again = subprocess.run(args, capture_output=True, text=True, timeout=300)
     assert again.returncode == 2 and "--resume" in again.stderr
+    other = subprocess.run(
+        [*args[:5], "-o", str(tmp_path / "other"), "--sketch", "dog-trot"],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    message = " ".join(other.stderr.split())
+    assert other.returncode == 2 and "--sketch" in message and "'dog'" in message
+    assert not (tmp_path / "other").exists()
 
 
 def test_the_cost_charges_lost_speed_and_extra_effort(kangaroo):

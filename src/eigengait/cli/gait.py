@@ -317,7 +317,6 @@ def harden_command(
     from eigengait.control.controller import load_controller, to_parameters
     from eigengait.control.library import resolve
     from eigengait.control.playback import play
-    from eigengait.control.sketch import load_sketch
     from eigengait.optimize.survival import CHECKPOINT, StartingFigures, SurvivalSettings, harden
 
     for value, option, low, high in (
@@ -333,6 +332,7 @@ def harden_command(
     _refuse_force_with_resume(force, resume)
     path = resolve("gait", controller)
     c = load_controller(path)
+    timing = _sketch_timing(sketch, c.character) if sketch else None
     system = gait_system(c, source=path)
     start = to_parameters(c, system, path)
     check_folder(output)
@@ -367,7 +367,7 @@ def harden_command(
         console.print,
         lookahead=planner,
         sketch=c.sketch,
-        timing=load_sketch(resolve("sketch", sketch)).timing if sketch else None,
+        timing=timing,
     )
     after = play(system, result, cycles=20)
     console.print(
@@ -378,6 +378,23 @@ def harden_command(
         f"{_slip_cm(after)}"
     )
     console.print(f"run folder: {output} (best_controller.json, log.csv, {CHECKPOINT})")
+
+
+def _sketch_timing(sketch: str, character: str):
+    """The timing of `sketch` (a preset or file), refused unless it is a sketch of `character`."""
+    from eigengait.control.library import resolve
+    from eigengait.control.sketch import load_sketch
+
+    path = resolve("sketch", sketch)
+    loaded = load_sketch(path)
+    if loaded.character != character:
+        raise UserInputError(
+            f"the sketch is for character '{loaded.character}', the gait for '{character}'",
+            file=path,
+            field="--sketch",
+            fix=f"pass the sketch the gait was made from (a sketch of '{character}')",
+        )
+    return loaded.timing
 
 
 def _slip_cm(played) -> str:
