@@ -70,7 +70,7 @@ def test_with_the_sketch_timing_the_search_stays_within_the_optimizer_bounds(kan
     system, start = kangaroo
     timing = load_sketch(resolve("sketch", "kangaroo")).timing
     bounds = timing_bounds(timing)
-    free, kept = SurvivalSpace(system, start), SurvivalSpace(system, start, timing)
+    free, kept = SurvivalSpace(system, start), SurvivalSpace(system, start, bounds)
     for push in (-10.0, 0.0, 10.0):
         z = np.zeros(free.size)
         z[:4] = push

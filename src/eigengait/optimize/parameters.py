@@ -71,10 +71,8 @@ class ParameterSpace:
     def __init__(self, system: GaitSystem, sketch: Sketch):
         self.system, self.sketch = system, sketch
         t = sketch.timing
-        bounds = timing_bounds(t)
         self.entries: list[Entry] = [
-            Entry(key, *bounds[key], getattr(t, key))
-            for key in ("period", "air_ratio", "pulse_air", "pulse_ground")
+            Entry(key, low, high, getattr(t, key)) for key, (low, high) in timing_bounds(t).items()
         ]
         self.psi_slots: list[tuple[str, str, int]] = []
         for foot in system.active_feet:

@@ -93,24 +93,22 @@ class SurvivalSettings:
     max_slip: float | None = 0.03
     sigma0: float = 0.3
     threads: int = 1
-    # (low, high) of the period (s), air ratio and pulse durations (s) from the sketch's timing, in
-    # `TIMING_KEYS` order (None: the timing is not bounded); `harden` sets it from `timing`
-    sketch_timing_bounds: tuple[tuple[float, float], ...] | None = None
-
-
-TIMING_KEYS = ("period", "air_ratio", "pulse_air", "pulse_ground")
+    # name -> (low, high) of the period (s), air ratio and pulse durations (s) from the sketch's
+    # timing (`optimize.parameters.timing_bounds`; None: not bounded); `harden` sets it
+    sketch_timing_bounds: dict[str, tuple[float, float]] | None = None
 
 
 class SurvivalSpace:
-    """Normalized offsets z from a starting gait, and back (`decode`); with the sketch's `timing`,
-    the decoded timing is clipped to the bounds `optimize` keeps it in."""
+    """Normalized offsets z from a starting gait, and back (`decode`); the decoded timing is
+    clipped to `bounds` (name -> (low, high), `timing_bounds` of the sketch's timing) when given."""
 
-    def __init__(self, system: GaitSystem, start: GaitParameters, timing: Timing | None = None):
-        self.start = start
-        self.bounds = timing_bounds(timing) if timing is not None else None
-        self.timing_rows = (
-            None if self.bounds is None else tuple(self.bounds[key] for key in TIMING_KEYS)
-        )
+    def __init__(
+        self,
+        system: GaitSystem,
+        start: GaitParameters,
+        bounds: dict[str, tuple[float, float]] | None = None,
+    ):
+        self.start, self.bounds = start, bounds
         self.slots = [
             (key, int(i)) for key, psi in start.activations.items() for i in np.flatnonzero(psi)
         ]
@@ -234,9 +232,10 @@ def harden(
     the sketch's, whose bounds the searched timing keeps."""
     folder.mkdir(parents=True, exist_ok=True)
     checkpoint = folder / CHECKPOINT
-    space = SurvivalSpace(system, start, timing)
-    settings = replace(settings, sketch_timing_bounds=space.timing_rows)
+    bounds = timing_bounds(timing) if timing is not None else None
+    settings = replace(settings, sketch_timing_bounds=bounds)
     history = _load_history(checkpoint, settings) if resume else []
+    space = SurvivalSpace(system, start, bounds)
     scorer = SurvivalScorer(system, start, settings, figures)
     es = cma.CMAEvolutionStrategy(
         np.zeros(space.size),
@@ -341,5 +340,7 @@ def _log(path: Path, history: list[dict]) -> None:
 
 
 def _tuples(value):
-    """JSON lists (nested too) back to the tuples the settings hold."""
+    """JSON lists (also inside dicts) back to the tuples the settings hold."""
+    if isinstance(value, dict):
+        return {k: _tuples(v) for k, v in value.items()}
     return tuple(_tuples(v) for v in value) if isinstance(value, list) else value
