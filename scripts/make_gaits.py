@@ -154,16 +154,21 @@ def played(controller) -> dict:
 
 
 def rank(play: dict) -> tuple:
-    """Longer survival first, then the smaller largest frame jump."""
-    return (play["free"]["cycles_completed"], -(play["free"]["max_frame_jump_deg"] or 0.0))
+    """Longer survival first, then more pushes survived (gaits with a push target), then the smaller
+    largest frame jump."""
+    return (
+        play["free"]["cycles_completed"],
+        sum(play.get("pushes") or ()),
+        -(play["free"]["max_frame_jump_deg"] or 0.0),
+    )
 
 
 def measure(controller) -> None:
     """Play the controller as it is and with its motors' activation time switched (`ACTIVATION_TIME`
     when it has none, none when it has one), each with its lookahead (given the sketch's mean speed
-    as its target if it has none) and without; ship the variant that survives longest (then: the
-    smaller frame jumps), with its lookahead only if that survives at least as long; push the gaits
-    that have a push target; record the figures."""
+    as its target if it has none) and without; push the longest survivors of the gaits that have a
+    push target; ship the variant that survives longest (then: the most pushes, then the smaller
+    frame jumps), with its lookahead only if that survives at least as long; record the figures."""
     sketch = load_sketch(resolve("sketch", GAITS[controller.name]))
     controller.sketch = sketch_modes(sketch)
     if controller.lookahead is None:
@@ -174,19 +179,22 @@ def measure(controller) -> None:
         for tau in (controller.activation_time, switched)
     }
     plays = {tau: played(c) for tau, c in variants.items()}
+    longest = max(run["free"]["cycles_completed"] for run in plays.values())
     for tau, run in plays.items():
+        variants[tau].lookahead = run["lookahead"]
+        # only the longest survivors can be shipped, so only they are pushed
+        if controller.name in PUSHED and run["free"]["cycles_completed"] == longest:
+            run["pushes"] = push_robustness(
+                run["system"], run["params"], lookahead=variants[tau].planner()
+            )
         print(
             f"{controller.name}: activation time {tau}: {run['free']['cycles_completed']} cycles, "
-            f"jump {run['free']['max_frame_jump_deg']}°, lookahead {run['lookahead'] is not None}"
+            f"jump {run['free']['max_frame_jump_deg']}°, pushes {run.get('pushes')}, "
+            f"lookahead {run['lookahead'] is not None}"
         )
     tau = max(plays, key=lambda t: rank(plays[t]))
     controller, best = variants[tau], plays[tau]
-    controller.lookahead = best["lookahead"]
-    planner = controller.planner()
-    system, params, alone, free = best["system"], best["params"], best["alone"], best["free"]
-    pushes = (
-        push_robustness(system, params, lookahead=planner) if controller.name in PUSHED else None
-    )
+    alone, free, pushes = best["alone"], best["free"], best.get("pushes")
     kept = {
         k: controller.metrics[k]
         for k in (
@@ -217,7 +225,11 @@ def measure(controller) -> None:
         "without_lookahead": alone,
         "pushes": pushes,
         "activation_time": tau,
-        "other_activation": {"activation_time": others[0], "played": plays[others[0]]["free"]}
+        "other_activation": {
+            "activation_time": others[0],
+            "played": plays[others[0]]["free"],
+            "pushes": plays[others[0]].get("pushes"),
+        }
         if others
         else None,
     }

@@ -19,6 +19,7 @@ from eigengait.control.lookahead import (
     LookaheadRunner,
     LookaheadSettings,
     TaskCost,
+    planned_joints,
 )
 from eigengait.errors import UserInputError
 from eigengait.files import validate
@@ -240,3 +241,37 @@ def test_a_controller_with_an_activation_time_plays_torques_that_lag_their_comma
     assert (
         np.abs(played.torques[0, 0]).max() < share * np.abs(lagged.torque_limits).max() * 1.000001
     )
+
+
+def test_plans_can_leave_the_light_limbs_to_the_pulses(hopper):
+    """With `min_mass_share` 0.05 the kangaroo's arms, head and tail tip (each carrying under 5 % of
+    its mass) play exactly their pulses while the plans move the rest; the foot (4 %) stays planned
+    because it is on the foot's chain. With 0 the plans move every joint."""
+    system, p, _ = hopper
+    world, model = system.world, system.world.model
+    dof_names = [model.body(b).name for b in model.dof_bodyid[np.asarray(world.internal_qvel)]]
+    mask = planned_joints(world, 0.05)
+    left = {name for name, m in zip(dof_names, mask) if m == 0.0}
+    arms = {f"{side}_{part}" for side in ("left", "right") for part in ("upper_arm", "forearm")}
+    assert left == arms | {"head", "tail_tip"}
+    assert planned_joints(world, 0.0).all()
+    n_motor = world.nmotor
+    cycle = system.controls(p, cycles=1)[:, :n_motor]  # the lookahead repeats one cycle's pulses
+    pulses = np.clip(np.vstack([cycle] * 3), *_limits(system))
+    light = mask == 0.0
+    played = {}
+    for share in (0.0, 0.05):
+        settings = LookaheadSettings(speed=1.0, min_mass_share=share, **QUICK)
+        runner = LookaheadRunner(system, settings)
+        run = runner.run(p, 2)
+        runner.close()
+        n = int(run.ended[0])
+        played[share] = run.torques[0, :n] - pulses[:n]
+    assert np.abs(played[0.05][:, light]).max() < 1e-9
+    assert np.abs(played[0.05][:, ~light]).max() > 1.0  # N·m: the plans still act on the rest
+    assert np.abs(played[0.0][:, light]).max() > 1.0
+
+
+def _limits(system):
+    limit = system.torque_limits
+    return -limit, limit

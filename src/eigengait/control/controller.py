@@ -92,6 +92,9 @@ class LookaheadFile(BaseModel):
     feedback: bool = False  # plans and played motion add the controller's balance feedback
     # plans move only the sketch's priority and allowed modes (the file's `sketch`)
     in_sketch: bool = False
+    # plans leave to the pulses the joints off the feet's chains whose subtree holds less than
+    # this share of the body's mass (0: plans move every joint)
+    min_mass_share: float = Field(0.0, ge=0, lt=1)
 
     def settings(self, sketch: dict[str, PhaseSketch] | None = None) -> LookaheadSettings:
         """The runner's settings; with `in_sketch`, the modes of `sketch` (the controller file's)

@@ -37,7 +37,7 @@ from eigengait.control.gait import GaitParameters, GaitSystem
 from eigengait.control.pulse import State
 from eigengait.sim.falls import failed_steps, fallen
 from eigengait.sim.stepping import blown_up_dof
-from eigengait.sim.world import GRAVITY
+from eigengait.sim.world import GRAVITY, World
 
 # Cost weights; every term is dimensionless (lengths over the standing COM height h, speeds over
 # √(g h)).
@@ -70,6 +70,9 @@ class LookaheadSettings:
     plan_substeps: int = 2  # planning timestep = plan_substeps × the physics timestep
     seed: int = 0
     feedback: bool = False  # plans and played motion add the controller's balance feedback
+    # plans leave to the pulses the joints off every foot's chain whose subtree holds less than
+    # this share of the body's mass (light limbs: forearms, tails); 0: plans move every joint
+    min_mass_share: float = 0.0
 
 
 class TaskCost:
@@ -118,13 +121,34 @@ class TaskCost:
 def plan_directions(system: GaitSystem, state: State, settings: LookaheadSettings) -> np.ndarray:
     """Torque columns (n_internal × k) a plan's Δψ moves in `state`: the lowest `settings.modes` of
     its basis, or the `settings.chosen` modes of its phase (a symmetric gait's second foot: the
-    first foot's, mirrored)."""
+    first foot's, mirrored); zero on the joints `planned_joints` leaves to the pulses."""
     if settings.chosen is None:
-        return system.basis_matrix(state.foot, state.phase)[:, : settings.modes]
-    foot = state.foot if state.foot in system.active_feet else system.active_feet[0]
-    basis = system.basis_matrix(foot, state.phase)
-    columns = basis[:, mode_indices(m for m in settings.chosen[state.phase] if m <= basis.shape[1])]
-    return columns if foot == state.foot else system.mirror.dofs(columns.T).T
+        columns = system.basis_matrix(state.foot, state.phase)[:, : settings.modes]
+    else:
+        foot = state.foot if state.foot in system.active_feet else system.active_feet[0]
+        basis = system.basis_matrix(foot, state.phase)
+        chosen = mode_indices(m for m in settings.chosen[state.phase] if m <= basis.shape[1])
+        columns = basis[:, chosen]
+        if foot != state.foot:
+            columns = system.mirror.dofs(columns.T).T
+    return columns * planned_joints(system.world, settings.min_mass_share)[:, None]
+
+
+def planned_joints(world: World, min_mass_share: float) -> np.ndarray:
+    """Per internal dof (motor order), 1.0 where the plans may add torque, else 0.0: dofs on the
+    chain from the root to any foot's toe, and dofs whose body's subtree holds at least
+    `min_mass_share` of the whole body's mass."""
+    model = world.model
+    subtree = np.asarray(model.body_subtreemass)
+    on_legs = set()
+    for foot in world.character.feet.values():
+        body = int(model.site(foot.toe).bodyid[0])
+        while body > 0:
+            on_legs.add(body)
+            body = int(model.body_parentid[body])
+    share = subtree / subtree[world.root_body]
+    bodies = model.dof_bodyid[np.asarray(world.internal_qvel)]
+    return np.array([b in on_legs or share[b] >= min_mass_share for b in bodies], dtype=float)
 
 
 class LookaheadRunner:
