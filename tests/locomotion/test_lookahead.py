@@ -257,7 +257,8 @@ def test_plans_can_leave_the_light_limbs_to_the_pulses(hopper):
     assert planned_joints(world, 0.0).all()
     n_motor = world.nmotor
     cycle = system.controls(p, cycles=1)[:, :n_motor]  # the lookahead repeats one cycle's pulses
-    pulses = np.clip(np.vstack([cycle] * 3), *_limits(system))
+    limit = system.torque_limits
+    pulses = np.clip(np.vstack([cycle] * 3), -limit, limit)
     light = mask == 0.0
     played = {}
     for share in (0.0, 0.05):
@@ -270,8 +271,3 @@ def test_plans_can_leave_the_light_limbs_to_the_pulses(hopper):
     assert np.abs(played[0.05][:, light]).max() < 1e-9
     assert np.abs(played[0.05][:, ~light]).max() > 1.0  # N·m: the plans still act on the rest
     assert np.abs(played[0.0][:, light]).max() > 1.0
-
-
-def _limits(system):
-    limit = system.torque_limits
-    return -limit, limit
