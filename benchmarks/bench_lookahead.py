@@ -8,10 +8,13 @@ cycles survived, speed, flight fraction, cadence, mean stance slip, largest fram
 and roll, pushes survived, and the wall time as a multiple of the played (simulated) time, the cost
 of the decisions. `--seeds N` plays the lookahead with N planner seeds to show how much survival
 hangs on one; `--feedback` plays each seed once more with the controller's balance feedback inside
-the plans and the played motion (`LookaheadSettings.feedback`), the ablation of docs/locomotion.md.
+the plans and the played motion (`LookaheadSettings.feedback`), the ablation of docs/locomotion.md;
+`--min-mass-share S` plays each seed once more with the plans leaving to the pulses the joints whose
+subtree holds under S of the body's mass (`LookaheadSettings.min_mass_share`; docs/locomotion.md,
+"Light limbs left to the pulses").
 
 Usage: python benchmarks/bench_lookahead.py [GAIT ...] [--cycles 20] [--seeds 1] [--feedback]
-[--no-pushes]
+[--min-mass-share S] [--no-pushes]
 """
 
 from __future__ import annotations
@@ -30,7 +33,9 @@ from eigengait.control.playback import play, push_robustness
 
 def row(name: str, setting: str, result, wall: float, pushes: list[bool] | None) -> str:
     q = result.quality
-    slip = np.mean(list(q.get("stance_slip_m", {}).values()) or [np.nan])
+    # a foot that never stood has no slip (None)
+    slips = [v for v in q.get("stance_slip_m", {}).values() if v is not None]
+    slip = np.mean(slips or [np.nan])
     played = len(result.qpos) / result.fps
     return (
         f"| {name} | {setting} | {result.cycles_completed} | {result.mean_speed_mps:.2f} | "
@@ -50,6 +55,12 @@ def main() -> None:
     parser.add_argument(
         "--feedback", action="store_true", help="also play with feedback inside the lookahead"
     )
+    parser.add_argument(
+        "--min-mass-share",
+        type=float,
+        default=None,
+        help="also play with the light limbs unplanned",
+    )
     parser.add_argument("--no-pushes", action="store_true")
     args = parser.parse_args()
     print(
@@ -66,17 +77,28 @@ def main() -> None:
         print(row(name, "without lookahead", alone, time.perf_counter() - t0, None), flush=True)
         if controller.lookahead is None:
             continue
+        planned = controller.lookahead.min_mass_share
+        shares = (planned,) if args.min_mass_share is None else (planned, args.min_mass_share)
+        feedbacks = (False, True) if args.feedback else (controller.lookahead.feedback,)
         for seed in range(args.seeds):
-            for feedback in (False, True) if args.feedback else (controller.lookahead.feedback,):
-                planner = dataclasses.replace(controller.planner(), seed=seed, feedback=feedback)
-                t0 = time.perf_counter()
-                result = play(system, params, cycles=args.cycles, lookahead=planner)
-                wall = time.perf_counter() - t0
-                pushes = (
-                    None if args.no_pushes else push_robustness(system, params, lookahead=planner)
-                )
-                label = f"lookahead{' + feedback' if feedback else ''} (seed {seed})"
-                print(row(name, label, result, wall, pushes), flush=True)
+            for feedback in feedbacks:
+                for share in shares:
+                    planner = dataclasses.replace(
+                        controller.planner(), seed=seed, feedback=feedback, min_mass_share=share
+                    )
+                    t0 = time.perf_counter()
+                    result = play(system, params, cycles=args.cycles, lookahead=planner)
+                    wall = time.perf_counter() - t0
+                    pushes = (
+                        None
+                        if args.no_pushes
+                        else push_robustness(system, params, lookahead=planner)
+                    )
+                    label = (
+                        f"lookahead{' + feedback' if feedback else ''}"
+                        f"{f', light limbs under {share} unplanned' if share else ''} (seed {seed})"
+                    )
+                    print(row(name, label, result, wall, pushes), flush=True)
 
 
 if __name__ == "__main__":
