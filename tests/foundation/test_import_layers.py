@@ -16,6 +16,7 @@ LAYERS = {
     "inputs": 1,
     "outputs": 1,
     "geometry": 1,
+    "body_tree": 1,
     "json_text": 1,
     "figures": 1,
     "files": 2,

@@ -18,6 +18,8 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
+from eigengait.body_tree import in_subtree
+
 FOOT_BAND = 0.1
 FOOT_SITE_PREFIX = "eigengait:foot:"
 
@@ -72,7 +74,7 @@ def find_feet(model: mujoco.MjModel, root: int) -> list[FootPoint]:
     """Guessed feet of the creature rooted at body id `root`, in model order."""
     data = mujoco.MjData(model)
     mujoco.mj_forward(model, data)
-    bodies = [b for b in range(model.nbody) if _inside(model, b, root)]
+    bodies = [b for b in range(model.nbody) if in_subtree(model, b, root)]
     bottoms = {}
     for g in range(model.ngeom):
         b = int(model.geom_bodyid[g])
@@ -103,14 +105,6 @@ def find_feet(model: mujoco.MjModel, root: int) -> list[FootPoint]:
             local = R.T @ (c - data.xpos[b])
             feet.append(FootPoint(model.body(b).name, tuple(float(x) for x in local), r))
     return feet
-
-
-def _inside(model: mujoco.MjModel, body: int, root: int) -> bool:
-    while body > 0:
-        if body == root:
-            return True
-        body = int(model.body_parentid[body])
-    return False
 
 
 _SIDES = [("left", "right"), ("Left", "Right"), ("LEFT", "RIGHT")]

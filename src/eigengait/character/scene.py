@@ -24,6 +24,7 @@ from pathlib import Path
 import mujoco
 import numpy as np
 
+from eigengait.body_tree import in_subtree
 from eigengait.errors import UserInputError
 
 RESERVED_PREFIXES = ("eigengait:", "motor:", "spring:", "contact:", "pos:")
@@ -153,19 +154,13 @@ def _is_y_up(spec: mujoco.MjSpec, root: str) -> bool:
     data = mujoco.MjData(model)
     mujoco.mj_kinematics(model, data)
     r = model.body(root).id
-    geoms = [g for g in range(model.ngeom) if _ancestor(model, int(model.geom_bodyid[g]), r)]
+    geoms = [g for g in range(model.ngeom) if in_subtree(model, int(model.geom_bodyid[g]), r)]
     if not geoms:
         return False
     lo = np.min([data.geom_xpos[g] - model.geom_rbound[g] for g in geoms], axis=0)
     hi = np.max([data.geom_xpos[g] + model.geom_rbound[g] for g in geoms], axis=0)
     _, y, z = hi - lo
     return bool(y > 1.2 * z)
-
-
-def _ancestor(model: mujoco.MjModel, body: int, root: int) -> bool:
-    while body > 0 and body != root:
-        body = int(model.body_parentid[body])
-    return body == root
 
 
 def _body_quat(spec: mujoco.MjSpec, name: str) -> np.ndarray:

@@ -30,6 +30,7 @@ import mujoco
 import numpy as np
 from mujoco import rollout
 
+from eigengait.body_tree import ancestors
 from eigengait.control.activations import mode_indices
 from eigengait.control.closed_loop import BatchRun, FeedbackPlan, Push, add_pushes, clock_cycle_ends
 from eigengait.control.feedback import FeatureReader, hip_motors_by_foot, steps_per_reading
@@ -140,12 +141,11 @@ def planned_joints(world: World, min_mass_share: float) -> np.ndarray:
     `min_mass_share` of the whole body's mass."""
     model = world.model
     subtree = np.asarray(model.body_subtreemass)
-    on_legs = set()
-    for foot in world.character.feet.values():
-        body = int(model.site(foot.toe).bodyid[0])
-        while body > 0:
-            on_legs.add(body)
-            body = int(model.body_parentid[body])
+    on_legs = {
+        b
+        for foot in world.character.feet.values()
+        for b in ancestors(model, model.site(foot.toe).bodyid[0])
+    }
     share = subtree / subtree[world.root_body]
     bodies = model.dof_bodyid[np.asarray(world.internal_qvel)]
     return np.array([b in on_legs or share[b] >= min_mass_share for b in bodies], dtype=float)

@@ -25,6 +25,7 @@ import mujoco
 import numpy as np
 from scipy.spatial.transform import Rotation
 
+from eigengait.body_tree import in_subtree
 from eigengait.errors import UserInputError
 from eigengait.geometry import quat_to_mat
 from eigengait.motion.bvh import BvhClip, BvhJoint, write_bvh
@@ -43,7 +44,7 @@ def skeleton_bodies(world: World) -> list[int]:
     """Body ids of the character in MuJoCo's depth-first order (parents before children), root
     first."""
     model = world.model
-    bodies = [b for b in range(model.nbody) if _is_in_subtree(model, b, world.root_body)]
+    bodies = [b for b in range(model.nbody) if in_subtree(model, b, world.root_body)]
     for b in bodies[1:]:
         for j in range(model.body_jntadr[b], model.body_jntadr[b] + model.body_jntnum[b]):
             if model.jnt_type[j] in (mujoco.mjtJoint.mjJNT_FREE, mujoco.mjtJoint.mjJNT_SLIDE):
@@ -54,14 +55,6 @@ def skeleton_bodies(world: World) -> list[int]:
                     fix="BVH export supports ball and hinge joints below the root",
                 )
     return bodies
-
-
-def _is_in_subtree(model: mujoco.MjModel, body: int, root: int) -> bool:
-    while body > 0:
-        if body == root:
-            return True
-        body = int(model.body_parentid[body])
-    return False
 
 
 def anchor_points(world: World, data: mujoco.MjData, bodies: list[int]) -> np.ndarray:

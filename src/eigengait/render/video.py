@@ -25,6 +25,7 @@ import mujoco
 import numpy as np
 from rich.progress import BarColumn, Progress, TextColumn, TimeRemainingColumn
 
+from eigengait.body_tree import in_subtree
 from eigengait.errors import UserInputError
 from eigengait.outputs import replacing
 from eigengait.render.offscreen import use_offscreen_gl
@@ -80,15 +81,9 @@ def visual_model(world: World, width: int, height: int) -> mujoco.MjModel:
 
 def creature_geoms(model: mujoco.MjModel, root_body: int) -> np.ndarray:
     """Ids of the geoms on the creature's bodies (everything below `root_body`)."""
-
-    def inside(body: int) -> bool:
-        while body > 0:
-            if body == root_body:
-                return True
-            body = int(model.body_parentid[body])
-        return False
-
-    return np.array([g for g in range(model.ngeom) if inside(int(model.geom_bodyid[g]))])
+    return np.array(
+        [g for g in range(model.ngeom) if in_subtree(model, int(model.geom_bodyid[g]), root_body)]
+    )
 
 
 def geom_corners(model: mujoco.MjModel, data: mujoco.MjData, geoms: np.ndarray) -> np.ndarray:

@@ -29,6 +29,7 @@ from typing import Literal
 import mujoco
 import numpy as np
 
+from eigengait.body_tree import in_subtree
 from eigengait.character.loader import Character
 from eigengait.character.relax import DEFAULT_POSE, posed_spec
 from eigengait.character.scene import compile_spec
@@ -311,12 +312,6 @@ def _lowest_point(model: mujoco.MjModel, data: mujoco.MjData, geoms: list[int]) 
     return low
 
 
-def _in_subtree(model: mujoco.MjModel, body: int, root: int) -> bool:
-    while body > 0 and body != root:
-        body = int(model.body_parentid[body])
-    return body == root and root > 0
-
-
 def build_world(
     character: Character, pose: str | dict = DEFAULT_POSE, options: WorldOptions = WorldOptions()
 ) -> World:
@@ -338,7 +333,7 @@ def build_world(
     sphere_ids = [i for i in range(model.ngeom) if model.geom(i).name.startswith("contact:")]
     root_id = model.body(root.name).id
     body_geoms = [
-        i for i in range(model.ngeom) if _in_subtree(model, int(model.geom_bodyid[i]), root_id)
+        i for i in range(model.ngeom) if in_subtree(model, int(model.geom_bodyid[i]), root_id)
     ]
     low = _lowest_point(model, data, sphere_ids or body_geoms)
     root.pos = np.asarray(root.pos) - [0, 0, low]

@@ -34,6 +34,7 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
+from eigengait.body_tree import in_subtree
 from eigengait.control.balance.double_support import load_shares, pressing_force
 from eigengait.control.balance.foot import FootModel, compensation
 from eigengait.control.balance.momentum import (
@@ -157,18 +158,12 @@ def joint_gains(
 def _subtree_mass_and_arm(
     model: mujoco.MjModel, data: mujoco.MjData, body: int
 ) -> tuple[float, float]:
-    ids = [b for b in range(body, model.nbody) if _is_descendant(model, b, body)]
+    ids = [b for b in range(body, model.nbody) if in_subtree(model, b, body)]
     mass = model.body_mass[ids]
     com = (mass[:, None] * data.xipos[ids]).sum(0) / mass.sum()
     return float(mass.sum()), max(
         float(np.linalg.norm(com - data.xanchor[model.body_jntadr[body]])), 0.05
     )
-
-
-def _is_descendant(model: mujoco.MjModel, body: int, ancestor: int) -> bool:
-    while body > ancestor:
-        body = int(model.body_parentid[body])
-    return body == ancestor
 
 
 def balance_rig(
@@ -205,7 +200,7 @@ def balance_rig(
             for f, b in foot_bodies.items()
         },
         leg_dofs={
-            f: [d for d in joint_dofs if _is_descendant(model, b, int(model.dof_bodyid[d]))]
+            f: [d for d in joint_dofs if in_subtree(model, b, int(model.dof_bodyid[d]))]
             for f, b in foot_bodies.items()
         },
         foot_rest_up={

@@ -1,0 +1,20 @@
+"""Walks up a MuJoCo model's body tree (body 0 is the world)."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+
+import mujoco
+
+
+def ancestors(model: mujoco.MjModel, body: int) -> Iterator[int]:
+    """`body` itself, then each of its parents in turn, up to but not including the world (0)."""
+    body = int(body)
+    while body > 0:
+        yield body
+        body = int(model.body_parentid[body])
+
+
+def in_subtree(model: mujoco.MjModel, body: int, root: int) -> bool:
+    """Whether `body` is `root` (a body, not the world) or one of its descendants."""
+    return int(root) in ancestors(model, body)
