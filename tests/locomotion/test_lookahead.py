@@ -75,13 +75,13 @@ def test_task_cost_is_zero_on_target_and_a_fall_costs_most(hopper):
 
 
 def test_lookahead_keeps_a_falling_hop_going(hopper):
-    """The open-loop hop falls in its fifth cycle; with lookahead (default settings) it plays six,
-    and the played (not planned) motion scores better by the planner's own cost up to the unaided
-    fall."""
+    """The open-loop hop falls in its fifth cycle; with lookahead (32 plans a decision) it plays
+    six, and the played (not planned) motion scores better by the planner's own cost up to the
+    unaided fall."""
     system, p, _ = hopper
     alone = ClosedLoopRunner(system).run([p], 6)
     assert alone.fell[0] and alone.fell_time[0] < 5 * p.period
-    runner = LookaheadRunner(system, LookaheadSettings(speed=1.0))
+    runner = LookaheadRunner(system, LookaheadSettings(speed=1.0, samples=32))
     seen = []
     run = runner.run(p, 6, progress=lambda k, n: seen.append((k, n)))
     runner.close()
@@ -176,7 +176,12 @@ def test_play_uses_the_controllers_lookahead_unless_told_not_to(hopper, tmp_path
     off = json.loads(
         eigengait_cli("play", str(controller), "--cycles", "2", "--json", "--no-lookahead").stdout
     )
-    assert off["lookahead"] is False
+    assert off["lookahead"] is False and off["lookahead_plans"] is None
+    fewer = eigengait_cli("play", str(controller), "--cycles", "1", "--json", "--plans", "4")
+    assert json.loads(fewer.stdout)["lookahead_plans"] == 4
+    assert json.loads(on.stdout)["lookahead_plans"] == QUICK["samples"]
+    refused = eigengait_cli("play", str(controller), "--cycles", "1", "--plans", "1")
+    assert refused.returncode != 0 and "--plans" in refused.stderr
 
 
 def test_plans_can_keep_to_the_sketchs_modes():
@@ -197,7 +202,11 @@ def test_plans_can_keep_to_the_sketchs_modes():
     shares = {}
     for in_sketch in (False, True):
         kept = controller.model_copy(
-            update={"lookahead": controller.lookahead.model_copy(update={"in_sketch": in_sketch})}
+            update={
+                "lookahead": controller.lookahead.model_copy(
+                    update={"in_sketch": in_sketch, "samples": 32}
+                )
+            }
         )
         result = play(system, p, cycles=3, lookahead=kept.planner())
         shares[in_sketch] = energy_split(system, p, controller.sketch, result.torques)["excluded"]

@@ -208,6 +208,14 @@ def play_command(
             "controller's own."
         ),
     ),
+    plans: Optional[int] = typer.Option(
+        None,
+        "--plans",
+        help=(
+            "Plans the lookahead simulates at each decision, instead of the controller's (fewer: "
+            "faster, less robust; docs/locomotion.md)."
+        ),
+    ),
     as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
     video: Optional[Path] = typer.Option(None, "--video", help="Write a video (.mp4/.gif)."),
     bvh: Optional[Path] = typer.Option(None, "--bvh", help="Write the motion as BVH."),
@@ -242,6 +250,9 @@ def play_command(
     c = load_controller(path)
     if activation_time is not None:
         c = c.model_copy(update={"activation_time": activation_time})
+    check_range(plans, "--plans", 2, 4096, fix="use 2 to 4096 plans per decision (shipped: 96)")
+    if plans is not None and c.lookahead is not None:
+        c = c.model_copy(update={"lookahead": c.lookahead.model_copy(update={"samples": plans})})
     system = gait_system(c, source=path)
     planner = c.planner() if lookahead and not snap else None
     status = status_console(as_json)
@@ -264,6 +275,7 @@ def play_command(
         "character": c.character,
         "activation_time": c.activation_time,
         **result.summary(),
+        "lookahead_plans": None if planner is None else planner.samples,
     }
     if c.sketch is not None:
         summary.update(sketch_character(system, params, c.sketch, result.torques))

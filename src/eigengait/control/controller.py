@@ -16,7 +16,7 @@ from pydantic import BaseModel, ConfigDict, Field, field_validator, model_valida
 
 from eigengait.control.activations import dense_to_sparse
 from eigengait.control.feedback import FEATURES, HIP_GAINS, FeedbackGains
-from eigengait.control.lookahead import LookaheadSettings
+from eigengait.control.lookahead import SAMPLES, LookaheadSettings
 from eigengait.control.sketch import PhaseSketch, Sketch
 
 from eigengait.files import dump, read_mapping, validate
@@ -82,7 +82,7 @@ class LookaheadFile(BaseModel):
 
     model_config = ConfigDict(extra="forbid", allow_inf_nan=False)
     speed: float = Field(ge=-MAX_SPEED, le=MAX_SPEED)  # m/s, target forward COM speed
-    samples: int = Field(32, ge=2, le=4096)
+    samples: int = Field(SAMPLES, ge=2, le=4096)  # plans per decision
     horizon_cycles: float = Field(2.0, gt=0, le=50)
     spread: float = Field(0.5, gt=0, le=10)
     refinements: int = Field(1, ge=0, le=10)
