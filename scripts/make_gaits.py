@@ -23,6 +23,7 @@ from eigengait.control.controller import (
     sketch_modes,
     to_parameters,
 )
+from eigengait.control.gait_targets import targets
 from eigengait.control.library import resolve
 from eigengait.control.playback import play, push_robustness
 from eigengait.control.sketch import load_sketch
@@ -153,12 +154,13 @@ def played(controller) -> dict:
     }
 
 
-def rank(play: dict) -> tuple:
-    """Longer survival first, then more pushes survived (gaits with a push target), then the smaller
-    largest frame jump."""
+def rank(name: str, play: dict) -> tuple:
+    """Longer survival first, then more pushes survived (gaits with a push target), then more of
+    the locomotion targets met (`gait_targets`), then the smaller largest frame jump."""
     return (
         play["free"]["cycles_completed"],
         sum(play.get("pushes") or ()),
+        sum(targets(name, play["free"], play.get("pushes")).values()),
         -(play["free"]["max_frame_jump_deg"] or 0.0),
     )
 
@@ -167,8 +169,9 @@ def measure(controller) -> None:
     """Play the controller as it is and with its motors' activation time switched (`ACTIVATION_TIME`
     when it has none, none when it has one), each with its lookahead (given the sketch's mean speed
     as its target if it has none) and without; push the longest survivors of the gaits that have a
-    push target; ship the variant that survives longest (then: the most pushes, then the smaller
-    frame jumps), with its lookahead only if that survives at least as long; record the figures."""
+    push target; ship the variant that survives longest (then: the most pushes, the most targets
+    met, the smaller frame jumps), with its lookahead only if that survives at least as long; record
+    the figures."""
     sketch = load_sketch(resolve("sketch", GAITS[controller.name]))
     controller.sketch = sketch_modes(sketch)
     if controller.lookahead is None:
@@ -192,7 +195,7 @@ def measure(controller) -> None:
             f"jump {run['free']['max_frame_jump_deg']}°, pushes {run.get('pushes')}, "
             f"lookahead {run['lookahead'] is not None}"
         )
-    tau = max(plays, key=lambda t: rank(plays[t]))
+    tau = max(plays, key=lambda t: rank(controller.name, plays[t]))
     controller, best = variants[tau], plays[tau]
     alone, free, pushes = best["alone"], best["free"], best.get("pushes")
     kept = {
