@@ -195,7 +195,14 @@ def measure(controller) -> None:
             f"jump {run['free']['max_frame_jump_deg']}°, pushes {run.get('pushes')}, "
             f"lookahead {run['lookahead'] is not None}"
         )
-    tau = max(plays, key=lambda t: rank(controller.name, plays[t]))
+    ship(controller.name, variants, plays)
+
+
+def ship(name: str, variants: dict, plays: dict) -> None:
+    """Copy the best-ranked of the played `variants` (activation time -> controller; `plays`: their
+    figures, as `measure` collects them) into the package with its figures, and record every
+    variant's figures in `MEASURES`."""
+    tau = max(plays, key=lambda t: rank(name, plays[t]))
     controller, best = variants[tau], plays[tau]
     alone, free, pushes = best["alone"], best["free"], best.get("pushes")
     kept = {
