@@ -250,7 +250,7 @@ def play_command(
     c = load_controller(path)
     if activation_time is not None:
         c = c.model_copy(update={"activation_time": activation_time})
-    check_range(plans, "--plans", 2, 4096, fix="use 2 to 4096 plans per decision (shipped: 96)")
+    check_range(plans, "--plans", 2, 4096, fix="use 2 to 4096 plans per decision (default: 96)")
     if plans is not None and c.lookahead is not None:
         c = c.model_copy(update={"lookahead": c.lookahead.model_copy(update={"samples": plans})})
     system = gait_system(c, source=path)
