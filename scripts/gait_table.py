@@ -5,10 +5,7 @@ Usage: python scripts/gait_table.py [--recorded DIR] (prints a Markdown table an
 failed target; the swing clearance column is the lowest of the feet's mean swing clearances, "none"
 when a foot never lifts). Each gait is played with its lookahead and pushed, or, with --recorded,
 read from what `scripts/make_gaits.py --measure-only` recorded in DIR (out/gait-measures).
-Targets (docs/locomotion.md): every gait 20 cycles without falling, no joint jump over 15° and no
-root jump over 6 cm between 60 Hz frames, stance slip ≤ 3 cm, root pitch and roll within ±30°; per
-gait a speed, flight and cadence or footfall pattern; the run and the trot survive 4 of 5 sideways
-pushes of 0.5 N·s/kg in cycle 3.
+The targets are `control/gait_targets.py`'s (docs/locomotion.md).
 """
 
 from __future__ import annotations
