@@ -9,9 +9,9 @@ and roll, pushes survived, and the wall time as a multiple of the played (simula
 of the decisions. `--seeds N` plays the lookahead with N planner seeds to show how much survival
 hangs on one; `--feedback` plays each seed once more with the controller's balance feedback inside
 the plans and the played motion (`LookaheadSettings.feedback`), the ablation of docs/locomotion.md;
-`--min-mass-share S` plays each seed once more with the plans leaving to the pulses the joints whose
-subtree holds under S of the body's mass (`LookaheadSettings.min_mass_share`; docs/locomotion.md,
-"Light limbs left to the pulses").
+`--min-mass-share S` plays each seed once more with the plans' torque on the light limbs scaled by
+their subtree's share of the body's mass over S (`LookaheadSettings.min_mass_share`, 0: every joint
+in full; docs/locomotion.md, "Light limbs planned in proportion to their mass").
 
 Usage: python benchmarks/bench_lookahead.py [GAIT ...] [--cycles 20] [--seeds 1] [--feedback]
 [--min-mass-share S] [--no-pushes]
@@ -59,7 +59,7 @@ def main() -> None:
         "--min-mass-share",
         type=float,
         default=None,
-        help="also play with the light limbs unplanned",
+        help="also play with the light limbs planned in proportion to their mass over S",
     )
     parser.add_argument("--no-pushes", action="store_true")
     args = parser.parse_args()
@@ -96,7 +96,8 @@ def main() -> None:
                     )
                     label = (
                         f"lookahead{' + feedback' if feedback else ''}"
-                        f"{f', light limbs under {share} unplanned' if share else ''} (seed {seed})"
+                        f"{f', light limbs planned by mass share / {share}' if share else ''}"
+                        f" (seed {seed})"
                     )
                     print(row(name, label, result, wall, pushes), flush=True)
 

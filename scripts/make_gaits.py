@@ -2,11 +2,12 @@
 optimizer.
 
 Usage: python scripts/make_gaits.py [GAIT ...] [--evaluations N] [--max-outer N] [--runs DIR]
-[--harden-minutes M] Each gait is a sketch preset optimized from a fixed seed, then (with
---harden-minutes) hardened against falls under sampled pushes (`eigengait harden`,
-optimize/survival.py); the best controller is copied into the package with its playback metrics.
-`--harden-only` hardens the shipped gaits as they are. Runs are kept in DIR (default out/gait-runs)
-and resume if interrupted.
+[--harden-minutes M] [--harden-only | --measure-only] [--as-is]. Each gait is a sketch preset
+optimized from a fixed seed, then (with --harden-minutes) hardened against falls under sampled
+pushes (`eigengait harden`, optimize/survival.py); the best controller is copied into the package
+with its playback metrics. `--harden-only` hardens the shipped gaits as they are, `--measure-only`
+re-measures them (`--as-is`: only with their own motor activation time). Runs are kept in DIR
+(default out/gait-runs) and resume if interrupted.
 """
 
 from __future__ import annotations
@@ -165,22 +166,20 @@ def rank(name: str, play: dict) -> tuple:
     )
 
 
-def measure(controller) -> None:
-    """Play the controller as it is and with its motors' activation time switched (`ACTIVATION_TIME`
-    when it has none, none when it has one), each with its lookahead (given the sketch's mean speed
-    as its target if it has none) and without; push the longest survivors of the gaits that have a
-    push target; ship the variant that survives longest (then: the most pushes, the most targets
-    met, the smaller frame jumps), with its lookahead only if that survives at least as long; record
-    the figures."""
+def measure(controller, as_is: bool = False) -> None:
+    """Play the controller as it is and (unless `as_is`) with its motors' activation time switched
+    (`ACTIVATION_TIME` when it has none, none when it has one), each with its lookahead (given the
+    sketch's mean speed as its target if it has none) and without; push the longest survivors of
+    the gaits that have a push target; ship the variant that survives longest (then: the most
+    pushes, the most targets met, the smaller frame jumps), with its lookahead only if that survives
+    at least as long; record the figures."""
     sketch = load_sketch(resolve("sketch", GAITS[controller.name]))
     controller.sketch = sketch_modes(sketch)
     if controller.lookahead is None:
         controller.lookahead = LookaheadFile(speed=sketch.targets.mean_speed)
     switched = None if controller.activation_time is not None else ACTIVATION_TIME
-    variants = {
-        tau: controller.model_copy(update={"activation_time": tau})
-        for tau in (controller.activation_time, switched)
-    }
+    taus = (controller.activation_time,) if as_is else (controller.activation_time, switched)
+    variants = {tau: controller.model_copy(update={"activation_time": tau}) for tau in taus}
     plays = {tau: played(c) for tau, c in variants.items()}
     longest = max(run["free"]["cycles_completed"] for run in plays.values())
     for tau, run in plays.items():
@@ -269,10 +268,15 @@ def main() -> None:
     parser.add_argument(
         "--measure-only", action="store_true", help="re-measure the shipped gaits (no optimization)"
     )
+    parser.add_argument(
+        "--as-is",
+        action="store_true",
+        help="measure only the gait's own motor activation time (not also the switched one)",
+    )
     args = parser.parse_args()
     for gait in args.gaits:
         if args.measure_only:
-            measure(load_controller(PACKAGE / f"{gait}.json"))
+            measure(load_controller(PACKAGE / f"{gait}.json"), args.as_is)
             continue
         if args.harden_only:
             controller = load_controller(PACKAGE / f"{gait}.json")
@@ -290,7 +294,7 @@ def main() -> None:
             controller = hardened(
                 controller, args.runs / gait / "hardened", args.harden_minutes, args.seed
             )
-        measure(controller)
+        measure(controller, args.as_is)
 
 
 if __name__ == "__main__":

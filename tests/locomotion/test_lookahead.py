@@ -19,7 +19,7 @@ from eigengait.control.lookahead import (
     LookaheadRunner,
     LookaheadSettings,
     TaskCost,
-    planned_joints,
+    plan_weights,
 )
 from eigengait.errors import UserInputError
 from eigengait.files import validate
@@ -252,31 +252,35 @@ def test_a_controller_with_an_activation_time_plays_torques_that_lag_their_comma
     )
 
 
-def test_plans_can_leave_the_light_limbs_to_the_pulses(hopper):
-    """With `min_mass_share` 0.05 the kangaroo's arms, head and tail tip (each carrying under 5 % of
-    its mass) play exactly their pulses while the plans move the rest; the foot (4 %) stays planned
-    because it is on the foot's chain. With 0 the plans move every joint."""
+def test_plans_move_the_light_limbs_in_proportion_to_their_mass(hopper):
+    """With `min_mass_share` 0.5 a plan's torque on a joint off the foot's chain is scaled by its
+    subtree's mass share over 0.5: on the kangaroo a forearm gets less than its upper arm, which
+    carries it, the arms and the tail tip under a tenth, and the foot (4 % of the mass) its full
+    share because it is on the foot's chain. With 0 the plans move every joint in full. Played, the
+    plans' offsets on the light limbs shrink with their weights while the legs' stay."""
     system, p, _ = hopper
     world, model = system.world, system.world.model
     dof_names = [model.body(b).name for b in model.dof_bodyid[np.asarray(world.internal_qvel)]]
-    mask = planned_joints(world, 0.05)
-    left = {name for name, m in zip(dof_names, mask) if m == 0.0}
-    arms = {f"{side}_{part}" for side in ("left", "right") for part in ("upper_arm", "forearm")}
-    assert left == arms | {"head", "tail_tip"}
-    assert planned_joints(world, 0.0).all()
+    weight = dict(zip(dof_names, plan_weights(world, 0.5)))
+    mass = {name: model.body(name).subtreemass[0] / world.mass() for name in weight}
+    for side in ("left", "right"):
+        assert weight[f"{side}_forearm"] < weight[f"{side}_upper_arm"] < 0.1
+        assert weight[f"{side}_forearm"] == pytest.approx(mass[f"{side}_forearm"] / 0.5)
+    assert weight["tail_tip"] < 0.1
+    assert weight["foot"] == 1.0 and mass["foot"] < 0.05
+    assert (plan_weights(world, 0.0) == 1.0).all()
     n_motor = world.nmotor
     cycle = system.controls(p, cycles=1)[:, :n_motor]  # the lookahead repeats one cycle's pulses
     limit = system.torque_limits
     pulses = np.clip(np.vstack([cycle] * 3), -limit, limit)
-    light = mask == 0.0
-    played = {}
-    for share in (0.0, 0.05):
+    light = plan_weights(world, 0.5) < 0.1
+    offsets = {}
+    for share in (0.0, 0.5):
         settings = LookaheadSettings(speed=1.0, min_mass_share=share, **QUICK)
         runner = LookaheadRunner(system, settings)
         run = runner.run(p, 2)
         runner.close()
         n = int(run.ended[0])
-        played[share] = run.torques[0, :n] - pulses[:n]
-    assert np.abs(played[0.05][:, light]).max() < 1e-9
-    assert np.abs(played[0.05][:, ~light]).max() > 1.0  # N·m: the plans still act on the rest
-    assert np.abs(played[0.0][:, light]).max() > 1.0
+        offsets[share] = np.abs(run.torques[0, :n] - pulses[:n])
+    assert offsets[0.5][:, light].max() < 0.5 * offsets[0.0][:, light].max()
+    assert offsets[0.5][:, ~light].max() > 1.0  # N·m: the plans still act on the rest

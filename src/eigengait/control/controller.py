@@ -16,7 +16,7 @@ from pydantic import BaseModel, ConfigDict, Field, field_validator, model_valida
 
 from eigengait.control.activations import dense_to_sparse
 from eigengait.control.feedback import FEATURES, HIP_GAINS, FeedbackGains
-from eigengait.control.lookahead import SAMPLES, LookaheadSettings
+from eigengait.control.lookahead import LIGHT_LIMB_SHARE, SAMPLES, LookaheadSettings
 from eigengait.control.sketch import PhaseSketch, Sketch
 
 from eigengait.files import dump, read_mapping, validate
@@ -92,9 +92,9 @@ class LookaheadFile(BaseModel):
     feedback: bool = False  # plans and played motion add the controller's balance feedback
     # plans move only the sketch's priority and allowed modes (the file's `sketch`)
     in_sketch: bool = False
-    # plans leave to the pulses the joints off the feet's chains whose subtree holds less than
-    # this share of the body's mass (0: plans move every joint)
-    min_mass_share: float = Field(0.0, ge=0, lt=1)
+    # plans scale their torque on a joint off the feet's chains by its subtree's share of the
+    # body's mass over this share, at most 1 (0: plans move every joint in full)
+    min_mass_share: float = Field(LIGHT_LIMB_SHARE, ge=0, le=1)
 
     def settings(self, sketch: dict[str, PhaseSketch] | None = None) -> LookaheadSettings:
         """The runner's settings; with `in_sketch`, the modes of `sketch` (the controller file's)

@@ -55,6 +55,10 @@ MAX_ESCALATIONS = 2  # times the spread doubles when every plan falls
 # torso to ±50° with a third; with 96 it plays 20 cycles upright with every seed measured, at about
 # three times the cost (docs/locomotion.md, "Plans per decision")
 SAMPLES = 96
+# plans give a joint off the feet's chains its subtree's mass share over this, at most 1
+# (`plan_weights`): over planner seeds the run's and the monster's largest frame jumps fell from
+# 26-28° to 15-17° and 15°, every play upright for 20 cycles (docs/locomotion.md, "Light limbs")
+LIGHT_LIMB_SHARE = 0.5
 
 
 @dataclass(frozen=True)
@@ -75,9 +79,10 @@ class LookaheadSettings:
     plan_substeps: int = 2  # planning timestep = plan_substeps × the physics timestep
     seed: int = 0
     feedback: bool = False  # plans and played motion add the controller's balance feedback
-    # plans leave to the pulses the joints off every foot's chain whose subtree holds less than
-    # this share of the body's mass (light limbs: forearms, tails); 0: plans move every joint
-    min_mass_share: float = 0.0
+    # light limbs (joints off every foot's chain: arms, heads, tails) get the plans' torque scaled
+    # by their subtree's share of the body's mass over this share, at most 1 (`plan_weights`);
+    # 0: plans move every joint in full
+    min_mass_share: float = LIGHT_LIMB_SHARE
 
 
 class TaskCost:
@@ -126,7 +131,7 @@ class TaskCost:
 def plan_directions(system: GaitSystem, state: State, settings: LookaheadSettings) -> np.ndarray:
     """Torque columns (n_internal × k) a plan's Δψ moves in `state`: the lowest `settings.modes` of
     its basis, or the `settings.chosen` modes of its phase (a symmetric gait's second foot: the
-    first foot's, mirrored); zero on the joints `planned_joints` leaves to the pulses."""
+    first foot's, mirrored); each joint's rows scaled by its `plan_weights`."""
     if settings.chosen is None:
         columns = system.basis_matrix(state.foot, state.phase)[:, : settings.modes]
     else:
@@ -136,13 +141,17 @@ def plan_directions(system: GaitSystem, state: State, settings: LookaheadSetting
         columns = basis[:, chosen]
         if foot != state.foot:
             columns = system.mirror.dofs(columns.T).T
-    return columns * planned_joints(system.world, settings.min_mass_share)[:, None]
+    return columns * plan_weights(system.world, settings.min_mass_share)[:, None]
 
 
-def planned_joints(world: World, min_mass_share: float) -> np.ndarray:
-    """Per internal dof (motor order), 1.0 where the plans may add torque, else 0.0: dofs on the
-    chain from the root to any foot's toe, and dofs whose body's subtree holds at least
-    `min_mass_share` of the whole body's mass."""
+def plan_weights(world: World, min_mass_share: float) -> np.ndarray:
+    """Per internal dof (motor order), the share of a plan's torque it receives: 1 on the chain from
+    the root to any foot's toe, elsewhere the share of the body's mass its body's subtree holds over
+    `min_mass_share`, at most 1 (all 1 when `min_mass_share` is 0). A forearm then gets a few per
+    cent of what a leg gets: the plans' whole-body mode shapes would otherwise fling the light
+    limbs, whose torque limits are large for their inertia, at every decision."""
+    if min_mass_share <= 0:
+        return np.ones(world.nmotor)
     model = world.model
     subtree = np.asarray(model.body_subtreemass)
     on_legs = {
@@ -152,7 +161,7 @@ def planned_joints(world: World, min_mass_share: float) -> np.ndarray:
     }
     share = subtree / subtree[world.root_body]
     bodies = model.dof_bodyid[np.asarray(world.internal_qvel)]
-    return np.array([b in on_legs or share[b] >= min_mass_share for b in bodies], dtype=float)
+    return np.array([1.0 if b in on_legs else min(1.0, share[b] / min_mass_share) for b in bodies])
 
 
 class LookaheadRunner:
