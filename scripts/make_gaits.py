@@ -24,7 +24,7 @@ from eigengait.control.controller import (
     sketch_modes,
     to_parameters,
 )
-from eigengait.control.gait_targets import targets
+from eigengait.control.gait_targets import PUSHED, targets
 from eigengait.control.library import resolve
 from eigengait.control.playback import play, push_robustness
 from eigengait.control.sketch import load_sketch
@@ -52,7 +52,6 @@ GAITS = {
     "humanoid-canonical-basis": "canonical-basis",
     "humanoid-trivial-selection": "trivial-selection",
 }
-PUSHED = ("humanoid-basic-run", "dog-trot")  # the gaits with a push target (docs/locomotion.md)
 # prefix of the figures of the same gait played without its lookahead
 WITHOUT = "without_lookahead_"
 PACKAGE = Path(__file__).resolve().parents[1] / "src" / "eigengait" / "data" / "gaits"

@@ -7,6 +7,8 @@ flight and cadence or footfall pattern; the run and the trot survive 4 of 5 side
 
 from __future__ import annotations
 
+PUSHED = ("humanoid-basic-run", "dog-trot")  # the gaits with a push target
+
 
 def _phase_gap(a: float, b: float) -> float:
     d = abs(a - b) % 1.0
@@ -50,6 +52,6 @@ def targets(name: str, m: dict, pushes: list[bool] | None) -> dict[str, bool]:
                 and abs(_phase_gap(f["front_left"], f["front_right"]) - 0.5) <= 0.15,
             }
         )
-    if name in ("humanoid-basic-run", "dog-trot"):
+    if name in PUSHED:
         out["pushes ≥ 4/5"] = pushes is not None and sum(pushes) >= 4
     return out

@@ -57,7 +57,8 @@ MAX_ESCALATIONS = 2  # times the spread doubles when every plan falls
 SAMPLES = 96
 # plans give a joint off the feet's chains its subtree's mass share over this, at most 1
 # (`plan_weights`): over planner seeds the run's and the monster's largest frame jumps fell from
-# 26-28° to 15-17° and 15°, every play upright for 20 cycles (docs/locomotion.md, "Light limbs")
+# 25-27° and 26-28° to 15-17° and 15°, every play upright for 20 cycles (docs/locomotion.md,
+# "Light limbs")
 LIGHT_LIMB_SHARE = 0.5
 
 
