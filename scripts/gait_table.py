@@ -15,10 +15,18 @@ import json
 from pathlib import Path
 
 from eigengait.control.binding import gait_system
-from eigengait.control.controller import load_controller, to_parameters
+from eigengait.control.controller import LookaheadFile, load_controller, to_parameters
 from eigengait.control.library import gait_names, resolve
 from eigengait.control.gait_targets import targets
 from eigengait.control.playback import play, push_robustness
+
+DEFAULT_HORIZON = LookaheadFile.model_fields["horizon_cycles"].default
+
+
+def lookahead_label(name: str) -> str:
+    """The gait table's label for a lookahead: its plans' length when not the default."""
+    horizon = load_controller(resolve("gait", name)).lookahead.horizon_cycles
+    return "lookahead" + (f" ({horizon:g} cycles)" if horizon != DEFAULT_HORIZON else "")
 
 
 def main() -> None:
@@ -50,7 +58,7 @@ def main() -> None:
         roll = "{:.0f} … {:.0f}".format(*m["torso_roll_deg"])
         lifts = list(m["swing_clearance_m"].values())
         clearance = "none" if None in lifts else f"{min(lifts):.3f}"
-        control = ("lookahead" if m["lookahead"] else "pulses") + (
+        control = (lookahead_label(name) if m["lookahead"] else "pulses") + (
             f", {lag * 1000:.0f} ms lag" if lag else ""
         )
         print(

@@ -64,8 +64,11 @@ def section(name: str, record: dict, reference: dict | None) -> str:
     controller = load_controller(resolve("gait", name))
     sketch = load_sketch(resolve("sketch", GAITS[name]))
     m = record["played"]
+    horizon = controller.lookahead.horizon_cycles if controller.lookahead else None
     planner = (
-        "with its lookahead" if m.get("lookahead") else "without lookahead (it lasts longer so)"
+        f"with its lookahead (plans {horizon:g} cycles long)"
+        if m.get("lookahead")
+        else "without lookahead (it lasts longer so)"
     )
     if record.get("activation_time"):
         planner += (

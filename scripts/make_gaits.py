@@ -59,6 +59,10 @@ PACKAGE = Path(__file__).resolve().parents[1] / "src" / "eigengait" / "data" / "
 ACTIVATION_TIME = 0.04
 # each gait's full playback summaries, read by scripts/gait_table.py
 MEASURES = Path("out/gait-measures")
+# cycles the lookahead's plans reach when its two-cycle plans let the gait fall (docs/locomotion.md,
+# "A longer lookahead for the gaits that fall")
+LONG_HORIZON = 4.0
+CYCLES = 20  # cycles each gait is played for its figures
 
 
 def make(
@@ -131,18 +135,26 @@ def hardened(controller, folder: Path, minutes: float, seed: int):
 
 
 def played(controller) -> dict:
-    """The controller played 20 cycles with physics only, without and with its lookahead; the
-    lookahead is kept (`lookahead` None otherwise) only if it survives at least as long. Returns the
-    figures and what was kept."""
+    """The controller played `CYCLES` cycles with physics only, without and with its lookahead (if
+    that falls, once more with plans `LONG_HORIZON` cycles long, kept if it survives longer); the
+    lookahead is kept (`lookahead` None otherwise) only if it survives at least as long as the
+    pulses alone. Returns the figures and what was kept."""
     system = gait_system(controller)
     params = to_parameters(controller, system)
     described = lambda result: {  # noqa: E731
         **result.summary(),
         **sketch_character(system, params, controller.sketch, result.torques),
     }
-    alone = described(play(system, params, cycles=20))
-    free = described(play(system, params, cycles=20, lookahead=controller.planner()))
+    alone = described(play(system, params, cycles=CYCLES))
     lookahead = controller.lookahead
+    free = described(play(system, params, cycles=CYCLES, lookahead=controller.planner()))
+    if free["cycles_completed"] < CYCLES and lookahead.horizon_cycles < LONG_HORIZON:
+        longer = lookahead.model_copy(update={"horizon_cycles": LONG_HORIZON})
+        further = described(
+            play(system, params, cycles=CYCLES, lookahead=longer.settings(controller.sketch))
+        )
+        if further["cycles_completed"] > free["cycles_completed"]:
+            lookahead, free = longer, further
     if free["cycles_completed"] < alone["cycles_completed"]:
         lookahead, free = None, alone
     return {
