@@ -60,7 +60,7 @@ ACTIVATION_TIME = 0.04
 # each gait's full playback summaries, read by scripts/gait_table.py
 MEASURES = Path("out/gait-measures")
 # cycles the lookahead's plans reach when its two-cycle plans let the gait fall (docs/locomotion.md,
-# "A longer lookahead for the gaits that fall")
+# "A longer look for the gaits that fall")
 LONG_HORIZON = 4.0
 CYCLES = 20  # cycles each gait is played for its figures
 
@@ -110,7 +110,7 @@ def hardened(controller, folder: Path, minutes: float, seed: int):
     interrupted)."""
     system = gait_system(controller)
     start = to_parameters(controller, system)
-    before = play(system, start, cycles=20)
+    before = play(system, start, cycles=CYCLES)
     figures = StartingFigures.of(before)
     settings = SurvivalSettings(minutes=minutes, seed=seed)
     planner = controller.planner()
