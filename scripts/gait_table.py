@@ -23,9 +23,9 @@ from eigengait.control.playback import play, push_robustness
 DEFAULT_HORIZON = LookaheadFile.model_fields["horizon_cycles"].default
 
 
-def lookahead_label(name: str) -> str:
-    """The gait table's label for a lookahead: its plans' length when not the default."""
-    horizon = load_controller(resolve("gait", name)).lookahead.horizon_cycles
+def lookahead_label(horizon: float) -> str:
+    """The gait table's label for a lookahead whose plans reach `horizon` cycles: their length when
+    not the default."""
     return "lookahead" + (f" ({horizon:g} cycles)" if horizon != DEFAULT_HORIZON else "")
 
 
@@ -41,11 +41,11 @@ def main() -> None:
     print("|---|---|---:|---:|---:|---:|---:|---:|---|---|---:|---:|---:|---|")
     failures = []
     for name in gait_names():
+        controller = load_controller(resolve("gait", name))
         if args.recorded is not None:
             record = json.loads((args.recorded / f"{name}.json").read_text(encoding="utf-8"))
             m, pushes, lag = record["played"], record["pushes"], record.get("activation_time")
         else:
-            controller = load_controller(resolve("gait", name))
             system = gait_system(controller)
             params = to_parameters(controller, system)
             planner, lag = controller.planner(), controller.activation_time
@@ -58,9 +58,9 @@ def main() -> None:
         roll = "{:.0f} … {:.0f}".format(*m["torso_roll_deg"])
         lifts = list(m["swing_clearance_m"].values())
         clearance = "none" if None in lifts else f"{min(lifts):.3f}"
-        control = (lookahead_label(name) if m["lookahead"] else "pulses") + (
-            f", {lag * 1000:.0f} ms lag" if lag else ""
-        )
+        control = (
+            lookahead_label(controller.lookahead.horizon_cycles) if m["lookahead"] else "pulses"
+        ) + (f", {lag * 1000:.0f} ms lag" if lag else "")
         print(
             f"| `{name}` | {control} | {m['cycles_completed']}{' (fell)' if m['fell'] else ''} | "
             f"{m['mean_speed_mps']:.2f} | "
