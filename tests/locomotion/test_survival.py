@@ -184,14 +184,18 @@ def test_harden_command_writes_a_playable_controller_and_refuses_to_clobber(tmp_
             "--cycles",
             "1",
             "--json",
+            "--plans",
+            "8",
         ],
         capture_output=True,
         text=True,
         timeout=300,
     )
-    # the file loads and plays (a short search may still fall)
+    # the file loads and plays with the lookahead it kept (a short search may still fall)
     assert played.returncode == 0, played.stderr
-    assert json.loads(played.stdout)["controller"] == str(run / "best_controller.json")
+    out = json.loads(played.stdout)
+    assert out["controller"] == str(run / "best_controller.json")
+    assert out["lookahead"] is True and out["lookahead_plans"] == 8
     again = subprocess.run(args, capture_output=True, text=True, timeout=300)
     assert again.returncode == 2 and "--resume" in again.stderr
     other = subprocess.run(
