@@ -20,13 +20,18 @@ from eigengait.control.library import gait_names, resolve
 from eigengait.control.gait_targets import targets
 from eigengait.control.playback import play, push_robustness
 
-DEFAULT_HORIZON = LookaheadFile.model_fields["horizon_cycles"].default
+DEFAULT = LookaheadFile(speed=0.0)
 
 
-def lookahead_label(horizon: float) -> str:
-    """The gait table's label for a lookahead whose plans reach `horizon` cycles: their length when
-    not the default."""
-    return "lookahead" + (f" ({horizon:g} cycles)" if horizon != DEFAULT_HORIZON else "")
+def lookahead_label(lookahead: LookaheadFile) -> str:
+    """The gait table's label for `lookahead`: the plans' length and speed weight where they are not
+    the defaults."""
+    notes = []
+    if lookahead.horizon_cycles != DEFAULT.horizon_cycles:
+        notes.append(f"{lookahead.horizon_cycles:g} cycles")
+    if lookahead.speed_weight != DEFAULT.speed_weight:
+        notes.append(f"speed weight {lookahead.speed_weight:g}")
+    return "lookahead" + (f" ({', '.join(notes)})" if notes else "")
 
 
 def main() -> None:
@@ -58,9 +63,9 @@ def main() -> None:
         roll = "{:.0f} … {:.0f}".format(*m["torso_roll_deg"])
         lifts = list(m["swing_clearance_m"].values())
         clearance = "none" if None in lifts else f"{min(lifts):.3f}"
-        control = (
-            lookahead_label(controller.lookahead.horizon_cycles) if m["lookahead"] else "pulses"
-        ) + (f", {lag * 1000:.0f} ms lag" if lag else "")
+        control = (lookahead_label(controller.lookahead) if m["lookahead"] else "pulses") + (
+            f", {lag * 1000:.0f} ms lag" if lag else ""
+        )
         print(
             f"| `{name}` | {control} | {m['cycles_completed']}{' (fell)' if m['fell'] else ''} | "
             f"{m['mean_speed_mps']:.2f} | "

@@ -17,6 +17,7 @@ from make_gaits import GAITS, MEASURES
 
 from eigengait.control.controller import load_controller
 from eigengait.control.library import gait_names, resolve
+from eigengait.control.lookahead import SPEED_WEIGHT
 from eigengait.control.sketch import load_sketch
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -60,13 +61,21 @@ def _value(x, unit: str) -> str:
     return "—" if x is None else f"{x:.3g}{(' ' + unit) if unit else ''}"
 
 
+def planning(lookahead) -> str:
+    """How far the plans of `lookahead` reach and, where it is not the default, how hard they hold
+    the target speed."""
+    text = f"plans {lookahead.horizon_cycles:g} cycles long"
+    if lookahead.speed_weight != SPEED_WEIGHT:
+        text += f", the speed term weighted {lookahead.speed_weight:g}"
+    return text
+
+
 def section(name: str, record: dict, reference: dict | None) -> str:
     controller = load_controller(resolve("gait", name))
     sketch = load_sketch(resolve("sketch", GAITS[name]))
     m = record["played"]
-    horizon = controller.lookahead.horizon_cycles if controller.lookahead else None
     planner = (
-        f"with its lookahead (plans {horizon:g} cycles long)"
+        f"with its lookahead ({planning(controller.lookahead)})"
         if m.get("lookahead")
         else "without lookahead (it lasts longer so)"
     )

@@ -69,6 +69,11 @@ def test_task_cost_is_zero_on_target_and_a_fall_costs_most(hopper):
     assert cost(np.tile(state, (1, 4, 1)), np.tile(slow, (1, 4, 1)), 1)[0] == pytest.approx(
         expected
     )
+    # a gait's own speed weight scales that term alone
+    harder = TaskCost(system, speed, height, p.qpos0, system.initial_com(p), speed_weight=10.0)
+    assert harder(np.tile(state, (1, 4, 1)), np.tile(slow, (1, 4, 1)), 1)[0] == pytest.approx(
+        expected * 10.0 / SPEED_WEIGHT
+    )
     down = sensors.copy()
     down[world.com_sensor + 2] = 0.1 * world.standing_com_height
     assert cost(np.tile(state, (1, 4, 1)), np.tile(down, (1, 4, 1)), 1)[0] >= FALL_COST

@@ -16,7 +16,12 @@ from pydantic import BaseModel, ConfigDict, Field, field_validator, model_valida
 
 from eigengait.control.activations import dense_to_sparse
 from eigengait.control.feedback import FEATURES, HIP_GAINS, FeedbackGains
-from eigengait.control.lookahead import LIGHT_LIMB_SHARE, SAMPLES, LookaheadSettings
+from eigengait.control.lookahead import (
+    LIGHT_LIMB_SHARE,
+    SAMPLES,
+    SPEED_WEIGHT,
+    LookaheadSettings,
+)
 from eigengait.control.sketch import PhaseSketch, Sketch
 
 from eigengait.files import dump, read_mapping, validate
@@ -95,6 +100,8 @@ class LookaheadFile(BaseModel):
     # plans scale their torque on a joint off the feet's chains by its subtree's share of the
     # body's mass over this share, at most 1 (0: plans move every joint in full)
     min_mass_share: float = Field(LIGHT_LIMB_SHARE, ge=0, le=1)
+    # weight of the plans' speed term (higher: the target speed held harder)
+    speed_weight: float = Field(SPEED_WEIGHT, ge=0, le=1000)
 
     def settings(self, sketch: dict[str, PhaseSketch] | None = None) -> LookaheadSettings:
         """The runner's settings; with `in_sketch`, the modes of `sketch` (the controller file's)

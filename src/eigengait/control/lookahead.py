@@ -45,7 +45,7 @@ from eigengait.sim.world import GRAVITY, World
 UPRIGHT_WEIGHT = 4.0  # × (1 − z of the root's up axis)
 HEADING_WEIGHT = 4.0  # × (root yaw − its starting yaw)², rad²
 HEIGHT_WEIGHT = 10.0  # × ((COM z − the first cycle's mean COM z) / h)²
-SPEED_WEIGHT = 3.0  # × ((COM forward speed − target) / √(g h))²
+SPEED_WEIGHT = 3.0  # × ((COM forward speed − target) / √(g h))², unless a gait sets its own
 SIDE_SPEED_WEIGHT = 0.5  # × (COM sideways speed / √(g h))²
 SIDE_WEIGHT = 0.2  # × (COM sideways offset from the start / h)²
 FALL_COST = 1000.0  # a plan that falls costs this × (1 + share of the horizon left when it fell)
@@ -84,6 +84,9 @@ class LookaheadSettings:
     # by their subtree's share of the body's mass over this share, at most 1 (`plan_weights`);
     # 0: plans move every joint in full
     min_mass_share: float = LIGHT_LIMB_SHARE
+    # weight of the speed term in the plans' cost (`TaskCost`): higher holds the target speed
+    # harder against staying upright and at height
+    speed_weight: float = SPEED_WEIGHT
 
 
 class TaskCost:
@@ -97,12 +100,13 @@ class TaskCost:
         height: float,
         start_qpos: np.ndarray,
         start_com: np.ndarray,
+        speed_weight: float = SPEED_WEIGHT,
     ):
         world = system.world
         self.root, self.view = world.root, world.view
         self.h = world.standing_com_height  # m, the standing COM height
         self.v_unit = np.sqrt(GRAVITY * self.h)
-        self.speed, self.height = speed, height
+        self.speed, self.height, self.speed_weight = speed, height, speed_weight
         self.heading = float(self.root.heading(start_qpos))
         self.side = float(start_com[1])
 
@@ -119,7 +123,7 @@ class TaskCost:
                 UPRIGHT_WEIGHT * (1 - self.root.up_z(qpos))
                 + HEADING_WEIGHT * yaw**2
                 + HEIGHT_WEIGHT * ((com[..., 2] - self.height) / self.h) ** 2
-                + SPEED_WEIGHT * ((vel[..., 0] - self.speed) / self.v_unit) ** 2
+                + self.speed_weight * ((vel[..., 0] - self.speed) / self.v_unit) ** 2
                 + SIDE_SPEED_WEIGHT * (vel[..., 1] / self.v_unit) ** 2
                 + SIDE_WEIGHT * ((com[..., 1] - self.side) / self.h) ** 2
             )
@@ -289,7 +293,15 @@ class LookaheadRunner:
         system = self.system
         _, d = self.pool.rollout(self.model, self.datas, x[None], cycle_controls[None])
         height = float(np.mean(system.world.view.com(d[0])[:, 2]))
-        return TaskCost(system, self.settings.speed, height, p.qpos0, system.initial_com(p))
+        settings = self.settings
+        return TaskCost(
+            system,
+            settings.speed,
+            height,
+            p.qpos0,
+            system.initial_com(p),
+            settings.speed_weight,
+        )
 
     def _decide(self, x, plan, nominal, lengths, horizon, state, directions, scale, cost, start):
         """Best plan (knots × motors) and its controls (horizon × nu) from state `x`; the plan comes
