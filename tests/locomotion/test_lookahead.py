@@ -155,7 +155,7 @@ def test_with_feedback_the_plans_predict_the_played_motion_feedback_included(hop
 
 def test_controller_file_keeps_lookahead_and_refuses_it_with_touchdown_timing(hopper, tmp_path):
     system, p, path = hopper
-    settings = LookaheadSettings(speed=0.9, samples=16)
+    settings = LookaheadSettings(speed=0.9, samples=16, speed_weight=10.0)
     written = to_file(system, p, "hop", lookahead=settings)
     assert written.lookahead.settings() == settings
     data = json.loads(written.model_dump_json())
@@ -167,6 +167,10 @@ def test_controller_file_keeps_lookahead_and_refuses_it_with_touchdown_timing(ho
     with pytest.raises(UserInputError) as err:
         validate(ControllerFile, data, path, "fix it")
     assert "samples" in str(err.value)
+    data["lookahead"]["samples"], data["lookahead"]["speed_weight"] = 16, -1.0
+    with pytest.raises(UserInputError) as err:
+        validate(ControllerFile, data, path, "fix it")
+    assert "speed_weight" in str(err.value)
 
 
 def test_play_uses_the_controllers_lookahead_unless_told_not_to(hopper, tmp_path, eigengait_cli):
