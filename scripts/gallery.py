@@ -13,11 +13,11 @@ import argparse
 import json
 from pathlib import Path
 
+from gait_table import DEFAULT
 from make_gaits import GAITS, MEASURES
 
 from eigengait.control.controller import load_controller
 from eigengait.control.library import gait_names, resolve
-from eigengait.control.lookahead import SPEED_WEIGHT
 from eigengait.control.sketch import load_sketch
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -65,7 +65,7 @@ def planning(lookahead) -> str:
     """How far the plans of `lookahead` reach and, where it is not the default, how hard they hold
     the target speed."""
     text = f"plans {lookahead.horizon_cycles:g} cycles long"
-    if lookahead.speed_weight != SPEED_WEIGHT:
+    if lookahead.speed_weight != DEFAULT.speed_weight:
         text += f", the speed term weighted {lookahead.speed_weight:g}"
     return text
 

@@ -146,25 +146,27 @@ def played(controller) -> dict:
     the figures and what was kept."""
     system = gait_system(controller)
     params = to_parameters(controller, system)
-    described = lambda result: {  # noqa: E731
-        **result.summary(),
-        **sketch_character(system, params, controller.sketch, result.torques),
-    }
-    alone = described(play(system, params, cycles=CYCLES))
+
+    def figures(lookahead: LookaheadFile | None) -> dict:
+        """The play's summary and sketch character, with `lookahead` (None: the pulses alone)."""
+        planner = lookahead.settings(controller.sketch) if lookahead is not None else None
+        result = play(system, params, cycles=CYCLES, lookahead=planner)
+        return {
+            **result.summary(),
+            **sketch_character(system, params, controller.sketch, result.torques),
+        }
+
+    alone = figures(None)
     lookahead = controller.lookahead
-    free = described(play(system, params, cycles=CYCLES, lookahead=controller.planner()))
+    free = figures(lookahead)
     if free["cycles_completed"] < CYCLES and lookahead.horizon_cycles < LONG_HORIZON:
         longer = lookahead.model_copy(update={"horizon_cycles": LONG_HORIZON})
-        further = described(
-            play(system, params, cycles=CYCLES, lookahead=longer.settings(controller.sketch))
-        )
+        further = figures(longer)
         if further["cycles_completed"] > free["cycles_completed"]:
             lookahead, free = longer, further
     if short_of_speed(controller.name, free):
         harder = lookahead.model_copy(update={"speed_weight": STRONG_SPEED_WEIGHT})
-        faster = described(
-            play(system, params, cycles=CYCLES, lookahead=harder.settings(controller.sketch))
-        )
+        faster = figures(harder)
         if met(controller.name, faster) > met(controller.name, free):
             lookahead, free = harder, faster
     if free["cycles_completed"] < alone["cycles_completed"]:
