@@ -213,11 +213,11 @@ def test_plans_can_keep_to_the_sketchs_modes():
         kept = controller.model_copy(
             update={
                 "lookahead": controller.lookahead.model_copy(
-                    update={"in_sketch": in_sketch, "samples": 32}
+                    update={"in_sketch": in_sketch, "samples": 16}
                 )
             }
         )
-        result = play(system, p, cycles=3, lookahead=kept.planner())
+        result = play(system, p, cycles=2, lookahead=kept.planner())
         shares[in_sketch] = energy_split(system, p, controller.sketch, result.torques)["excluded"]
     pulses = energy_split(
         system, p, controller.sketch, system.controls(p, cycles=1)[:, : system.world.nmotor]

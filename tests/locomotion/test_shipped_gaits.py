@@ -106,12 +106,26 @@ def test_play_can_give_the_motors_an_activation_time(eigengait_cli):
     """The kangaroo's pulses (its file states no lag) played with a 40 ms and a 1 ms motor lag."""
     lagged = json.loads(
         eigengait_cli(
-            "play", "kangaroo-hop", "--cycles", "1", "--json", "--activation-time", "0.04"
+            "play",
+            "kangaroo-hop",
+            "--cycles",
+            "1",
+            "--json",
+            "--no-lookahead",
+            "--activation-time",
+            "0.04",
         ).stdout
     )
     instant = json.loads(
         eigengait_cli(
-            "play", "kangaroo-hop", "--cycles", "1", "--json", "--activation-time", "0.001"
+            "play",
+            "kangaroo-hop",
+            "--cycles",
+            "1",
+            "--json",
+            "--no-lookahead",
+            "--activation-time",
+            "0.001",
         ).stdout
     )
     assert lagged["activation_time"] == 0.04 and instant["activation_time"] == 0.001

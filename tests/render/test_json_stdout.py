@@ -30,6 +30,8 @@ def _commands(tmp: Path) -> list[list[str]]:
             "humanoid-basic-run",
             "--cycles",
             "1",
+            "--plans",
+            "8",
             "--json",
             "--video",
             tmp / "play.gif",

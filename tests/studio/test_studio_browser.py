@@ -255,9 +255,9 @@ def test_saving_over_an_existing_file_asks_first(studio, page):
 def test_optimization_runs_in_the_background_and_its_plot_advances(studio, page, artifacts):
     expand(page, "Optimize (gravity on)")
     number = row(page, "max evaluations").locator("input")
-    number.fill("200")
+    number.fill("120")
     number.press("Tab")
-    wait_until(lambda: studio.optimize_panel.budget.value == 200, what="the budget")
+    wait_until(lambda: studio.optimize_panel.budget.value == 120, what="the budget")
     page.get_by_role("button", name="Start new run").click()
     progress = page.get_by_text(re.compile(r"^studio-runs/run-.*generation \d+"))
     progress.wait_for(timeout=30_000)
