@@ -104,30 +104,16 @@ def test_snap_is_an_explicit_option(eigengait_cli):
 
 def test_play_can_give_the_motors_an_activation_time(eigengait_cli):
     """The kangaroo's pulses (its file states no lag) played with a 40 ms and a 1 ms motor lag."""
-    lagged = json.loads(
-        eigengait_cli(
-            "play",
-            "kangaroo-hop",
-            "--cycles",
-            "1",
-            "--json",
-            "--no-lookahead",
-            "--activation-time",
-            "0.04",
-        ).stdout
-    )
-    instant = json.loads(
-        eigengait_cli(
-            "play",
-            "kangaroo-hop",
-            "--cycles",
-            "1",
-            "--json",
-            "--no-lookahead",
-            "--activation-time",
-            "0.001",
-        ).stdout
-    )
+
+    def pulses_with_lag(seconds: str) -> dict:
+        return json.loads(
+            eigengait_cli(
+                "play", "kangaroo-hop", "--cycles", "1", "--json", "--no-lookahead",
+                "--activation-time", seconds,
+            ).stdout
+        )  # fmt: skip
+
+    lagged, instant = pulses_with_lag("0.04"), pulses_with_lag("0.001")
     assert lagged["activation_time"] == 0.04 and instant["activation_time"] == 0.001
     # the hop's 80-100 ms rectangular pulses lose much of their energy through a 40 ms lag, little
     # through 1 ms
