@@ -97,6 +97,22 @@ def test_a_foot_that_slides_without_leaving_the_floor_is_one_stance_held_still()
     np.testing.assert_allclose(held, np.broadcast_to(held[100], held.shape), atol=1e-9)
 
 
+def test_a_swing_that_skims_the_floor_a_stride_forward_is_a_step():
+    # The same as above but 1 m forward in 0.35 s (a walk's swing, 2.9 m/s) with the sole never
+    # more than 1.8 cm up (CMU 05_01's right foot): two stances, the second held 1 m ahead.
+    frame_time, n = 1 / 120, 240
+    points = np.zeros((n, 2, 3))
+    points[:, 1, 0] = 0.18
+    swing = slice(80, 122)
+    x = np.concatenate([np.zeros(80), np.linspace(0.0, 1.0, 42), np.ones(n - 122)])
+    points[..., 0] += x[:, None]
+    points[swing, :, 2] = 0.018 * np.sin(np.linspace(0.0, np.pi, 42))[:, None]
+    correction, holds = foot_corrections(points, frame_time)
+    assert len(holds) == 2
+    held = points[..., :2] + correction[:, None, :2]
+    assert held[-1, 0, 0] - held[0, 0, 0] == pytest.approx(1.0, abs=1e-9)
+
+
 def _runner_foot(frame_time: float) -> np.ndarray:
     """Sole points (F, 2, 3) of a runner's foot: 0.25 s on the floor sliding at 1.1 m/s (a
     retargeted stance), 0.3 s of swing 8 cm up at 4.4 m/s, 0.25 s on the floor again."""

@@ -10,10 +10,13 @@ the reference.
    pace). A retargeted runner's stance feet slide at up to 1.5 m/s at 2.2 m/s (CMU 16_36): with
    the walking bound alone two of its four stances were missed and then lifted as swing feet
    (step 3), so that the reference ran on feet 5 cm above the floor. Two such runs between which
-   the foot's lowest sole point stays within TOUCH_M of the floor are one stance: a retargeted foot
-   sliding fast mid-stance without leaving the floor (CMU 07_06, 05_01) was otherwise found as two
-   stances back to back, each held where it stood at its own middle, and the bounded change
-   between them (step 4) left 10-16 cm of skate in a stance.
+   the foot's lowest sole point stays within TOUCH_M of the floor and its sole centre travels less
+   than JOIN_TRAVEL_M are one stance: a retargeted foot sliding fast mid-stance without leaving the
+   floor (CMU 07_06, 05_01: 1-7 cm between the runs) was otherwise found as two stances back to
+   back, each held where it stood at its own middle, and the bounded change between them (step 4)
+   left 10-16 cm of skate in a stance. A swing that skims the floor travels a stride (1 m in 05_01,
+   whose swing foot rises 2.0-2.6 cm): joined, the walk played 1.25 times faster lost a step and
+   fell.
 2. Each stance is held from its start to its end, grown by up to EXTEND_S on each side while the
    foot stays within STANCE_M (touch-down and lift-off). Over the hold, the foot's slip is the
    cumulative horizontal displacement of its touching sole points (those within TOUCH_M of its
@@ -47,6 +50,7 @@ from eigengait.sim.world import World
 
 STANCE_M = 0.05
 TOUCH_M = 0.02
+JOIN_TRAVEL_M = 0.3  # m: less than half a stride
 STANCE_SPEED = 0.8  # m/s
 PACE_FRACTION = 0.5  # of the root's horizontal speed: the stance speed bound of fast motions
 PACE_SMOOTHING_S = 0.25
@@ -98,11 +102,17 @@ def root_pace(world: World, qpos: np.ndarray, frame_time: float) -> np.ndarray:
 
 
 def _holds(
-    low: np.ndarray, speed: np.ndarray, frame_time: float, bound: np.ndarray | float = STANCE_SPEED
+    low: np.ndarray,
+    centre: np.ndarray,
+    speed: np.ndarray,
+    frame_time: float,
+    bound: np.ndarray | float = STANCE_SPEED,
 ) -> list[tuple[int, int, int, int]]:
     """(hold start, core start, core end, hold end) per stance: the still core (speed at most
-    `bound`, m/s, per frame or one value) grown while the foot stays low."""
-    cores = _joined(runs((low <= STANCE_M) & (speed <= bound), frame_time, MIN_STANCE_S), low)
+    `bound`, m/s, per frame or one value) grown while the foot stays low; `centre` (F, 2) the sole
+    centre's horizontal position (m)."""
+    still = runs((low <= STANCE_M) & (speed <= bound), frame_time, MIN_STANCE_S)
+    cores = _joined(still, low, centre)
     grow, out = int(round(EXTEND_S / frame_time)), []
     for k, (a, b) in enumerate(cores):
         first = out[-1][3] if out else 0
@@ -116,13 +126,21 @@ def _holds(
     return out
 
 
-def _joined(cores: list[tuple[int, int]], low: np.ndarray) -> list[tuple[int, int]]:
+def _joined(
+    cores: list[tuple[int, int]], low: np.ndarray, centre: np.ndarray
+) -> list[tuple[int, int]]:
     """Still cores [start, end) with each pair between which the foot's lowest sole height `low`
-    (F,) m stays within TOUCH_M of the floor joined into one: a foot that never leaves the floor
-    is one stance, however fast its raw sole slides in between."""
+    (F,) m stays within TOUCH_M of the floor and its sole centre `centre` (F, 2) m travels less
+    than JOIN_TRAVEL_M joined into one: a foot that slides without leaving the floor is one stance,
+    however fast its raw sole slides; one that skims the floor a stride forward has stepped."""
     out: list[tuple[int, int]] = []
     for a, b in cores:
-        if out and low[out[-1][1] : a].max(initial=0.0) <= TOUCH_M:
+        end = out[-1][1] if out else 0
+        if (
+            out
+            and low[end:a].max(initial=0.0) <= TOUCH_M
+            and np.linalg.norm(centre[a] - centre[end - 1]) < JOIN_TRAVEL_M
+        ):
             out[-1] = (out[-1][0], b)
         else:
             out.append((a, b))
@@ -140,12 +158,11 @@ def foot_corrections(
     """Per-frame correction (F, 3) of one foot (m, world) and its stances (holds), from its sole
     points (F, k, 3) and the body's pace (F,) m/s (`root_pace`; None: the walking bound
     STANCE_SPEED alone)."""
-    low = points[..., 2].min(axis=1)
+    low, centre = points[..., 2].min(axis=1), points.mean(axis=1)[:, :2]
     n, width = len(points), max(1, int(round(SPEED_SMOOTHING_S / frame_time)))
-    speed = np.linalg.norm(np.gradient(points.mean(axis=1)[:, :2], frame_time, axis=0), axis=1)
-    speed = _smoothed(speed, width)
+    speed = _smoothed(np.linalg.norm(np.gradient(centre, frame_time, axis=0), axis=1), width)
     bound = STANCE_SPEED if pace is None else np.maximum(STANCE_SPEED, PACE_FRACTION * pace)
-    holds = _holds(low, speed, frame_time, bound)
+    holds = _holds(low, centre, speed, frame_time, bound)
     correction = np.zeros((n, 3))
     held = np.zeros(n, bool)
     blend = max(1, int(round(BLEND_S / frame_time)))
