@@ -135,3 +135,16 @@ def test_blow_up_names_time_and_body():
         for _ in range(100):
             step(world, data, 10)
     assert isinstance(caught.value, EigengaitError) and not isinstance(caught.value, UserInputError)
+
+
+def test_a_nan_control_is_a_blow_up_reported_at_its_time():
+    # A NaN control is only a warning to MuJoCo, which drops it and steps on: it is a blow-up,
+    # reported at its time (not after a reset's restarted clock) and naming the actuated body.
+    world = build_world(load_character("humanoid"), options=WorldOptions(gravity=False))
+    data = world.new_data()
+    step(world, data, 2000)
+    started = float(data.time)
+    data.ctrl[0] = np.nan
+    body = world.model.body(world.model.jnt_bodyid[world.model.actuator_trnid[0, 0]]).name
+    with pytest.raises(SimulationBlowUp, match=rf"t = {started:.3f}\d s \(body '{body}'"):
+        step(world, data, 1)

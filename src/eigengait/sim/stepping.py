@@ -55,15 +55,43 @@ def raise_blow_up(world: World, time: float, dof: int, file: str | None = None) 
     )
 
 
+_RESET_WARNINGS = (
+    mujoco.mjtWarning.mjWARN_BADQACC,
+    mujoco.mjtWarning.mjWARN_BADQVEL,
+    mujoco.mjtWarning.mjWARN_BADQPOS,
+    mujoco.mjtWarning.mjWARN_BADCTRL,
+)  # MuJoCo resets the state (and its clock) on each of these
+
+
+def _warning_counts(data: mujoco.MjData) -> list[int]:
+    return [int(data.warning[w].number) for w in _RESET_WARNINGS]
+
+
+def _reset_dof(model: mujoco.MjModel, data: mujoco.MjData, before: list[int]) -> int | None:
+    """The dof to blame for a reset MuJoCo made during the last steps (None: no reset): a bad
+    control's actuator's joint, else the fastest-accelerating dof."""
+    grown = [w for w, n in zip(_RESET_WARNINGS, before) if int(data.warning[w].number) > n]
+    if not grown:
+        return None
+    if grown == [mujoco.mjtWarning.mjWARN_BADCTRL]:
+        actuator = int(data.warning[mujoco.mjtWarning.mjWARN_BADCTRL].lastinfo)
+        if 0 <= actuator < model.nu and model.actuator_trntype[actuator] == 0:  # a joint
+            return int(model.jnt_dofadr[model.actuator_trnid[actuator, 0]])
+    return int(np.argmax(np.abs(data.qacc))) if data.qacc.size else 0
+
+
 def step(
     world: World, data: mujoco.MjData, nstep: int = 1, model: mujoco.MjModel | None = None
 ) -> None:
     """Advance `nstep` physics steps in C, then check the state. `model`: the model `data` belongs
-    to, when it is an edited copy of the world's."""
-    warnings_before = int(data.warning[mujoco.mjtWarning.mjWARN_BADQACC].number)
-    mujoco.mj_step(model or world.model, data, nstep)
+    to, when it is an edited copy of the world's. A state MuJoCo had to reset (a NaN or huge
+    acceleration, velocity, position or control) is a blow-up too, reported at the time these steps
+    started from (MuJoCo's clock restarts near 0)."""
+    model = model or world.model
+    before, start = _warning_counts(data), float(data.time)
+    mujoco.mj_step(model, data, nstep)
     dof = blown_up_dof(data.qvel[None], 0) if blown_up_steps(data.qvel) else None
-    if int(data.warning[mujoco.mjtWarning.mjWARN_BADQACC].number) > warnings_before and dof is None:
-        dof = int(np.argmax(np.abs(data.qacc))) if data.qacc.size else 0
+    if dof is None:
+        dof = _reset_dof(model, data, before)
     if dof is not None:
-        raise_blow_up(world, float(data.time), dof)
+        raise_blow_up(world, float(data.time) if data.time > start else start, dof)
