@@ -60,7 +60,7 @@ _RESET_WARNINGS = (
     mujoco.mjtWarning.mjWARN_BADQVEL,
     mujoco.mjtWarning.mjWARN_BADQPOS,
     mujoco.mjtWarning.mjWARN_BADCTRL,
-)  # MuJoCo resets the state (and its clock) on each of these
+)  # MuJoCo warns and resets the state (a bad position, velocity, acceleration) or drops the control
 
 
 def _warning_counts(data: mujoco.MjData) -> list[int]:
@@ -75,7 +75,10 @@ def _reset_dof(model: mujoco.MjModel, data: mujoco.MjData, before: list[int]) ->
         return None
     if grown == [mujoco.mjtWarning.mjWARN_BADCTRL]:
         actuator = int(data.warning[mujoco.mjtWarning.mjWARN_BADCTRL].lastinfo)
-        if 0 <= actuator < model.nu and model.actuator_trntype[actuator] == 0:  # a joint
+        if (
+            0 <= actuator < model.nu
+            and model.actuator_trntype[actuator] == mujoco.mjtTrn.mjTRN_JOINT
+        ):
             return int(model.jnt_dofadr[model.actuator_trnid[actuator, 0]])
     return int(np.argmax(np.abs(data.qacc))) if data.qacc.size else 0
 
@@ -84,9 +87,9 @@ def step(
     world: World, data: mujoco.MjData, nstep: int = 1, model: mujoco.MjModel | None = None
 ) -> None:
     """Advance `nstep` physics steps in C, then check the state. `model`: the model `data` belongs
-    to, when it is an edited copy of the world's. A state MuJoCo had to reset (a NaN or huge
-    acceleration, velocity, position or control) is a blow-up too, reported at the time these steps
-    started from (MuJoCo's clock restarts near 0)."""
+    to, when it is an edited copy of the world's. A NaN or huge acceleration, velocity, position or
+    control, which MuJoCo only warns of (resetting the state or dropping the control), is a blow-up
+    too, reported at the time these steps started from when the reset restarted the clock."""
     model = model or world.model
     before, start = _warning_counts(data), float(data.time)
     mujoco.mj_step(model, data, nstep)
