@@ -55,7 +55,7 @@ def raise_blow_up(world: World, time: float, dof: int, file: str | None = None) 
     )
 
 
-_RESET_WARNINGS = (
+_BAD_STATE_WARNINGS = (
     mujoco.mjtWarning.mjWARN_BADQACC,
     mujoco.mjtWarning.mjWARN_BADQVEL,
     mujoco.mjtWarning.mjWARN_BADQPOS,
@@ -64,13 +64,14 @@ _RESET_WARNINGS = (
 
 
 def _warning_counts(data: mujoco.MjData) -> list[int]:
-    return [int(data.warning[w].number) for w in _RESET_WARNINGS]
+    return [int(data.warning[w].number) for w in _BAD_STATE_WARNINGS]
 
 
-def _reset_dof(model: mujoco.MjModel, data: mujoco.MjData, before: list[int]) -> int | None:
-    """The dof to blame for a reset MuJoCo made during the last steps (None: no reset): a bad
-    control's actuator's joint, else the fastest-accelerating dof."""
-    grown = [w for w, n in zip(_RESET_WARNINGS, before) if int(data.warning[w].number) > n]
+def _warned_dof(model: mujoco.MjModel, data: mujoco.MjData, before: list[int]) -> int | None:
+    """The dof to blame for a bad state MuJoCo warned of during the last steps, given the warning
+    counts `before` them (None: no new warning): a bad control's actuator's joint, else the
+    fastest-accelerating dof."""
+    grown = [w for w, n in zip(_BAD_STATE_WARNINGS, before) if int(data.warning[w].number) > n]
     if not grown:
         return None
     if grown == [mujoco.mjtWarning.mjWARN_BADCTRL]:
@@ -95,6 +96,6 @@ def step(
     mujoco.mj_step(model, data, nstep)
     dof = blown_up_dof(data.qvel[None], 0) if blown_up_steps(data.qvel) else None
     if dof is None:
-        dof = _reset_dof(model, data, before)
+        dof = _warned_dof(model, data, before)
     if dof is not None:
         raise_blow_up(world, float(data.time) if data.time > start else start, dof)
