@@ -98,4 +98,4 @@ def step(
     if dof is None:
         dof = _warned_dof(model, data, before)
     if dof is not None:
-        raise_blow_up(world, float(data.time) if data.time > start else start, dof)
+        raise_blow_up(world, max(float(data.time), start), dof)
