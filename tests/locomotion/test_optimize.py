@@ -258,6 +258,42 @@ def test_the_slip_term_charges_the_stances_that_playback_measures(problem):
     assert "stance_slip" not in plain.evaluate(x[None])[0].soft  # no target, no term
 
 
+def test_the_paired_feet_term_charges_each_cycle_the_pair_spends_apart(problem):
+    """With `targets.paired_feet`, a cycle in which one foot of a pair touches the ground while the
+    other does not for more than the tolerance adds Q_u: read here from the feet's sphere heights
+    at every 10 ms sample of one cycle, the contact rule applied by hand."""
+    from eigengait.errors import UserInputError
+    from eigengait.sim.contacts import CONTACT_TOLERANCE
+
+    x = problem.space.initial()
+    p = problem.space.decode(x)
+    left, right = problem.system.world.character.feet
+    targets = problem.sketch.targets.model_copy(
+        update={"paired_feet": [(left, right)], "pair_tolerance": 0.05}
+    )
+    evaluator = BatchEvaluator(problem.system, problem.space, targets, threads=2, cycles=1)
+    run = evaluator.simulate([p])
+    assert not run.fell[0]
+    view = problem.system.world.view
+    sampled = run.sensors[0, evaluator.sample_every - 1 :: evaluator.sample_every]
+    down = {
+        f: (view.foot_points(sampled, f)[..., 2] - view.foot_radius[f]).min(axis=1)
+        <= CONTACT_TOLERANCE
+        for f in (left, right)
+    }
+    share = (down[left] != down[right]).mean()
+    assert share > 0.05  # a run's feet alternate
+    charged = evaluator.evaluate(x[None])[0].soft["paired_feet"]
+    assert charged == pytest.approx(1.0 + (share - 0.05) ** 2)
+    alone = targets.model_copy(update={"paired_feet": [(left, left)]})
+    same = BatchEvaluator(problem.system, problem.space, alone, threads=2, cycles=1)
+    assert same.evaluate(x[None])[0].soft["paired_feet"] == 0.0  # a foot is always with itself
+    wrong = targets.model_copy(update={"paired_feet": [(left, "tail")]})
+    with pytest.raises(UserInputError, match="tail") as error:
+        BatchEvaluator(problem.system, problem.space, wrong, threads=2, cycles=1)
+    assert "targets.paired_feet" in str(error.value)
+
+
 def test_process_and_ray_evaluators_agree_with_threads(problem):
     X = population(problem, 4, seed=1)
     reference = BatchEvaluator(

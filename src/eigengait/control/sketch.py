@@ -94,6 +94,10 @@ class Targets(BaseModel):
     energy: float = 5e5  # (N·m)², mean squared active torque
     # m per stance (`play`'s stance_slip_m rule); None: not charged
     stance_slip: float | None = Field(None, gt=0)
+    # feet that touch the ground together (a trot's diagonal pairs); charged per cycle in which
+    # one foot of a pair is down while the other is not for more than `pair_tolerance` of it
+    paired_feet: list[tuple[str, str]] = Field(default_factory=list)
+    pair_tolerance: float = Field(0.1, gt=0, lt=1)
     # max |φᵢ| accepted as cyclic (rad, m; velocities × 0.1 s)
     cycle_tolerance: float = Field(0.2, gt=0)
 

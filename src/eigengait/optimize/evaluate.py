@@ -24,6 +24,7 @@ from eigengait.control.feedback import leg_root_joint
 from eigengait.control.gait import GaitParameters, GaitSystem
 from eigengait.control.gait_metrics import rollout_stance_slips
 from eigengait.control.sketch import Targets
+from eigengait.errors import UserInputError
 from eigengait.optimize import terms
 from eigengait.optimize.parameters import ParameterSpace
 
@@ -78,6 +79,15 @@ class BatchEvaluator:
             f: self.model.joint(leg_root_joint(world, f)).id for f in dict.fromkeys(system.feet)
         }
         self.kinematics = mujoco.MjData(self.model)
+        for pair in targets.paired_feet:
+            for foot in pair:
+                if foot not in world.character.feet:
+                    raise UserInputError(
+                        f"paired foot '{foot}' is not a foot of '{world.character.name}'",
+                        file=system.source,
+                        field="targets.paired_feet",
+                        fix=f"pair feet among: {', '.join(world.character.feet)}",
+                    )
 
     @property
     def steps_simulated(self) -> int:
@@ -137,6 +147,8 @@ class BatchEvaluator:
             soft["stance_slip"] = terms.stance_slip_term(
                 np.concatenate(list(slips)), tg.stance_slip
             )
+        if tg.paired_feet:
+            soft["paired_feet"] = self._paired_term(p, sensors[samples])
         if run.fell[i]:
             soft["fall"] = FALL_PENALTY * (2.0 - end / run.steps[i])
         # fallen, or touchdowns too late to finish
@@ -155,6 +167,19 @@ class BatchEvaluator:
             energy=energy,
             soft=soft,
         )
+
+    def _paired_term(self, p: GaitParameters, sampled_sensors: np.ndarray) -> float:
+        """`targets.paired_feet`'s term over the played cycles (the last one may be partial), from
+        sensors sampled every `sample_every` steps."""
+        touching = self.view.feet_touching(sampled_sensors)
+        per_cycle = p.period / (self.sample_every * self.dt)
+        cycles = max(1, int(round(len(sampled_sensors) / per_cycle)))
+        total = 0.0
+        for a, b in self.targets.paired_feet:
+            apart = touching[a] != touching[b]
+            shares = [part.mean() for part in np.array_split(apart, cycles) if part.size]
+            total += terms.paired_contact_term(np.array(shares), self.targets.pair_tolerance)
+        return total
 
     @property
     def constraint_size(self) -> int:

@@ -112,3 +112,10 @@ def stance_slip_term(slips: np.ndarray, limit: float) -> float:
     charged (not in the thesis; the closed-loop gait target of ≤ 3 cm, measured as `play` measures
     `stance_slip_m`)."""
     return float(q_upper(-np.asarray(slips, dtype=float), -limit).sum())
+
+
+def paired_contact_term(mismatch: np.ndarray, tolerance: float) -> float:
+    """Σ over cycles of Q_u(−m, −ε): m the share of a cycle in which one foot of a pair touches the
+    ground and the other does not (not in the thesis; a footfall pattern such as a trot's diagonal
+    pairs, `targets.paired_feet`)."""
+    return float(q_upper(-np.asarray(mismatch, dtype=float), -tolerance).sum())
