@@ -2,12 +2,13 @@
 optimizer.
 
 Usage: python scripts/make_gaits.py [GAIT ...] [--evaluations N] [--max-outer N] [--runs DIR]
-[--harden-minutes M] [--harden-only | --measure-only] [--as-is]. Each gait is a sketch preset
-optimized from a fixed seed, then (with --harden-minutes) hardened against falls under sampled
-pushes (`eigengait harden`, optimize/survival.py); the best controller is copied into the package
-with its playback metrics. `--harden-only` hardens the shipped gaits as they are, `--measure-only`
-re-measures them (`--as-is`: only with their own motor activation time). Runs are kept in DIR
-(default out/gait-runs) and resume if interrupted.
+[--harden-minutes M] [--harden-only | --measure-only] [--as-is] [--servo]. Each gait is a sketch
+preset optimized from a fixed seed, then (with --harden-minutes) hardened against falls under
+sampled pushes (`eigengait harden`, optimize/survival.py); the best controller is copied into the
+package with its playback metrics. `--harden-only` hardens the shipped gaits as they are,
+`--measure-only` re-measures them (`--as-is`: only with their own motor activation time;
+`--servo`: each also with the swing-foot servo). Runs are kept in DIR (default out/gait-runs) and
+resume if interrupted.
 """
 
 from __future__ import annotations
@@ -29,6 +30,7 @@ from eigengait.control.library import resolve
 from eigengait.control.playback import play, push_robustness
 from eigengait.control.sketch import load_sketch
 from eigengait.control.sketch_character import sketch_character
+from eigengait.control.swing_servo import ServoSettings
 from eigengait.optimize.mom import MomSettings
 from eigengait.optimize.staged import optimize_gait
 from eigengait.optimize.survival import CHECKPOINT, StartingFigures, SurvivalSettings, harden
@@ -203,43 +205,50 @@ def rank(name: str, play: dict) -> tuple:
     )
 
 
-def measure(controller, as_is: bool = False) -> None:
+def measure(controller, as_is: bool = False, servo: bool = False) -> None:
     """Play the controller as it is and (unless `as_is`) with its motors' activation time switched
-    (`ACTIVATION_TIME` when it has none, none when it has one), each with its lookahead (given the
-    sketch's mean speed as its target if it has none) and without; push the longest survivors of
-    the gaits that have a push target; ship the variant that survives longest (then: the most
-    pushes, the most targets met, the smaller frame jumps), with its lookahead only if that survives
-    at least as long; record the figures."""
+    (`ACTIVATION_TIME` when it has none, none when it has one), and (with `servo`) each of these
+    with and without the swing-foot servo, each with its lookahead (given the sketch's mean speed as
+    its target if it has none) and without; push the longest survivors of the gaits that have a
+    push target; ship the variant that survives longest (then: the most pushes, the most targets
+    met, the smaller frame jumps), with its lookahead only if that survives at least as long; record
+    the figures."""
     sketch = load_sketch(resolve("sketch", GAITS[controller.name]))
     controller.sketch = sketch_modes(sketch)
     if controller.lookahead is None:
         controller.lookahead = LookaheadFile(speed=sketch.targets.mean_speed)
     switched = None if controller.activation_time is not None else ACTIVATION_TIME
     taus = (controller.activation_time,) if as_is else (controller.activation_time, switched)
-    variants = {tau: controller.model_copy(update={"activation_time": tau}) for tau in taus}
-    plays = {tau: played(c) for tau, c in variants.items()}
+    servos = (None, ServoSettings()) if servo else (controller.swing_servo,)
+    variants = {
+        (tau, s): controller.model_copy(update={"activation_time": tau, "swing_servo": s})
+        for tau in taus
+        for s in servos
+    }
+    plays = {key: played(c) for key, c in variants.items()}
     longest = max(run["free"]["cycles_completed"] for run in plays.values())
-    for tau, run in plays.items():
-        variants[tau].lookahead = run["lookahead"]
+    for key, run in plays.items():
+        variants[key].lookahead = run["lookahead"]
         # only the longest survivors can be shipped, so only they are pushed
         if controller.name in PUSHED and run["free"]["cycles_completed"] == longest:
             run["pushes"] = push_robustness(
-                run["system"], run["params"], lookahead=variants[tau].planner()
+                run["system"], run["params"], lookahead=variants[key].planner()
             )
         print(
-            f"{controller.name}: activation time {tau}: {run['free']['cycles_completed']} cycles, "
-            f"jump {run['free']['max_frame_jump_deg']}°, pushes {run.get('pushes')}, "
+            f"{controller.name}: activation time {key[0]}, swing servo {key[1] is not None}: "
+            f"{run['free']['cycles_completed']} cycles, jump {run['free']['max_frame_jump_deg']}°, "
+            f"slip {run['free']['stance_slip_max_m']} m, pushes {run.get('pushes')}, "
             f"lookahead {run['lookahead'] is not None}"
         )
     ship(controller.name, variants, plays)
 
 
 def ship(name: str, variants: dict, plays: dict) -> None:
-    """Copy the best-ranked of the played `variants` (activation time -> controller; `plays`: their
-    figures, as `measure` collects them) into the package with its figures, and record every
-    variant's figures in `MEASURES`."""
-    tau = max(plays, key=lambda t: rank(name, plays[t]))
-    controller, best = variants[tau], plays[tau]
+    """Copy the best-ranked of the played `variants` ((activation time, servo) -> controller;
+    `plays`: their figures, as `measure` collects them) into the package with its figures, and
+    record every variant's figures in `MEASURES`."""
+    chosen = max(plays, key=lambda key: rank(name, plays[key]))
+    controller, best = variants[chosen], plays[chosen]
     alone, free, pushes = best["alone"], best["free"], best.get("pushes")
     kept = {
         k: controller.metrics[k]
@@ -265,19 +274,22 @@ def ship(name: str, variants: dict, plays: dict) -> None:
         controller.metrics["pushes_survived_of_5"] = sum(pushes)
     save_controller(controller, PACKAGE / f"{controller.name}.json")
     MEASURES.mkdir(parents=True, exist_ok=True)
-    others = [t for t in plays if t != tau]
     record = {
         "played": free,
         "without_lookahead": alone,
         "pushes": pushes,
-        "activation_time": tau,
-        "other_activation": {
-            "activation_time": others[0],
-            "played": plays[others[0]]["free"],
-            "pushes": plays[others[0]].get("pushes"),
-        }
-        if others
-        else None,
+        "activation_time": chosen[0],
+        "swing_servo": chosen[1] is not None,
+        "other_variants": [
+            {
+                "activation_time": key[0],
+                "swing_servo": key[1] is not None,
+                "played": plays[key]["free"],
+                "pushes": plays[key].get("pushes"),
+            }
+            for key in plays
+            if key != chosen
+        ],
     }
     (MEASURES / f"{controller.name}.json").write_text(
         json.dumps(record, indent=1), encoding="utf-8"
@@ -310,10 +322,15 @@ def main() -> None:
         action="store_true",
         help="measure only the gait's own motor activation time (not also the switched one)",
     )
+    parser.add_argument(
+        "--servo",
+        action="store_true",
+        help="measure each variant also with the swing-foot servo (control/swing_servo.py)",
+    )
     args = parser.parse_args()
     for gait in args.gaits:
         if args.measure_only:
-            measure(load_controller(PACKAGE / f"{gait}.json"), args.as_is)
+            measure(load_controller(PACKAGE / f"{gait}.json"), args.as_is, args.servo)
             continue
         if args.harden_only:
             controller = load_controller(PACKAGE / f"{gait}.json")
@@ -331,7 +348,7 @@ def main() -> None:
             controller = hardened(
                 controller, args.runs / gait / "hardened", args.harden_minutes, args.seed
             )
-        measure(controller, args.as_is)
+        measure(controller, args.as_is, args.servo)
 
 
 if __name__ == "__main__":

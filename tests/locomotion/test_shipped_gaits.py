@@ -120,3 +120,19 @@ def test_play_can_give_the_motors_an_activation_time(eigengait_cli):
     assert lagged["mean_squared_torque"] < 0.7 * instant["mean_squared_torque"]
     bad = eigengait_cli("play", "kangaroo-hop", "--activation-time", "-1")
     assert bad.returncode == 2 and "--activation-time" in bad.stderr and "0.01-0.05" in bad.stderr
+
+
+def test_play_switches_the_swing_servo_on_and_off(eigengait_cli):
+    """The servo's torques are in what is played: the same pulses with and without it apply other
+    torques, and the JSON says which was played."""
+
+    def pulses(flag: str) -> dict:
+        return json.loads(
+            eigengait_cli(
+                "play", "dog-trot", "--cycles", "1", "--json", "--no-lookahead", flag
+            ).stdout
+        )
+
+    on, off = pulses("--servo"), pulses("--no-servo")
+    assert on["swing_servo"] is True and off["swing_servo"] is False
+    assert on["mean_squared_torque"] != pytest.approx(off["mean_squared_torque"], rel=1e-3)

@@ -208,6 +208,14 @@ def play_command(
             "controller's own."
         ),
     ),
+    servo: Optional[bool] = typer.Option(
+        None,
+        "--servo/--no-servo",
+        help=(
+            "Add the swing-foot servo (control/swing_servo.py, default settings) or leave it out, "
+            "instead of what the controller says."
+        ),
+    ),
     plans: Optional[int] = typer.Option(
         None,
         "--plans",
@@ -232,6 +240,7 @@ def play_command(
     from eigengait.control.library import resolve
     from eigengait.control.playback import parse_pushes, play
     from eigengait.control.sketch_character import sketch_character
+    from eigengait.control.swing_servo import ServoSettings
 
     if cycles < 1:
         raise UserInputError(f"--cycles must be at least 1, got {cycles}", field="--cycles")
@@ -250,6 +259,10 @@ def play_command(
     c = load_controller(path)
     if activation_time is not None:
         c = c.model_copy(update={"activation_time": activation_time})
+    if servo is not None:
+        c = c.model_copy(
+            update={"swing_servo": (c.swing_servo or ServoSettings()) if servo else None}
+        )
     check_range(plans, "--plans", 2, 4096, fix="use 2 to 4096 plans per decision (default: 96)")
     if plans is not None and c.lookahead is not None:
         c = c.model_copy(update={"lookahead": c.lookahead.model_copy(update={"samples": plans})})
@@ -274,6 +287,7 @@ def play_command(
         "controller": str(path),
         "character": c.character,
         "activation_time": c.activation_time,
+        "swing_servo": c.swing_servo is not None,
         **result.summary(),
         "lookahead_plans": None if planner is None else planner.samples,
     }

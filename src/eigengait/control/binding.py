@@ -32,6 +32,7 @@ def gait_system(
         spec.torque_limit,
         WorldOptions(gravity=gravity, activation_time=spec.activation_time),
         source,
+        spec.swing_servo,
     )
 
 

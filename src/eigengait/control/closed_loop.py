@@ -206,6 +206,7 @@ class ClosedLoopRunner:
         self.chunk = steps_per_reading(self.model.opt.timestep)
         self.motor_dofs = np.asarray(world.internal_qvel)
         self.steps_simulated = 0
+        self.servo = system.servo
 
     def close(self) -> None:
         """Stop this runner's threads (other runners and MuJoCo's shared pool are not touched)."""
@@ -257,6 +258,7 @@ class ClosedLoopRunner:
             control = np.zeros((idx.size, b - a, width))
             keep = np.ones(idx.size, bool)
             t = a * dt
+            servo = self.servo.torque(state[idx]) if self.servo is not None else None
             for k, i in enumerate(idx):
                 upto = min(b, steps[i])
                 if upto <= a:
@@ -272,6 +274,8 @@ class ClosedLoopRunner:
                         self.reader, clock.cycle, clock.phase_time, state[i], sensors_now[i]
                     )
                     u = clock.controls(upto - a)
+                if servo is not None:
+                    tau_fb = tau_fb + servo[k]
                 u[:, :n_motor] = np.clip(u[:, :n_motor] + tau_fb, -limit, limit)
                 control[k, : upto - a, :nu] = u
                 bad_torque = first_bad_torque(u[:, :n_motor], self.motor_dofs)

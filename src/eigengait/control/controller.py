@@ -23,6 +23,7 @@ from eigengait.control.lookahead import (
     LookaheadSettings,
 )
 from eigengait.control.sketch import PhaseSketch, Sketch
+from eigengait.control.swing_servo import ServoSettings
 
 from eigengait.files import dump, read_mapping, validate
 from eigengait.control.gait import GaitParameters, GaitSystem
@@ -146,6 +147,8 @@ class ControllerFile(BaseModel):
     initial_qvel: list[Annotated[float, Field(ge=-MAX_SPEED, le=MAX_SPEED)]]
     air_frequencies_hz: list[float]  # fingerprint of the character at its relax pose
     feedback: FeedbackFile = Field(default_factory=lambda: FeedbackFile())
+    # the swing-foot servo added to every simulation of the gait (none: pulses and feedback alone)
+    swing_servo: ServoSettings | None = None
     lookahead: LookaheadFile | None = None
     # the modes of the sketch it was made from
     sketch: dict[Literal["air", "ground"], PhaseSketch] | None = None
@@ -199,6 +202,7 @@ def to_file(
         basis=system.basis,
         torque_limit=system.torque_limit,
         activation_time=system.options.activation_time,
+        swing_servo=system.swing_servo,
         period=p.period,
         air_ratio=p.air_ratio,
         pulse_air=p.pulse_air,

@@ -19,6 +19,7 @@ from eigengait.control.activations import sparse_to_dense
 from eigengait.control.feedback import FeedbackGains
 from eigengait.control.mirror import Mirror
 from eigengait.control.pulse import State, control_sequence, schedule, state_torques
+from eigengait.control.swing_servo import ServoSettings, SwingServo
 from eigengait.errors import UserInputError
 from eigengait.modal.analysis import compute_modes
 from eigengait.sim.world import World, WorldOptions, build_world
@@ -57,6 +58,8 @@ class GaitSystem:
     options: WorldOptions = field(default_factory=WorldOptions)
     # the sketch or controller file that chose the feet: their errors name it
     source: str | Path | None = None
+    # the swing-foot servo added to every simulation of the gait (None: pulses and feedback alone)
+    swing_servo: ServoSettings | None = None
 
     def __post_init__(self):
         blamed = self.source or self.character.path
@@ -79,6 +82,7 @@ class GaitSystem:
             f: compute_modes(modal_world, "ground", f) for f in dict.fromkeys(self.feet)
         }
         self.mirror = Mirror(self.world) if self.symmetric and len(self.feet) > 1 else None
+        self.servo = None if self.swing_servo is None else SwingServo(self.world, self.swing_servo)
         if self.mirror is not None and len(self.feet) != 2:
             raise UserInputError(
                 "a symmetric gait alternates exactly two feet",

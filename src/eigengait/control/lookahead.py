@@ -186,6 +186,7 @@ class LookaheadRunner:
         self.motors = hip_motors_by_foot(system.world, system.feet)
         self.chunk = steps_per_reading(self.model.opt.timestep)
         self.rollouts = 0  # plans simulated so far
+        self.servo = system.servo
 
     def close(self) -> None:
         self.pool.close()
@@ -218,7 +219,7 @@ class LookaheadRunner:
             if p.feedback.enabled and settings.feedback
             else None
         )
-        chunk = self.chunk if feedback is not None else n_cycle
+        chunk = self.chunk if feedback is not None or self.servo is not None else n_cycle
         limit = system.torque_limits
         spec = mujoco.mjtState.mjSTATE_CTRL | (
             mujoco.mjtState.mjSTATE_QFRC_APPLIED if pushes else 0
@@ -245,12 +246,13 @@ class LookaheadRunner:
             for a in range(0, segment, chunk):
                 b = min(segment, a + chunk)
                 u = controls[a:b].copy()
+                tau = self.servo.torque(x) if self.servo is not None else 0.0
                 if feedback is not None:
                     t = (n + a) * dt
-                    tau = feedback.torque(
+                    tau = tau + feedback.torque(
                         self.reader, int(t // p.period), t % p.period, x, x_sensors
                     )
-                    u[:, :n_motor] = np.clip(u[:, :n_motor] + tau, -limit, limit)
+                u[:, :n_motor] = np.clip(u[:, :n_motor] + tau, -limit, limit)
                 control = np.zeros((1, b - a, width))
                 control[0, :, :nu] = u
                 add_pushes(control, pushes, n + a, dt, nu)
@@ -348,7 +350,9 @@ class LookaheadRunner:
         with none, one rollout call."""
         K, steps = controls.shape[:2]
         now = np.repeat(x[None], K, axis=0)
-        if feedback is None or time < feedback.period:
+        if feedback is not None and time < feedback.period:
+            feedback = None  # its reference cycle is still being recorded
+        if feedback is None and self.servo is None:
             return self.pool.rollout(self.plan_model, self.plan_datas, now, controls)
         n_motor, limit = self.system.world.nmotor, self.system.torque_limits
         dt = self.plan_model.opt.timestep
@@ -357,13 +361,14 @@ class LookaheadRunner:
         now_sensors = np.repeat(sensors[None], K, axis=0)
         for a in range(0, steps, chunk):
             b = min(steps, a + chunk)
-            phase = (time + a * dt) % feedback.period
-            k = feedback.state_index(phase)
-            with np.errstate(invalid="ignore", over="ignore"):
-                features = self.reader.read(now, now_sensors, feedback.roles[k].support)
-                tau = np.nan_to_num(
-                    feedback.response(k, features, phase), nan=0.0, posinf=0.0, neginf=0.0
-                )
+            tau = self.servo.torque(now) if self.servo is not None else np.zeros((K, n_motor))
+            if feedback is not None:
+                phase = (time + a * dt) % feedback.period
+                k = feedback.state_index(phase)
+                with np.errstate(invalid="ignore", over="ignore"):
+                    features = self.reader.read(now, now_sensors, feedback.roles[k].support)
+                    tau += feedback.response(k, features, phase)
+            tau = np.nan_to_num(tau, nan=0.0, posinf=0.0, neginf=0.0)
             u = controls[:, a:b].copy()
             u[..., :n_motor] = np.clip(u[..., :n_motor] + tau[:, None], -limit, limit)
             s, d = self.pool.rollout(self.plan_model, self.plan_datas, now, u)

@@ -24,6 +24,7 @@ from typing import Literal
 
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
+from eigengait.control.swing_servo import ServoSettings
 from eigengait.files import read_mapping, validate
 from eigengait.errors import UserInputError
 from eigengait.sim.world import MAX_ACTIVATION_TIME
@@ -136,6 +137,10 @@ class Sketch(BaseModel):
         gt=0,
         le=MAX_ACTIVATION_TIME,
         description="s: each torque follows its command through a first-order lag (none: at once)",
+    )
+    swing_servo: ServoSettings | None = Field(
+        None,
+        description="a swing-foot servo in every simulation of the gait (control/swing_servo.py)",
     )
 
     @model_validator(mode="after")
