@@ -136,3 +136,16 @@ def test_controller_and_sketch_files_switch_the_servo_on_and_refuse_bad_values(t
     with pytest.raises(UserInputError) as error:
         load_controller(bad)
     assert "swing_servo" in str(error.value) and str(bad) in str(error.value)
+
+
+def test_a_one_footed_creatures_leg_stops_below_its_root():
+    """The kangaroo's one foot: the servo moves its thigh, shin and foot with their own mass, not
+    the whole body's through the root."""
+    world = build_world(load_character("kangaroo"))
+    model = world.model
+    servo = SwingServo(world)
+    (leg,) = servo.legs
+    bodies = {model.body(int(model.dof_bodyid[d])).name for d in leg.dofs}
+    assert bodies == {"thigh", "shin", "foot"}
+    assert leg.mass == pytest.approx(float(model.body_subtreemass[model.body("thigh").id]))
+    assert leg.mass < 0.5 * world.mass()

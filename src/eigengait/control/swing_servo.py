@@ -2,7 +2,8 @@
 
 For each foot whose lowest contact sphere has its bottom above the floor but within a band c (a
 share of the standing COM height h), a force F = m a acts on that sphere's centre through the
-leg's own joints (τ = Jᵀ F, the leg being the bodies on that foot's chain and on no other foot's):
+leg's own joints (τ = Jᵀ F, the leg being the bodies on that foot's chain, below the root, and on
+no other foot's):
 
     a_xy = −2 ω v_xy (1 − z / c)                              damps the ground speed as it lands
     a_z  = l ω² (c − z) · min(1, |v_xy| / (0.1 √(g h)))       lifts a foot that moves while low
@@ -13,6 +14,8 @@ feedback's are, for 10 ms.
 """
 
 from __future__ import annotations
+
+from typing import NamedTuple
 
 import mujoco
 import numpy as np
@@ -29,6 +32,17 @@ class ServoSettings(BaseModel):
     band: float = Field(0.06, gt=0, le=0.5, description="c, a share of the standing COM height")
     omega: float = Field(4.0, gt=0, le=20, description="ω, in units of √(g / h)")
     lift: float = Field(0.25, ge=0, le=4, description="l: 0 damps without lifting")
+
+
+class ServoLeg(NamedTuple):
+    """One foot's leg as the servo drives it."""
+
+    sites: list[int]  # the foot's contact-sphere centre sites (toe, heel)
+    body: int  # the body those sites are on
+    radius: float  # m, the spheres' radius
+    dofs: np.ndarray  # qvel indices of the leg's joints
+    motors: np.ndarray  # the same joints' motor indices
+    mass: float  # kg, the leg's mass
 
 
 class SwingServo:
@@ -48,25 +62,29 @@ class SwingServo:
             foot: set(ancestors(model, model.site(world.character.feet[foot].toe).bodyid[0]))
             for foot in world.character.feet
         }
-        self.feet = []
+        self.legs: list[ServoLeg] = []
         for foot, chain in chains.items():
             others = set().union(*(c for f, c in chains.items() if f != foot))
-            leg = chain - others or chain
-            dofs = [d for d in range(model.nv) if model.dof_bodyid[d] in leg and d in motor_of_dof]
-            top = min(leg, key=lambda b: len(list(ancestors(model, b))))
+            leg_bodies = chain - others - {world.root_body}
+            dofs = [
+                d
+                for d in range(model.nv)
+                if model.dof_bodyid[d] in leg_bodies and d in motor_of_dof
+            ]
+            top = min(leg_bodies, key=lambda b: len(list(ancestors(model, b))))
             sites = [
                 model.site(s).id
                 for s in (world.character.feet[foot].toe, world.character.feet[foot].heel)
                 if s
             ]
-            self.feet.append(
-                (
-                    sites,
-                    int(model.site(sites[0]).bodyid[0]),
-                    world.foot_radius(foot),
-                    np.array(dofs),
-                    np.array([motor_of_dof[d] for d in dofs]),
-                    float(model.body_subtreemass[top]),
+            self.legs.append(
+                ServoLeg(
+                    sites=sites,
+                    body=int(model.site(sites[0]).bodyid[0]),
+                    radius=world.foot_radius(foot),
+                    dofs=np.array(dofs),
+                    motors=np.array([motor_of_dof[d] for d in dofs]),
+                    mass=float(model.body_subtreemass[top]),
                 )
             )
         self.jacp = np.zeros((3, model.nv))
@@ -83,17 +101,18 @@ class SwingServo:
             data.qpos[:], data.qvel[:] = qpos[r], qvel[r]
             mujoco.mj_kinematics(model, data)
             mujoco.mj_comPos(model, data)
-            for sites, body, radius, dofs, motors, mass in self.feet:
-                heights = data.site_xpos[sites, 2] - radius
+            for leg in self.legs:
+                heights = data.site_xpos[leg.sites, 2] - leg.radius
                 lowest = int(np.argmin(heights))
                 z = float(heights[lowest])
                 if not 0.0 < z < self.band:
                     continue
-                mujoco.mj_jac(model, data, self.jacp, None, data.site_xpos[sites[lowest]], body)
+                point = data.site_xpos[leg.sites[lowest]]
+                mujoco.mj_jac(model, data, self.jacp, None, point, leg.body)
                 v = self.jacp @ qvel[r]
                 speed = float(np.hypot(v[0], v[1]))
                 a = np.empty(3)
                 a[:2] = -2.0 * self.omega * v[:2] * (1.0 - z / self.band)
                 a[2] = self.lift * self.omega**2 * (self.band - z) * min(1.0, speed / self.slow)
-                out[r, motors] += self.jacp[:, dofs].T @ (mass * a)
+                out[r, leg.motors] += self.jacp[:, leg.dofs].T @ (leg.mass * a)
         return out.reshape(*shape, self.world.nmotor)
