@@ -17,7 +17,9 @@ state start. The state machine runs on the clock (a touchdown-triggered gait is 
 controller file). With `feedback` on, the controller's own balance feedback (`feedback.py`: read
 every 10 ms against the first played cycle) is added to the played motion and, once that reference
 cycle is recorded, to every plan, simulated in 10 ms chunks as the optimizer does; off (the default:
-measured in docs/locomotion.md), plans and played motion are the pulses alone.
+measured in docs/locomotion.md), plans and played motion are the pulses alone. A gait with a
+swing-foot servo (`swing_servo.py`) has it in the played motion and in every plan, read every 10 ms
+the same way.
 """
 
 from __future__ import annotations
@@ -346,8 +348,8 @@ class LookaheadRunner:
     def _simulate_plans(self, x, controls, time, sensors, feedback):
         """Rollout states and sensors of plans (controls: plans × plan steps × nu) from state `x` at
         `time` (s). Once the feedback's reference cycle is recorded, the plans add the controller's
-        feedback as the played motion will, read every `FEEDBACK_DT` of plan time; before that, or
-        with none, one rollout call."""
+        feedback as the played motion will, and the swing-foot servo if the gait has one, read every
+        `FEEDBACK_DT` of plan time; with neither, one rollout call."""
         K, steps = controls.shape[:2]
         now = np.repeat(x[None], K, axis=0)
         if feedback is not None and time < feedback.period:
