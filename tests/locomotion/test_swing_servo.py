@@ -9,8 +9,9 @@ import pytest
 
 from eigengait.character import load_character
 from eigengait.control.binding import gait_system
-from eigengait.control.controller import load_controller
+from eigengait.control.controller import load_controller, to_file, to_parameters
 from eigengait.control.library import resolve
+from eigengait.control.sketch import load_sketch
 from eigengait.control.swing_servo import ServoSettings, SwingServo
 from eigengait.errors import UserInputError
 from eigengait.sim.world import GRAVITY, build_world
@@ -136,6 +137,14 @@ def test_controller_and_sketch_files_switch_the_servo_on_and_refuse_bad_values(t
     with pytest.raises(UserInputError) as error:
         load_controller(bad)
     assert "swing_servo" in str(error.value) and str(bad) in str(error.value)
+    # a sketch asks for it the same way, and the controller written from its system keeps it
+    sketch_text = resolve("sketch", "dog-trot").read_text()
+    sketch_file = tmp_path / "servo.yaml"
+    sketch_file.write_text(sketch_text + "swing_servo: {omega: 2.5}\n")
+    sketched = gait_system(load_sketch(sketch_file))
+    assert sketched.servo is not None and sketched.swing_servo == ServoSettings(omega=2.5)
+    written = to_file(sketched, to_parameters(controller, system))
+    assert written.swing_servo == ServoSettings(omega=2.5)
 
 
 def test_a_one_footed_creatures_leg_stops_below_its_root():
