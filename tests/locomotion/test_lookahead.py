@@ -20,6 +20,7 @@ from eigengait.control.lookahead import (
     LookaheadSettings,
     TaskCost,
     plan_weights,
+    sliding_cost,
 )
 from eigengait.errors import UserInputError
 from eigengait.files import validate
@@ -77,6 +78,38 @@ def test_task_cost_is_zero_on_target_and_a_fall_costs_most(hopper):
     down = sensors.copy()
     down[world.com_sensor + 2] = 0.1 * world.standing_com_height
     assert cost(np.tile(state, (1, 4, 1)), np.tile(down, (1, 4, 1)), 1)[0] >= FALL_COST
+
+
+def test_sliding_cost_counts_spheres_touching_at_both_samples_by_their_ground_speed():
+    r, dt, v_unit = 0.02, 0.01, 2.0
+    points = np.zeros((2, 3, 2, 3))  # plans × samples × spheres × xyz
+    points[..., 2] = r  # resting on the floor
+    points[:, :, 0, 0] = [0.0, 0.03, 0.06]  # sphere 0 slides at 3 m/s
+    points[:, :, 1, 1] = [0.0, 0.5, 1.0]  # sphere 1 sweeps at 50 m/s…
+    points[:, :, 1, 2] = r + 0.05  # …5 cm above the floor: not touching
+    points[1, 2, 0, 2] = r + 0.01  # plan 1 lifts sphere 0 (1 cm up) before its last sample
+    np.testing.assert_allclose(
+        sliding_cost(points, r, dt, v_unit), [(3.0 / v_unit) ** 2, (3.0 / v_unit) ** 2 / 2]
+    )
+
+
+def test_task_cost_charges_sliding_feet_only_with_a_slip_weight(hopper):
+    system, p, _ = hopper
+    world, view = system.world, system.world.view
+    state, sensors = system.initial_state(p), system.initial_sensors(p)
+    states, rows = np.tile(state, (1, 4, 1)), np.tile(sensors, (1, 4, 1))
+    states[..., 0] = 0.01 * np.arange(4)  # s: one cost sample every 10 ms
+    foot = next(iter(view.foot_radius))
+    radius, toe = view.foot_radius[foot], view.foot_points_at[foot][0]
+    rows[..., toe + 2] = radius  # the toe sphere rests on the floor…
+    rows[..., toe] = 0.01 * np.arange(4)  # …and slides forward at 1 m/s
+    for other in view.foot_points_at[foot][1:]:
+        rows[..., other + 2] = radius + 0.1  # the heel is lifted
+    args = (system, 1.2, 0.9, p.qpos0, system.initial_com(p))
+    plain = TaskCost(*args)(states, rows, 1)[0]
+    weighted = TaskCost(*args, slip_weight=2.0)(states, rows, 1)[0]
+    v_unit = np.sqrt(9.81 * world.standing_com_height)
+    assert weighted - plain == pytest.approx(2.0 * (1.0 / v_unit) ** 2)
 
 
 def test_lookahead_keeps_a_falling_hop_going(hopper):
@@ -155,7 +188,7 @@ def test_with_feedback_the_plans_predict_the_played_motion_feedback_included(hop
 
 def test_controller_file_keeps_lookahead_and_refuses_it_with_touchdown_timing(hopper, tmp_path):
     system, p, path = hopper
-    settings = LookaheadSettings(speed=0.9, samples=16, speed_weight=10.0)
+    settings = LookaheadSettings(speed=0.9, samples=16, speed_weight=10.0, slip_weight=2.0)
     written = to_file(system, p, "hop", lookahead=settings)
     assert written.lookahead.settings() == settings
     data = json.loads(written.model_dump_json())
@@ -171,6 +204,10 @@ def test_controller_file_keeps_lookahead_and_refuses_it_with_touchdown_timing(ho
     with pytest.raises(UserInputError) as err:
         validate(ControllerFile, data, path, "fix it")
     assert "speed_weight" in str(err.value)
+    data["lookahead"]["speed_weight"], data["lookahead"]["slip_weight"] = 10.0, -2.0
+    with pytest.raises(UserInputError) as err:
+        validate(ControllerFile, data, path, "fix it")
+    assert "slip_weight" in str(err.value)
 
 
 def test_play_uses_the_controllers_lookahead_unless_told_not_to(hopper, tmp_path, eigengait_cli):
@@ -191,6 +228,13 @@ def test_play_uses_the_controllers_lookahead_unless_told_not_to(hopper, tmp_path
     assert json.loads(on.stdout)["lookahead_plans"] == QUICK["samples"]
     refused = eigengait_cli("play", str(controller), "--cycles", "1", "--plans", "1")
     assert refused.returncode != 0 and "--plans" in refused.stderr
+    assert json.loads(on.stdout)["lookahead_slip_weight"] == 0.0
+    cleaner = eigengait_cli(
+        "play", str(controller), "--cycles", "1", "--json", "--slip-weight", "2"
+    )
+    assert json.loads(cleaner.stdout)["lookahead_slip_weight"] == 2.0
+    refused = eigengait_cli("play", str(controller), "--cycles", "1", "--slip-weight", "-1")
+    assert refused.returncode != 0 and "--slip-weight" in refused.stderr
 
 
 def test_plans_can_keep_to_the_sketchs_modes():

@@ -224,6 +224,15 @@ def play_command(
             "faster, less robust; docs/locomotion.md)."
         ),
     ),
+    slip_weight: Optional[float] = typer.Option(
+        None,
+        "--slip-weight",
+        help=(
+            "Weight of the lookahead's cost on touching feet that slide, instead of the "
+            "controller's (0: off; higher: cleaner feet, at the price of speed and uprightness; "
+            "docs/locomotion.md)."
+        ),
+    ),
     as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
     video: Optional[Path] = typer.Option(None, "--video", help="Write a video (.mp4/.gif)."),
     bvh: Optional[Path] = typer.Option(None, "--bvh", help="Write the motion as BVH."),
@@ -264,8 +273,11 @@ def play_command(
             update={"swing_servo": (c.swing_servo or ServoSettings()) if servo else None}
         )
     check_range(plans, "--plans", 2, 4096, fix="use 2 to 4096 plans per decision (default: 96)")
-    if plans is not None and c.lookahead is not None:
-        c = c.model_copy(update={"lookahead": c.lookahead.model_copy(update={"samples": plans})})
+    check_range(slip_weight, "--slip-weight", 0, 1000, fix="use a weight from 0 (off) to 1000")
+    overrides = {"samples": plans, "slip_weight": slip_weight}
+    overrides = {k: v for k, v in overrides.items() if v is not None}
+    if overrides and c.lookahead is not None:
+        c = c.model_copy(update={"lookahead": c.lookahead.model_copy(update=overrides)})
     system = gait_system(c, source=path)
     planner = c.planner() if lookahead and not snap else None
     status = status_console(as_json)
@@ -290,6 +302,7 @@ def play_command(
         "swing_servo": c.swing_servo is not None,
         **result.summary(),
         "lookahead_plans": None if planner is None else planner.samples,
+        "lookahead_slip_weight": None if planner is None else planner.slip_weight,
     }
     if c.sketch is not None:
         summary.update(sketch_character(system, params, c.sketch, result.torques))

@@ -19,6 +19,7 @@ from eigengait.control.feedback import FEATURES, HIP_GAINS, FeedbackGains
 from eigengait.control.lookahead import (
     LIGHT_LIMB_SHARE,
     SAMPLES,
+    SLIP_WEIGHT,
     SPEED_WEIGHT,
     LookaheadSettings,
 )
@@ -103,6 +104,8 @@ class LookaheadFile(BaseModel):
     min_mass_share: float = Field(LIGHT_LIMB_SHARE, ge=0, le=1)
     # weight of the plans' speed term (higher: the target speed held harder)
     speed_weight: float = Field(SPEED_WEIGHT, ge=0, le=1000)
+    # weight of the plans' sliding-feet term (0: the plans do not look at the feet)
+    slip_weight: float = Field(SLIP_WEIGHT, ge=0, le=1000)
 
     def settings(self, sketch: dict[str, PhaseSketch] | None = None) -> LookaheadSettings:
         """The runner's settings; with `in_sketch`, the modes of `sketch` (the controller file's)

@@ -38,6 +38,7 @@ from eigengait.control.closed_loop import BatchRun, FeedbackPlan, Push, add_push
 from eigengait.control.feedback import FeatureReader, hip_motors_by_foot, steps_per_reading
 from eigengait.control.gait import GaitParameters, GaitSystem
 from eigengait.control.pulse import State
+from eigengait.sim.contacts import spheres_touching
 from eigengait.sim.falls import failed_steps, fallen
 from eigengait.sim.stepping import blown_up_dof
 from eigengait.sim.world import GRAVITY, World
@@ -50,6 +51,11 @@ HEIGHT_WEIGHT = 10.0  # × ((COM z − the first cycle's mean COM z) / h)²
 SPEED_WEIGHT = 3.0  # × ((COM forward speed − target) / √(g h))², unless a gait sets its own
 SIDE_SPEED_WEIGHT = 0.5  # × (COM sideways speed / √(g h))²
 SIDE_WEIGHT = 0.2  # × (COM sideways offset from the start / h)²
+# × Σ over the foot spheres touching the floor at two consecutive cost samples of (their horizontal
+# speed / √(g h))² (`sliding_cost`), unless a gait sets its own: off by default, because the plans
+# then buy clean feet with speed and uprightness (docs/locomotion.md, "Sliding feet in the plans'
+# cost")
+SLIP_WEIGHT = 0.0
 FALL_COST = 1000.0  # a plan that falls costs this × (1 + share of the horizon left when it fell)
 COST_EVERY = 0.01  # s between the samples of a plan's trajectory that the cost averages
 MAX_ESCALATIONS = 2  # times the spread doubles when every plan falls
@@ -89,11 +95,13 @@ class LookaheadSettings:
     # weight of the speed term in the plans' cost (`TaskCost`): higher holds the target speed
     # harder against staying upright and at height
     speed_weight: float = SPEED_WEIGHT
+    # weight of the plans' sliding-feet term (`sliding_cost`): higher keeps touching feet still
+    slip_weight: float = SLIP_WEIGHT
 
 
 class TaskCost:
     """Scores simulated plans: stay upright, keep the heading, height and speed, do not drift
-    sideways or fall."""
+    sideways or fall (and, with a `slip_weight`, do not slide the feet that touch the floor)."""
 
     def __init__(
         self,
@@ -103,12 +111,14 @@ class TaskCost:
         start_qpos: np.ndarray,
         start_com: np.ndarray,
         speed_weight: float = SPEED_WEIGHT,
+        slip_weight: float = SLIP_WEIGHT,
     ):
         world = system.world
         self.root, self.view = world.root, world.view
         self.h = world.standing_com_height  # m, the standing COM height
         self.v_unit = np.sqrt(GRAVITY * self.h)
         self.speed, self.height, self.speed_weight = speed, height, speed_weight
+        self.slip_weight = slip_weight
         self.heading = float(self.root.heading(start_qpos))
         self.side = float(start_com[1])
 
@@ -130,9 +140,32 @@ class TaskCost:
                 + SIDE_WEIGHT * ((com[..., 1] - self.side) / self.h) ** 2
             )
             cost = terms.mean(axis=1)
+            if self.slip_weight:
+                cost = cost + self.slip_weight * self._sliding(s, d)
         fell = bad.any(axis=1)
         left = 1 - bad.argmax(axis=1) / bad.shape[1]
         return np.where(fell | ~np.isfinite(cost), FALL_COST * (1 + left), cost)
+
+    def _sliding(self, states: np.ndarray, sensors: np.ndarray) -> np.ndarray:
+        """`sliding_cost` of every foot, summed, on the cost's samples (plans × samples × …)."""
+        sample_dt = np.diff(self.view.time(states), axis=1)[..., None]
+        return sum(
+            sliding_cost(self.view.foot_points(sensors, foot), radius, sample_dt, self.v_unit)
+            for foot, radius in self.view.foot_radius.items()
+        )
+
+
+def sliding_cost(
+    points: np.ndarray, radius: float, sample_dt: np.ndarray | float, v_unit: float
+) -> np.ndarray:
+    """Per plan: the mean over pairs of consecutive samples of Σ (v / v_unit)², over the contact
+    spheres touching the floor (`sim.contacts.spheres_touching`) at both samples, v the horizontal
+    speed (m/s) of the sphere's centre between them. points: plans × samples × spheres × 3 (m);
+    sample_dt: s between samples (plans × samples − 1 × 1, or one number)."""
+    touching = spheres_touching(points[..., 2], radius)
+    both = touching[:, 1:] & touching[:, :-1]
+    speed = np.linalg.norm(np.diff(points[..., :2], axis=1), axis=-1) / sample_dt
+    return ((speed / v_unit) ** 2 * both).sum(axis=-1).mean(axis=1)
 
 
 def plan_directions(system: GaitSystem, state: State, settings: LookaheadSettings) -> np.ndarray:
@@ -305,6 +338,7 @@ class LookaheadRunner:
             p.qpos0,
             system.initial_com(p),
             settings.speed_weight,
+            settings.slip_weight,
         )
 
     def _decide(self, x, plan, nominal, lengths, horizon, state, directions, scale, cost, start):
