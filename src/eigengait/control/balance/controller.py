@@ -12,10 +12,12 @@ samples the reference, applies the result and steps the physics.
    with ω_a = 0): the −k_d ω_a term is the joint damping, which MuJoCo integrates implicitly
    (the caller sets `dof_damping` = k_d and switches the passive springs off); a loaded foot's ankle
    targets the shin's world tilt (`stance_ankle`) where the reference foot stands about flat;
-2. stance feet = feet touching the floor; their normal forces weight the balance torques of each
-   foot-rooted Jacobian (`momentum.momentum_jacobian`; double support blends the two roots, each
-   foot's share of the virtual force acting about the feet's load-weighted centre, so that the legs
-   do not squeeze the feet apart; flight has no balance torque);
+2. stance feet = feet touching the floor (`foot_contacts`, or the caller's reading of them: the
+   tracker bridges contacts that vanish for a step, `contact_memory`); their normal forces weight
+   the balance torques of each foot-rooted Jacobian (`momentum.momentum_jacobian`; double support
+   blends the two roots, each foot's share of the virtual force acting about the feet's
+   load-weighted centre, so that the legs do not squeeze the feet apart; flight has no balance
+   torque);
 3. virtual force/torque at the COM (`virtual.py`) → τ_eq = Jᵀ w;
 4. the balance torque that reaches each stance foot is split at its support polygon (`support.py`):
    the part its contacts carry with the foot's share of the virtual force's vertical part (at most
@@ -416,13 +418,19 @@ def equilibrium_torque(
 
 
 def balance_torque(
-    model: mujoco.MjModel, data: mujoco.MjData, rig: BalanceRig, target: dict[str, np.ndarray]
+    model: mujoco.MjModel,
+    data: mujoco.MjData,
+    rig: BalanceRig,
+    target: dict[str, np.ndarray],
+    contacts: dict[str, np.ndarray] | None = None,
 ) -> BalanceCommand:
     """The controller's output for the state in `data` (positions, velocities and contacts computed,
     as after `mj_forward`) and one reference frame `target` (qpos, qvel, com, com_vel, com_acc,
     angular_momentum, angular_momentum_rate, support; `reference.Reference` sampled at the current
-    time). Writes only MuJoCo's derived quantities (subtree velocities) into `data`."""
-    contacts = foot_contacts(model, data, rig)
+    time); `contacts`: the feet's contacts as the caller reads them (default `foot_contacts`).
+    Writes only MuJoCo's derived quantities (subtree velocities) into `data`."""
+    if contacts is None:
+        contacts = foot_contacts(model, data, rig)
     tau_pd = pd_torque(data, rig, {**target, "qpos": pd_target(model, data, rig, target, contacts)})
     tau_eq, foot_torques, artificial = equilibrium_torque(model, data, rig, target, contacts)
     airborne = not any(len(c) for c in contacts.values())

@@ -4,8 +4,9 @@ balance through the momentum Jacobian, the tunable stance-foot compensation).
 `Tracker` is the simulation loop around the stateless control law. On a private copy of the world's
 model (the passive springs switched off; the PD's −k_d ω_a term as implicit joint damping; the feet
 given soles, `foot_sole`), every ``control_every`` physics steps it samples the reference at the
-current time (its COM target shifted after a flight, `landing`), asks `controller.balance_torque`
-for the motor torques and the stance feet's artificial torques, applies them and the active pushes
+current time (its COM target shifted after a flight, `landing`), reads the feet's contacts (a
+contact that vanishes for a step bridged, `contact_memory`), asks `controller.balance_torque` for
+the motor torques and the stance feet's artificial torques, applies them and the active pushes
 (torques held in between), steps the physics and checks for a fall.
 """
 
@@ -22,9 +23,11 @@ from eigengait.control.balance.controller import (
     apply_foot_torques,
     balance_rig,
     balance_torque,
+    foot_contacts,
     joint_gains,
     joint_layout,
 )
+from eigengait.control.balance.contact_memory import ContactMemory
 from eigengait.control.balance.foot_sole import add_soles
 from eigengait.control.balance.foot import FootModel, foot_model_for_robustness
 from eigengait.control.balance.landing import LandingShift
@@ -250,13 +253,15 @@ class Tracker:
         next_record = ref.frame_time
         fell_at = None
         landing = LandingShift(dt)
+        memory = ContactMemory()
         for k in range(steps):
             t = data.time
             target = self._reference_at(t)
             mujoco.mj_forward(model, data)
             reference_com = target["com"]
             target["com"] = landing.shifted(reference_com)
-            command = balance_torque(model, data, self.rig, target)
+            contacts = memory.bridged(foot_contacts(model, data, self.rig), t)
+            command = balance_torque(model, data, self.rig, target, contacts)
             flight = command.airborne and not ref.foot_contact[ref.frame_at(t)[0]].any()
             landing.update(flight, data.subtree_com[self.world.root_body], reference_com)
             apply_foot_torques(data, self.rig, command)
