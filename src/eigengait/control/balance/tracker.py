@@ -260,7 +260,7 @@ class Tracker:
             mujoco.mj_forward(model, data)
             reference_com = target["com"]
             target["com"] = landing.shifted(reference_com)
-            contacts = memory.bridged(foot_contacts(model, data, self.rig), t)
+            contacts = memory.bridged(foot_contacts(model, data, self.rig))
             command = balance_torque(model, data, self.rig, target, contacts)
             flight = command.airborne and not ref.foot_contact[ref.frame_at(t)[0]].any()
             landing.update(flight, data.subtree_com[self.world.root_body], reference_com)
