@@ -18,23 +18,22 @@ STEPS = 1  # readings a foot's last contacts outlive them
 
 class ContactMemory:
     """Per foot, the last non-empty contacts (`controller.foot_contacts` rows) and how many readings
-    ago they were read; one reading per control step."""
+    they have been bridged for; one reading per control step."""
 
     def __init__(self, steps: int = STEPS):
         self.steps = steps
-        self.last: dict[str, np.ndarray] = {}
-        self.age: dict[str, int] = {}
+        self.last: dict[str, tuple[np.ndarray, int]] = {}
 
     def bridged(self, contacts: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
-        """This reading's contacts, a foot without any given its last ones if they are at most
-        `steps` readings old."""
+        """This reading's contacts, a foot without any given its last ones for at most `steps`
+        readings in a row."""
         out = {}
         for foot, rows in contacts.items():
+            kept, bridged = self.last.get(foot, (rows, self.steps))
             if len(rows):
-                self.last[foot], self.age[foot] = rows, 0
-                out[foot] = rows
-                continue
-            self.age[foot] = self.age.get(foot, self.steps) + 1
-            recent = foot in self.last and self.age[foot] <= self.steps
-            out[foot] = self.last[foot] if recent else rows
+                self.last[foot] = (rows, 0)
+            elif bridged < self.steps:
+                self.last[foot] = (kept, bridged + 1)
+                rows = kept
+            out[foot] = rows
         return out
