@@ -112,6 +112,23 @@ def test_task_cost_charges_sliding_feet_only_with_a_slip_weight(hopper):
     assert weighted - plain == pytest.approx(2.0 * (1.0 / v_unit) ** 2)
 
 
+def test_a_plan_tilting_past_the_bound_counts_as_falling_from_that_sample(hopper):
+    system, p, _ = hopper
+    root = system.world.root
+    state, sensors = system.initial_state(p), system.initial_sensors(p)
+    states, rows = np.tile(state, (1, 4, 1)), np.tile(sensors, (1, 4, 1))
+    a = 1 + root.quat_qpos
+    for k, tilt in enumerate((0.0, 20.0, 35.0, 35.0)):  # degrees, about world x (a roll)
+        mujoco.mju_axisAngle2Quat(
+            states[0, k, a : a + 4], np.array([1.0, 0.0, 0.0]), np.radians(tilt)
+        )
+    args = (system, 1.2, 0.9, p.qpos0, system.initial_com(p))
+    assert TaskCost(*args)(states, rows, 1)[0] < FALL_COST
+    assert TaskCost(*args, max_tilt_deg=40.0)(states, rows, 1)[0] < FALL_COST
+    # tilted past 30° from the third of four samples on: half the horizon was left
+    assert TaskCost(*args, max_tilt_deg=30.0)(states, rows, 1)[0] == pytest.approx(FALL_COST * 1.5)
+
+
 def test_lookahead_keeps_a_falling_hop_going(hopper):
     """The open-loop hop falls in its fifth cycle; with lookahead (32 plans a decision) it plays
     six, and the played (not planned) motion scores better by the planner's own cost up to the
@@ -188,7 +205,9 @@ def test_with_feedback_the_plans_predict_the_played_motion_feedback_included(hop
 
 def test_controller_file_keeps_lookahead_and_refuses_it_with_touchdown_timing(hopper, tmp_path):
     system, p, path = hopper
-    settings = LookaheadSettings(speed=0.9, samples=16, speed_weight=10.0, slip_weight=2.0)
+    settings = LookaheadSettings(
+        speed=0.9, samples=16, speed_weight=10.0, slip_weight=2.0, max_tilt_deg=30.0
+    )
     written = to_file(system, p, "hop", lookahead=settings)
     assert written.lookahead.settings() == settings
     data = json.loads(written.model_dump_json())
@@ -208,6 +227,10 @@ def test_controller_file_keeps_lookahead_and_refuses_it_with_touchdown_timing(ho
     with pytest.raises(UserInputError) as err:
         validate(ControllerFile, data, path, "fix it")
     assert "slip_weight" in str(err.value)
+    data["lookahead"]["slip_weight"], data["lookahead"]["max_tilt_deg"] = 2.0, 0.0
+    with pytest.raises(UserInputError) as err:
+        validate(ControllerFile, data, path, "fix it")
+    assert "max_tilt_deg" in str(err.value)
 
 
 def test_play_uses_the_controllers_lookahead_unless_told_not_to(hopper, tmp_path, eigengait_cli):
@@ -235,6 +258,11 @@ def test_play_uses_the_controllers_lookahead_unless_told_not_to(hopper, tmp_path
     assert json.loads(cleaner.stdout)["lookahead_slip_weight"] == 2.0
     refused = eigengait_cli("play", str(controller), "--cycles", "1", "--slip-weight", "-1")
     assert refused.returncode != 0 and "--slip-weight" in refused.stderr
+    assert json.loads(on.stdout)["lookahead_max_tilt_deg"] is None
+    bounded = eigengait_cli("play", str(controller), "--cycles", "1", "--json", "--max-tilt", "30")
+    assert json.loads(bounded.stdout)["lookahead_max_tilt_deg"] == 30.0
+    refused = eigengait_cli("play", str(controller), "--cycles", "1", "--max-tilt", "0")
+    assert refused.returncode != 0 and "--max-tilt" in refused.stderr
 
 
 def test_plans_can_keep_to_the_sketchs_modes():

@@ -106,6 +106,8 @@ class LookaheadFile(BaseModel):
     speed_weight: float = Field(SPEED_WEIGHT, ge=0, le=1000)
     # weight of the plans' sliding-feet term (0: the plans do not look at the feet)
     slip_weight: float = Field(SLIP_WEIGHT, ge=0, le=1000)
+    # degrees from upright past which a plan counts as falling (None: the character's fall rule)
+    max_tilt_deg: float | None = Field(None, gt=0, le=180)
 
     def settings(self, sketch: dict[str, PhaseSketch] | None = None) -> LookaheadSettings:
         """The runner's settings; with `in_sketch`, the modes of `sketch` (the controller file's)

@@ -97,11 +97,17 @@ class LookaheadSettings:
     speed_weight: float = SPEED_WEIGHT
     # weight of the plans' sliding-feet term (`sliding_cost`): higher keeps touching feet still
     slip_weight: float = SLIP_WEIGHT
+    # a plan whose root tilts further than this from upright (degrees) falls at that instant (None:
+    # no bound): a plan that breaks the torso bound is chosen only when every plan does, after the
+    # spread has been widened as for falls (a cost short of a fall, measured, kept the bound less
+    # well: docs/locomotion.md)
+    max_tilt_deg: float | None = None
 
 
 class TaskCost:
     """Scores simulated plans: stay upright, keep the heading, height and speed, do not drift
-    sideways or fall (and, with a `slip_weight`, do not slide the feet that touch the floor)."""
+    sideways or fall (and, with a `slip_weight`, do not slide the feet that touch the floor; with a
+    `max_tilt_deg`, do not tilt the root past it)."""
 
     def __init__(
         self,
@@ -112,6 +118,7 @@ class TaskCost:
         start_com: np.ndarray,
         speed_weight: float = SPEED_WEIGHT,
         slip_weight: float = SLIP_WEIGHT,
+        max_tilt_deg: float | None = None,
     ):
         world = system.world
         self.root, self.view = world.root, world.view
@@ -119,6 +126,7 @@ class TaskCost:
         self.v_unit = np.sqrt(GRAVITY * self.h)
         self.speed, self.height, self.speed_weight = speed, height, speed_weight
         self.slip_weight = slip_weight
+        self.min_up_z = -np.inf if max_tilt_deg is None else float(np.cos(np.radians(max_tilt_deg)))
         self.heading = float(self.root.heading(start_qpos))
         self.side = float(start_com[1])
 
@@ -126,6 +134,7 @@ class TaskCost:
         """Cost per plan of rollout states and sensors (plans × steps × …), sampled every `every`
         steps."""
         bad = fallen(self.view, states, sensors, self.h)
+        bad |= self.root.up_z(self.view.qpos(states)) < self.min_up_z
         s, d = states[:, every - 1 :: every], sensors[:, every - 1 :: every]
         qpos = self.view.qpos(s)
         com, vel = self.view.com(d), self.view.com_velocity(d)
@@ -339,6 +348,7 @@ class LookaheadRunner:
             system.initial_com(p),
             settings.speed_weight,
             settings.slip_weight,
+            settings.max_tilt_deg,
         )
 
     def _decide(self, x, plan, nominal, lengths, horizon, state, directions, scale, cost, start):
