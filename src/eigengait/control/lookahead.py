@@ -126,7 +126,8 @@ class TaskCost:
         self.v_unit = np.sqrt(GRAVITY * self.h)
         self.speed, self.height, self.speed_weight = speed, height, speed_weight
         self.slip_weight = slip_weight
-        self.min_up_z = -np.inf if max_tilt_deg is None else float(np.cos(np.radians(max_tilt_deg)))
+        # the root's up axis z below this is past the tilt bound (None: no bound)
+        self.min_up_z = None if max_tilt_deg is None else float(np.cos(np.radians(max_tilt_deg)))
         self.heading = float(self.root.heading(start_qpos))
         self.side = float(start_com[1])
 
@@ -134,7 +135,8 @@ class TaskCost:
         """Cost per plan of rollout states and sensors (plans × steps × …), sampled every `every`
         steps."""
         bad = fallen(self.view, states, sensors, self.h)
-        bad |= self.root.up_z(self.view.qpos(states)) < self.min_up_z
+        if self.min_up_z is not None:
+            bad |= self.view.up_z(states) < self.min_up_z
         s, d = states[:, every - 1 :: every], sensors[:, every - 1 :: every]
         qpos = self.view.qpos(s)
         com, vel = self.view.com(d), self.view.com_velocity(d)
