@@ -61,6 +61,27 @@ def test_json_reports_the_required_fields(tmp_path):
     assert out_bvh.read_text().startswith("HIERARCHY")
 
 
+def test_the_whole_body_controller_is_chosen_from_the_command_line(tmp_path):
+    lines = Path(WALK).read_text().splitlines()
+    header = lines.index("MOTION")
+    short = tmp_path / "short.bvh"
+    short.write_text(
+        "\n".join(
+            lines[: header + 1]
+            + ["Frames: 60", "Frame Time: .0083333"]
+            + lines[header + 3 : header + 63]
+        )
+        + "\n"
+    )
+    result = CliRunner().invoke(
+        _app(), ["track", str(short), "--controller", "qp", "--robustness", "0.5", "--json"]
+    )
+    assert result.exit_code == 0, result.output
+    out = json.loads(result.stdout)
+    assert out["controller"] == "qp" and out["fell"] is False and out["duration_s"] > 0.45
+    assert out["joint_rms_deg"] < 3.0 and out["artificial_torque"] > 0.0
+
+
 def test_kinematic_json_reports_the_reference_feet_and_the_source_conventions():
     result = CliRunner().invoke(
         _app(), ["track", DAZ_WALK, "--kinematic", "--clean-feet", "--json"]
@@ -98,3 +119,5 @@ def test_bad_inputs_exit_with_status_2(tmp_path):
     assert proc.returncode == 2 and "line" in proc.stderr and "cut.bvh" in proc.stderr
     proc = _run(WALK, "--push", "lots")
     assert proc.returncode == 2 and "FORCE@TIME" in proc.stderr
+    proc = _run(WALK, "--controller", "pid")
+    assert proc.returncode == 2 and "controller" in proc.stderr and "qp" in proc.stderr

@@ -60,6 +60,13 @@ def register(app: typer.Typer) -> None:
             "--tolerance",
             help="Switch balance off while the compensated fraction is below this.",
         ),
+        controller: str = typer.Option(
+            "momentum",
+            "--controller",
+            help="momentum: joint PD with balance through the momentum Jacobian and the "
+            "stance-foot compensation (the chapter's); qp: whole-body inverse dynamics, one "
+            "least-squares problem over accelerations and contact forces per step.",
+        ),
         kinematic: bool = typer.Option(
             False,
             "--kinematic",
@@ -108,18 +115,28 @@ def register(app: typer.Typer) -> None:
             _print_kinematic({**kinematic_summary(ref, clean_feet), **units}, as_json)
             return
         world, reference, result = run_track(
-            clip, character, robustness, push, mapping, start_frame, tolerance, clean_feet, foot
+            clip,
+            character,
+            robustness,
+            push,
+            mapping,
+            start_frame,
+            tolerance,
+            clean_feet,
+            foot,
+            controller,
         )
         write_media(world, result.qpos, 1.0 / result.frame_time, media, status_console(as_json))
         if as_json:
-            typer.echo(json_text.dumps({**result.summary(), **units}))
+            typer.echo(json_text.dumps({**result.summary(), "controller": controller, **units}))
             return
         state = f"fell at {result.fall_time_s:.2f} s" if result.fell else "did not fall"
         typer.echo(
             f"tracked {result.duration_s:.2f} s of {reference.duration:.2f} s ({state}); "
             f"joint RMS error {result.joint_rms_deg:.1f}°, COM error {result.com_error_m:.3f} m, "
             f"mean artificial torque {result.artificial_torque:.1f} N·m, foot skate "
-            f"{result.foot_skate_m:.3f} m per stance (robustness {robustness})."
+            f"{result.foot_skate_m:.3f} m per stance (robustness {robustness}, {controller} "
+            "controller)."
         )
 
 

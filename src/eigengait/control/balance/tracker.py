@@ -33,6 +33,7 @@ from eigengait.control.balance.foot import FootModel, foot_model_for_robustness
 from eigengait.control.balance.landing import LandingShift
 from eigengait.control.balance.reference import Reference
 from eigengait.control.balance.virtual import VirtualGains, mass_scaled_gains
+from eigengait.control.balance.wbc import WholeBodyQP
 from eigengait.errors import UserInputError
 from eigengait.geometry import quat_angle
 from eigengait.sim.falls import has_fallen
@@ -40,6 +41,17 @@ from eigengait.sim.stepping import step
 from eigengait.sim.world import GRAVITY, World
 
 PUSH_DURATION = 0.1  # s
+CONTROLLERS = ("momentum", "qp")  # `TrackerSettings.controller`
+
+
+def check_controller(name: str) -> None:
+    """Refuse a tracking controller name that is not one of CONTROLLERS."""
+    if name not in CONTROLLERS:
+        raise UserInputError(
+            f"unknown tracking controller '{name}'.",
+            field="controller",
+            fix=f"use one of: {', '.join(CONTROLLERS)}.",
+        )
 
 
 @dataclass(frozen=True)
@@ -72,7 +84,10 @@ class TrackerSettings:
     The controller runs every ``control_every`` physics steps. ``virtual``: the virtual wrench's
     gains (None: `virtual.mass_scaled_gains` for the character's mass). Foot: radius and COM height
     (m), friction μ (the compensation's model, E30); ``soles``: the feet stand on their boxes, not
-    only on their heel and toe spheres (`foot_sole`)."""
+    only on their heel and toe spheres (`foot_sole`). ``controller``: ``momentum`` (the chapter's:
+    joint PD, balance through the momentum Jacobian, the stance-foot compensation) or ``qp`` (the
+    whole-body inverse dynamics of `wbc.py`, its artificial torque on the root; the gains above
+    and the foot model's compensation are the momentum controller's and unused)."""
 
     joint_gains: dict = field(default_factory=lambda: dict(BIPED_GAINS))
     damping_time: float = 0.1
@@ -85,6 +100,7 @@ class TrackerSettings:
     foot_com_height_m: float = 0.05
     foot_friction: float = 1.0
     soles: bool = True
+    controller: str = "momentum"
 
 
 @dataclass
@@ -129,6 +145,7 @@ class Tracker:
         robustness: float,
         settings: TrackerSettings = TrackerSettings(),
     ):
+        check_controller(settings.controller)
         self.world, self.reference, self.settings = world, reference, settings
         self.model = model = copy.deepcopy(world.model)
         if settings.soles:
@@ -157,8 +174,15 @@ class Tracker:
         )
         virtual = settings.virtual or mass_scaled_gains(self.mass)
         self.rig = balance_rig(world, model, k_s, k_d, self.foot, virtual, settings.tolerance)
-        # the PD's −k_d ω_a, integrated implicitly
-        model.dof_damping[self.rig.joint_dofs] = k_d[self.rig.joint_dofs]
+        # the PD's −k_d ω_a, integrated implicitly; the whole-body controller sets its own
+        model.dof_damping[self.rig.joint_dofs] = (
+            0.0 if settings.controller == "qp" else k_d[self.rig.joint_dofs]
+        )
+        self.qp = (
+            WholeBodyQP(model, self.rig, reference, robustness)
+            if settings.controller == "qp"
+            else None
+        )
         self.foot_body_set = set(self.rig.foot_bodies.values())
 
     def _switch_springs_off(self) -> None:
@@ -236,6 +260,14 @@ class Tracker:
             if push.time_s <= t < push.time_s + PUSH_DURATION:
                 self.data.xfrc_applied[body, :3] += push.force
 
+    def _whole_body_step(self, target: dict, contacts: dict) -> float:
+        """Apply the `qp` controller's torques for this control step; returns the magnitude of its
+        artificial torque on the root (N·m)."""
+        command = self.qp.command(self.data, target, contacts)
+        self.data.ctrl[: self.world.nmotor] = command.torque
+        self.data.qfrc_applied[self.qp.root_turn] = command.artificial
+        return float(np.linalg.norm(command.artificial))
+
     def run(
         self, duration_s: float | None = None, pushes: Sequence[BodyPush] = ()
     ) -> TrackingResult:
@@ -261,16 +293,20 @@ class Tracker:
             reference_com = target["com"]
             target["com"] = landing.shifted(reference_com)
             contacts = memory.bridged(foot_contacts(model, data, self.rig))
-            command = balance_torque(model, data, self.rig, target, contacts)
-            flight = command.airborne and not ref.foot_contact[ref.frame_at(t)[0]].any()
-            landing.update(flight, data.subtree_com[self.world.root_body], reference_com)
-            apply_foot_torques(data, self.rig, command)
-            data.ctrl[: self.world.nmotor] = command.torque[self.rig.joint_dofs]
+            if self.qp is None:
+                command = balance_torque(model, data, self.rig, target, contacts)
+                flight = command.airborne and not ref.foot_contact[ref.frame_at(t)[0]].any()
+                landing.update(flight, data.subtree_com[self.world.root_body], reference_com)
+                apply_foot_torques(data, self.rig, command)
+                data.ctrl[: self.world.nmotor] = command.torque[self.rig.joint_dofs]
+                artificial = command.artificial
+            else:
+                artificial = self._whole_body_step(target, contacts)
             self._apply_pushes(pushes, push_bodies, t)
             ball = self.rig.ball_qpos
             joint_err.append(quat_angle(data.qpos[ball], target["qpos"][ball]))
             com_err.append(np.linalg.norm(data.subtree_com[self.world.root_body] - reference_com))
-            torques.append(command.artificial)
+            torques.append(artificial)
             # a blow-up raises, naming time and body
             step(self.world, data, self.settings.control_every, model)
             com_z = data.subtree_com[self.world.root_body][2]

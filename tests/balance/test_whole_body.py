@@ -1,0 +1,64 @@
+"""The tracker's whole-body inverse-dynamics controller (`wbc.py`, `--controller qp`)."""
+
+from pathlib import Path
+
+import mujoco
+import numpy as np
+import pytest
+
+from eigengait.character import load_character
+from eigengait.control.balance.controller import foot_contacts
+from eigengait.control.balance.reference import kinematic_replay
+from eigengait.control.balance.standing import stand, standing_reference
+from eigengait.control.balance.tracker import Tracker, TrackerSettings, track
+from eigengait.errors import UserInputError
+from eigengait.motion.bvh import read_bvh
+from eigengait.motion.retarget import builtin_mapping, retarget
+from eigengait.sim.world import GRAVITY, build_world
+
+MOCAP = Path(__file__).resolve().parents[3] / "shared" / "data" / "mocap"
+QP = TrackerSettings(controller="qp")
+
+
+@pytest.fixture(scope="module")
+def walker():
+    return build_world(load_character("walker"))
+
+
+def test_standing_still_the_feet_carry_the_weight_and_nothing_else_is_needed(walker):
+    tracker = Tracker(walker, standing_reference(walker, 1.0), 0.5, QP)
+    mujoco.mj_forward(tracker.model, tracker.data)
+    target = tracker._reference_at(0.0)
+    command = tracker.qp.command(
+        tracker.data, target, foot_contacts(tracker.model, tracker.data, tracker.rig)
+    )
+    weight = walker.mass() * GRAVITY
+    # at rest the contact forces the solution counts on are the weight, straight up (statics)
+    np.testing.assert_allclose(command.contact_force, [0.0, 0.0, weight], atol=0.01 * weight)
+    assert np.linalg.norm(command.artificial) < 1.0  # N·m: the pose stands on its own
+
+
+def test_standing_at_robustness_0_holds_still_with_no_artificial_torque(walker):
+    standing = stand(walker, 0.0, 1.0, settings=QP)
+    result = standing.tracking
+    assert standing.at_rest and result.artificial_torque == 0.0
+    # measured: COM error 0.9 mm, joint RMS 0.04°
+    assert result.com_error_m < 0.005 and result.joint_rms_deg < 1.0
+
+
+def test_the_walker_tracks_the_first_second_of_the_cmu_walk(walker):
+    # measured: joint RMS 1.25°, COM error 0.013 m, mean artificial torque 35 N·m (robustness 0.5);
+    # the momentum controller on the same second: 2.0°, 0.010 m, 47 N·m
+    clip = read_bvh(MOCAP / "cmu_02_01_walk.bvh")
+    poses = retarget(clip, walker, builtin_mapping("walker", clip))
+    reference = kinematic_replay(walker, poses.qpos, poses.frame_time)
+    result = track(walker, reference, 0.5, QP, duration_s=1.0)
+    assert not result.fell and result.duration_s == pytest.approx(1.0, abs=0.01)
+    assert result.joint_rms_deg < 3.0 and result.com_error_m < 0.03
+    assert 0.0 < result.artificial_torque < 100.0
+
+
+def test_an_unknown_controller_is_refused_by_name(walker):
+    with pytest.raises(UserInputError) as err:
+        Tracker(walker, standing_reference(walker, 0.1), 0.5, TrackerSettings(controller="pid"))
+    assert err.value.field == "controller" and "qp" in str(err.value)
