@@ -11,17 +11,18 @@ Push search (coarse): a 0.1 s push along +y on the torso (as `track --push`) at 
 after the push or the clip's end (the whole clip but for the 20 s laugh), and a push is survived
 when the character has not fallen by then. When the unpushed run already falls within that window
 the column says so instead. Prints the wall time at the end. Run: nice .venv/bin/python
-benchmarks/bench_tracking_corpus.py [CLIP.bvh ...]
+benchmarks/bench_tracking_corpus.py [--controller momentum|qp] [CLIP.bvh ...] (`track
+--controller`; momentum by default).
 """
 
 from __future__ import annotations
 
-import sys
+import argparse
 import time
 from pathlib import Path
 
 from eigengait.control.balance.reference import kinematic_replay
-from eigengait.control.balance.tracker import BodyPush, track
+from eigengait.control.balance.tracker import CONTROLLERS, BodyPush, TrackerSettings, track
 from eigengait.motion.foot_metrics import foot_report
 from eigengait.motion.soles import sole_points
 from eigengait.motion.tracking import reference_poses
@@ -33,7 +34,7 @@ PUSH_TIME = 0.5  # s
 SETTLE = 4.5  # s after the push: the whole clip for every clip of 5 s or less
 
 
-def largest_push(world, reference, robustness: float, unpushed) -> str:
+def largest_push(world, reference, robustness: float, unpushed, settings: TrackerSettings) -> str:
     """The push column: the largest of PUSH_FORCES survived, or why none was tried (`unpushed`: the
     clip's tracking result without a push; the simulation is deterministic, so it also tells a
     shorter run's fate)."""
@@ -43,14 +44,19 @@ def largest_push(world, reference, robustness: float, unpushed) -> str:
     survived = "none"
     for force in PUSH_FORCES:
         push = BodyPush(force=(0.0, force, 0.0), time_s=PUSH_TIME, body="torso")
-        if track(world, reference, robustness, duration_s=window, pushes=(push,)).fell:
+        if track(world, reference, robustness, settings, window, (push,)).fell:
             break
         survived = f"{force:.0f} N"
     return survived
 
 
 def main() -> None:
-    clips = [Path(a) for a in sys.argv[1:]] or sorted(CORPUS.glob("*.bvh"))
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("clips", nargs="*", type=Path)
+    parser.add_argument("--controller", choices=CONTROLLERS, default="momentum")
+    args = parser.parse_args()
+    clips = args.clips or sorted(CORPUS.glob("*.bvh"))
+    settings = TrackerSettings(controller=args.controller)
     start = time.perf_counter()
     print(
         "| clip | robustness | tracked | joint RMS | COM error | foot skate (sim) | "
@@ -61,12 +67,13 @@ def main() -> None:
         world = ref["world"]
         reference = kinematic_replay(world, ref["qpos"], ref["frame_time"])
         for r in ROBUSTNESS:
-            res = track(world, reference, r)
+            res = track(world, reference, r, settings)
             skate = foot_report(sole_points(world, res.qpos), res.frame_time).foot_skate_m
+            push = largest_push(world, reference, r, res, settings)
             print(
                 f"| `{clip.name}` | {r:g} | {res.duration_s:.2f} of {reference.duration:.2f} s | "
                 f"{res.joint_rms_deg:.1f}° | {res.com_error_m:.3f} m | {skate:.3f} m | "
-                f"{res.artificial_torque:.1f} N·m | {largest_push(world, reference, r, res)} |",
+                f"{res.artificial_torque:.1f} N·m | {push} |",
                 flush=True,
             )
     print(f"\nwall time: {time.perf_counter() - start:.0f} s")
