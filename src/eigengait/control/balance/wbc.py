@@ -8,9 +8,9 @@ units (m/s², rad/s²):
 
 * floating base: the root's six rows of M q̈ + h = Σ Jᵀ D β + [0; a], over the body mass, weighted
   BASE_WEIGHT (all but hard): the contact forces and `a` are the only things that move the body;
-* landing: a foot the reference has down that touches nothing yet stops moving over the floor
-  (its contact spheres' centre decelerates at −HOLD_RATE × its horizontal velocity), weighted
-  LANDING_WEIGHT;
+* landing: a foot the reference has down that touches nothing yet moves over the floor as the
+  reference foot does (its contact spheres' centre accelerates at −HOLD_RATE × its horizontal
+  velocity relative to the reference foot's), weighted LANDING_WEIGHT;
 * held contacts: each contact point of a foot that the reference has on the floor (lowest sole
   point within CONTACT_M), or that carries LOADED of the body weight, accelerates as −HOLD_RATE ×
   its velocity: it neither slides nor sinks; a light foot the reference lifts gets no force, so it
@@ -131,9 +131,11 @@ class WholeBodyQP:
             task(*self._com_task(data, target, size), COM_WEIGHT)
             task(*self._root_task(data, target, qacc_ref, size), ROOT_WEIGHT)
         held_bodies = {body for body, _ in held}
-        for foot, height in zip(rig.foot_bodies, target["foot_height"]):
+        for foot, height, velocity in zip(
+            rig.foot_bodies, target["foot_height"], target["foot_velocity"]
+        ):
             if height <= CONTACT_M and rig.foot_bodies[foot] not in held_bodies:
-                task(*self._landing_task(data, foot, size), LANDING_WEIGHT)
+                task(*self._landing_task(data, foot, velocity, size), LANDING_WEIGHT)
         joints = np.zeros((len(self.joints), size))
         joints[np.arange(len(self.joints)), self.joints] = 1.0
         task(joints, self._joint_acceleration(data, target, qacc_ref)[self.joints], JOINT_WEIGHT)
@@ -165,17 +167,18 @@ class WholeBodyQP:
         mujoco.mj_jac(self.model, data, self._jac, None, point, body)
         return self._jac.copy()
 
-    def _landing_task(self, data, foot, size) -> tuple[np.ndarray, np.ndarray]:
-        """A foot the reference has down that does not touch yet stops over the floor: the centre
-        of its contact spheres decelerates horizontally at −HOLD_RATE × its velocity. (Bringing it
-        down as well, ω_q² × its height, threw the walks' steps off: 05_01's joint error 1.6° →
-        15°.)"""
+    def _landing_task(self, data, foot, reference_velocity, size) -> tuple[np.ndarray, np.ndarray]:
+        """A foot the reference has down that does not touch yet moves over the floor as the
+        reference foot does (`reference_velocity`, (2,) m/s; zero for a cleaned reference's planted
+        foot): the centre of its contact spheres accelerates horizontally at −HOLD_RATE × the
+        difference. (Bringing it down as well, ω_q² × its height, threw the walks' steps off:
+        05_01's joint error 1.6° → 15°.)"""
         spheres = self.rig.foot_spheres[foot]
         centre = data.geom_xpos[spheres].mean(axis=0)
         jac = self._point_jacobian(data, self.rig.foot_bodies[foot], centre)[:2]
         a = np.zeros((2, size))
         a[:, : self.model.nv] = jac
-        return a, -HOLD_RATE * (jac @ data.qvel)
+        return a, -HOLD_RATE * (jac @ data.qvel - reference_velocity)
 
     def _qacc_ref(self, t: float) -> np.ndarray:
         i, j, a = self.reference.frame_at(t)
