@@ -47,9 +47,9 @@ def test_standing_at_robustness_0_holds_still_with_no_artificial_torque(walker):
 
 
 def test_the_walker_tracks_the_first_second_of_the_cmu_walk(walker):
-    # measured: joint RMS 1.4°, COM error 0.024 m, mean artificial torque 47 N·m (robustness 0.5; the
-    # raw retargeted feet, which slide); the momentum controller on the same second: 2.0°, 0.010 m,
-    # 47 N·m
+    # measured: joint RMS 1.4°, COM error 0.024 m, mean artificial torque 47 N·m (robustness 0.5;
+    # the raw retargeted feet, which slide); the momentum controller on the same second: 2.0°,
+    # 0.010 m, 47 N·m
     clip = read_bvh(MOCAP / "cmu_02_01_walk.bvh")
     poses = retarget(clip, walker, builtin_mapping("walker", clip))
     reference = kinematic_replay(walker, poses.qpos, poses.frame_time)
