@@ -80,7 +80,9 @@ class WholeBodyQP:
     """The per-step problem for one character and reference (the tracker's model: springs off,
     no joint damping)."""
 
-    def __init__(self, model: mujoco.MjModel, rig: BalanceRig, reference: Reference, robustness):
+    def __init__(
+        self, model: mujoco.MjModel, rig: BalanceRig, reference: Reference, robustness: float
+    ):
         self.model, self.rig, self.reference = model, rig, reference
         self.robustness = float(robustness)
         self.mass = float(model.body_subtreemass[rig.root_body])
@@ -99,13 +101,13 @@ class WholeBodyQP:
         """Torques for the state in `data` (after `mj_forward`), the reference sample `target`
         (`Tracker._reference_at`) and the feet's floor contacts (`controller.foot_contacts`)."""
         model, rig, nv = self.model, self.rig, self.model.nv
-        weight = self.mass * GRAVITY
+        body_weight = self.mass * GRAVITY
         i, j, blend = self.reference.frame_at(float(data.time))
         sinking = self.foot_sink[i if blend < 0.5 else j]
         held = [
             (rig.foot_bodies[foot], point[:3])
             for foot, height, sinks in zip(rig.foot_bodies, target["foot_height"], sinking)
-            if height <= CONTACT_M or (sinks and contacts[foot][:, 3].sum() >= LOADED * weight)
+            if height <= CONTACT_M or (sinks and contacts[foot][:, 3].sum() >= LOADED * body_weight)
             for point in contacts[foot]
         ]
         jacobians = [self._point_jacobian(data, body, point) for body, point in held]
@@ -152,8 +154,8 @@ class WholeBodyQP:
         if n_art:
             art = np.zeros((3, size))
             art[:, nv + n_force :] = np.eye(3)
-            weight = ARTIFICIAL_WEIGHT * (1.0 - self.robustness) / self.robustness / self.mass
-            task(art, np.zeros(3), weight)
+            price = ARTIFICIAL_WEIGHT * (1.0 - self.robustness) / self.robustness / self.mass
+            task(art, np.zeros(3), price)
         lower = np.full(size, -np.inf)
         lower[nv : nv + n_force] = 0.0
         x = lsq_linear(
