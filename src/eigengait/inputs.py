@@ -42,3 +42,12 @@ def check_range(
             field=option,
             fix=fix or f"use a finite value {span}{(' ' + unit) if unit else ''}",
         )
+
+
+def check_choice(value: str, choices: tuple[str, ...] | list[str], what: str, field: str) -> None:
+    """One clear error, naming `field` and the choices, unless `value` is one of `choices`; `what`
+    names the kind of thing in the message ("integrator": "unknown integrator 'x'.")."""
+    if value not in choices:
+        raise UserInputError(
+            f"unknown {what} '{value}'.", field=field, fix=f"use one of: {', '.join(choices)}."
+        )

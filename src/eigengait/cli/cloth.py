@@ -23,7 +23,7 @@ from eigengait.cloth.par import read_par
 from eigengait.cloth.strain import DEFAULT_BOUND
 from eigengait.cli.flags import for_command_line, keywords_as_flags
 from eigengait.errors import EigengaitError, UserInputError
-from eigengait.inputs import check_range
+from eigengait.inputs import check_choice, check_range
 from eigengait.outputs import check_output
 
 console = Console()
@@ -207,12 +207,7 @@ def _check_options(
     check_range(strain_limit, "--strain-limit", 0.0)
     check_range(thickness, "--thickness", 1e-9, unit="m")
     check_range(video_fps, "--video-fps", 1e-3, 1000, "frames/s")
-    if integrator not in INTEGRATORS:
-        raise UserInputError(
-            f"unknown integrator '{integrator}'.",
-            field="--integrator",
-            fix=f"use one of: {', '.join(INTEGRATORS)}.",
-        )
+    check_choice(integrator, INTEGRATORS, "integrator", "--integrator")
 
 
 def _inside(path: Path, folder: Path) -> bool:

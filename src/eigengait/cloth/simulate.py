@@ -15,6 +15,7 @@ from eigengait.cloth.model import ClothModel
 from eigengait.cloth.stability import check_step
 from eigengait.cloth.strain import DEFAULT_BOUND, limit_strain, projection_order
 from eigengait.errors import SimulationBlowUp, UserInputError
+from eigengait.inputs import check_choice
 
 
 @dataclass(frozen=True)
@@ -59,12 +60,7 @@ class Simulation:
         floor: float | None = None,
         dissertation: bool = False,
     ):
-        if integrator not in INTEGRATORS:
-            raise UserInputError(
-                f"unknown integrator '{integrator}'.",
-                field="integrator",
-                fix=f"use one of: {', '.join(INTEGRATORS)}.",
-            )
+        check_choice(integrator, INTEGRATORS, "integrator", "integrator")
         if len(model.targets):
             model = replace(
                 model, fixed=model.fixed.copy(), rest_positions=model.rest_positions.copy()

@@ -36,6 +36,7 @@ from eigengait.control.balance.virtual import VirtualGains, mass_scaled_gains
 from eigengait.control.balance.wbc import WholeBodyQP
 from eigengait.errors import UserInputError
 from eigengait.geometry import quat_angle
+from eigengait.inputs import check_choice
 from eigengait.sim.falls import has_fallen
 from eigengait.sim.stepping import step
 from eigengait.sim.world import GRAVITY, World
@@ -46,12 +47,7 @@ CONTROLLERS = ("momentum", "qp")  # `TrackerSettings.controller`
 
 def check_controller(name: str) -> None:
     """Refuse a tracking controller name that is not one of CONTROLLERS."""
-    if name not in CONTROLLERS:
-        raise UserInputError(
-            f"unknown tracking controller '{name}'.",
-            field="controller",
-            fix=f"use one of: {', '.join(CONTROLLERS)}.",
-        )
+    check_choice(name, CONTROLLERS, "tracking controller", "controller")
 
 
 @dataclass(frozen=True)
@@ -174,15 +170,10 @@ class Tracker:
         )
         virtual = settings.virtual or mass_scaled_gains(self.mass)
         self.rig = balance_rig(world, model, k_s, k_d, self.foot, virtual, settings.tolerance)
+        whole_body = settings.controller == "qp"
         # the PD's −k_d ω_a, integrated implicitly; the whole-body controller sets its own
-        model.dof_damping[self.rig.joint_dofs] = (
-            0.0 if settings.controller == "qp" else k_d[self.rig.joint_dofs]
-        )
-        self.qp = (
-            WholeBodyQP(model, self.rig, reference, robustness)
-            if settings.controller == "qp"
-            else None
-        )
+        model.dof_damping[self.rig.joint_dofs] = 0.0 if whole_body else k_d[self.rig.joint_dofs]
+        self.qp = WholeBodyQP(model, self.rig, reference, robustness) if whole_body else None
         self.foot_body_set = set(self.rig.foot_bodies.values())
 
     def _switch_springs_off(self) -> None:

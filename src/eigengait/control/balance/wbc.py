@@ -40,7 +40,6 @@ from eigengait.control.balance.controller import BalanceRig
 from eigengait.control.balance.double_support import CONTACT_M
 from eigengait.control.balance.pd import joint_error
 from eigengait.control.balance.reference import Reference
-from eigengait.geometry import quat_conj, quat_log, quat_mul
 from eigengait.sim.world import GRAVITY
 
 BASE_WEIGHT = 1000.0  # floating-base rows (accelerations, m/s²)
@@ -134,7 +133,7 @@ class WholeBodyQP:
             hold = np.zeros((3, size))
             hold[:, :nv] = jac
             task(hold, -HOLD_RATE * (jac @ data.qvel), HOLD_WEIGHT)
-        qacc_ref = self._qacc_ref(float(data.time))
+        qacc_ref = (1 - blend) * self.qacc_ref[i] + blend * self.qacc_ref[j]
         if held:
             task(*self._com_task(data, target, size), COM_WEIGHT)
             task(*self._root_task(data, target, qacc_ref, size), ROOT_WEIGHT)
@@ -188,10 +187,6 @@ class WholeBodyQP:
         a[:, : self.model.nv] = jac
         return a, -HOLD_RATE * (jac @ data.qvel - reference_velocity)
 
-    def _qacc_ref(self, t: float) -> np.ndarray:
-        i, j, a = self.reference.frame_at(t)
-        return (1 - a) * self.qacc_ref[i] + a * self.qacc_ref[j]
-
     def _com_task(self, data, target, size) -> tuple[np.ndarray, np.ndarray]:
         root, w = self.rig.root_body, COM_BANDWIDTH
         mujoco.mj_jacSubtreeCom(self.model, data, self._com_jac, root)
@@ -208,9 +203,7 @@ class WholeBodyQP:
 
     def _root_task(self, data, target, qacc_ref, size) -> tuple[np.ndarray, np.ndarray]:
         adr, turn, w = self.rig.root_qpos + 3, self.root_turn, ROOT_BANDWIDTH
-        error = quat_log(
-            quat_mul(quat_conj(data.qpos[None, adr : adr + 4]), target["qpos"][None, adr : adr + 4])
-        )[0]
+        error = joint_error(data.qpos[None, adr : adr + 4], target["qpos"][None, adr : adr + 4])[0]
         acc = qacc_ref[turn] + w * w * error + 2 * w * (target["qvel"][turn] - data.qvel[turn])
         a = np.zeros((3, size))
         a[np.arange(3), turn] = 1.0
