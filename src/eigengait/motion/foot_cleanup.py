@@ -21,12 +21,16 @@ the reference.
    foot stays within STANCE_M (touch-down and lift-off). Over the hold, the foot's slip is the
    cumulative horizontal displacement of its touching sole points (those within TOUCH_M of its
    lowest one); the correction keeps the touching part where it is at mid-stance: horizontal
-   −(slip(t) − slip(mid)); vertically the lowest sole point is put on the floor (−low(t)) in the
-   still part, fading to no vertical change at the hold's ends.
+   −(slip(t) − slip(mid)); vertically the lowest sole point is put on the floor in the still part
+   and at TOUCHDOWN_M (or its own height, if higher) at the hold's ends, in between linearly: a
+   foot sets down and lifts off vertically over the last centimetres, where the skate measure
+   (`foot_metrics`, CONTACT_M) counts it as touching. (Holds that began at the raw height let a
+   skimming retargeted foot, 1-2 cm up at a walk's swing speed, enter them moving: CMU 05_01's
+   cleaned skate 3.3 cm per stance, 0.9 cm now.)
 3. After and before a hold the horizontal correction fades linearly to zero over BLEND_S (at most
    half the gap to the next hold). A swing foot lower than CLEARANCE_M is lifted to it, the lift
-   growing over LIFT_S from the hold's edge, so a foot skimming the floor is not taken for a sliding
-   stance.
+   growing from TOUCHDOWN_M at the hold's edge over LIFT_S, so a foot skimming the floor is not
+   taken for a sliding stance.
 4. Where two holds of a foot meet (less than 2 BLEND_S apart: a low shuffle step is found as
    stances back to back), they may ask for different positions, and a jump between them would put a
    velocity spike of metres per second into the reference: within BLEND_S of such a junction the
@@ -43,7 +47,7 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
-from eigengait.motion.foot_metrics import runs
+from eigengait.motion.foot_metrics import CONTACT_M, runs
 from eigengait.motion.leg_ik import leg_dofs, solve_leg
 from eigengait.motion.soles import sole_points
 from eigengait.sim.world import World
@@ -59,6 +63,7 @@ MIN_STANCE_S = 0.1
 EXTEND_S = 0.1
 BLEND_S = 0.1
 CLEARANCE_M = 0.05
+TOUCHDOWN_M = CONTACT_M + 0.005  # a held foot's height at its hold's ends
 LIFT_S = 0.05
 MAX_CORRECTION_SPEED = 2.0  # m/s
 
@@ -170,7 +175,8 @@ def foot_corrections(
         slip = _slip(points, start, end)
         correction[start:end, :2] = -(slip - slip[(a + b) // 2 - start])
         weight = np.concatenate([_ramp(a - start)[::-1], np.ones(b - a), _ramp(end - b)])
-        correction[start:end, 2] = -low[start:end] * weight
+        height = (1.0 - weight) * np.maximum(low[start:end], TOUCHDOWN_M)
+        correction[start:end, 2] = height - low[start:end]
         held[start:end] = True
         before = min(blend, (start - holds[k - 1][3]) // 2 if k else start)
         after = min(blend, (holds[k + 1][0] - end) // 2 if k + 1 < len(holds) else n - end)
@@ -181,7 +187,8 @@ def foot_corrections(
     for start, _, _, end in holds:
         gap = np.minimum(gap, np.abs(np.arange(n) - np.clip(np.arange(n), start, end - 1)))
     swing = ~held & (low < CLEARANCE_M)
-    correction[swing, 2] += (CLEARANCE_M - low[swing]) * np.minimum(gap[swing] / max(lift, 1), 1.0)
+    rise = TOUCHDOWN_M + (CLEARANCE_M - TOUCHDOWN_M) * np.minimum(gap / max(lift, 1), 1.0)
+    correction[swing, 2] += np.maximum(rise[swing] - low[swing], 0.0)
     junctions = np.zeros(n, bool)
     for (_, _, _, end), (start, _, _, _) in zip(holds, holds[1:]):
         if start - end < 2 * blend:
