@@ -12,7 +12,7 @@ after the push or the clip's end (the whole clip but for the 20 s laugh), and a 
 when the character has not fallen by then. When the unpushed run already falls within that window
 the column says so instead. Prints the wall time at the end. Run: nice .venv/bin/python
 benchmarks/bench_tracking_corpus.py [--controller momentum|qp] [CLIP.bvh ...] (`track
---controller`; momentum by default).
+--controller`; qp by default).
 """
 
 from __future__ import annotations
@@ -53,7 +53,7 @@ def largest_push(world, reference, robustness: float, unpushed, settings: Tracke
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("clips", nargs="*", type=Path)
-    parser.add_argument("--controller", choices=CONTROLLERS, default="momentum")
+    parser.add_argument("--controller", choices=CONTROLLERS, default=TrackerSettings().controller)
     args = parser.parse_args()
     clips = args.clips or sorted(CORPUS.glob("*.bvh"))
     settings = TrackerSettings(controller=args.controller)

@@ -47,7 +47,7 @@ def test_standing_at_robustness_0_holds_still_with_no_artificial_torque(walker):
 
 
 def test_the_walker_tracks_the_first_second_of_the_cmu_walk(walker):
-    # measured: joint RMS 1.5°, COM error 0.014 m, mean artificial torque 49 N·m (robustness 0.5;
+    # measured: joint RMS 1.5°, COM error 0.014 m, mean artificial torque 45 N·m (robustness 0.5;
     # the raw retargeted feet, which slide); the momentum controller on the same second: 2.0°,
     # 0.010 m, 47 N·m
     clip = read_bvh(MOCAP / "cmu_02_01_walk.bvh")

@@ -13,6 +13,7 @@ import typer
 
 from eigengait import json_text
 from eigengait.cli.balance_options import (
+    CONTROLLER_OPTION,
     FOOT_FRICTION_OPTION,
     FOOT_HEIGHT_OPTION,
     FOOT_RADIUS_OPTION,
@@ -50,6 +51,7 @@ def register(app: typer.Typer) -> None:
             "default", "--pose", help="Relax pose to stand in: default or a sidecar preset."
         ),
         robustness: float = ROBUSTNESS_OPTION,
+        controller: str = CONTROLLER_OPTION,
         foot_radius: float = FOOT_RADIUS_OPTION,
         foot_height: float = FOOT_HEIGHT_OPTION,
         foot_friction: float = FOOT_FRICTION_OPTION,
@@ -69,12 +71,13 @@ def register(app: typer.Typer) -> None:
         from eigengait.character import load_character
         from eigengait.control.balance.pushes import sideways_pushes
         from eigengait.control.balance.standing import stand
-        from eigengait.control.balance.tracker import TrackerSettings
+        from eigengait.control.balance.tracker import TrackerSettings, check_controller
         from eigengait.motion.foot_metrics import foot_report
         from eigengait.motion.soles import sole_points
         from eigengait.sim.world import build_world
 
         foot = balance_settings(robustness, foot_radius, foot_height, foot_friction)
+        check_controller(controller)
         check_range(duration, "--duration", 0.01, MAX_DURATION_S, unit="s")
         media = MediaOptions(video=video, fps=fps, speed=speed, camera=camera).check()
         refuse_existing([video], force)
@@ -89,11 +92,18 @@ def register(app: typer.Typer) -> None:
                 field="--push",
                 fix="give a push time below --duration, or a longer --duration",
             )
-        result = stand(world, robustness, duration, pushes, TrackerSettings(**foot))
+        settings = TrackerSettings(controller=controller, **foot)
+        result = stand(world, robustness, duration, pushes, settings)
         run = result.tracking
         run.foot_skate_m = foot_report(sole_points(world, run.qpos), run.frame_time).foot_skate_m
         write_media(world, run.qpos, 1.0 / run.frame_time, media, status_console(as_json))
-        summary = {"character": loaded.name, "pose": pose, **result.summary(), **foot}
+        summary = {
+            "character": loaded.name,
+            "pose": pose,
+            "controller": controller,
+            **result.summary(),
+            **foot,
+        }
         if as_json:
             typer.echo(json_text.dumps(summary))
             return
@@ -102,7 +112,8 @@ def register(app: typer.Typer) -> None:
             f"{loaded.name} stood {run.duration_s:.2f} s of {duration:g} s in pose '{pose}' "
             f"({state}); pushes survived {result.pushes_survived} of {len(pushes)}; COM error "
             f"{run.com_error_m:.3f} m, foot skate {run.foot_skate_m:.3f} m per stance, mean "
-            f"artificial torque {run.artificial_torque:.1f} N·m (robustness {robustness:g})."
+            f"artificial torque {run.artificial_torque:.1f} N·m (robustness {robustness:g}, "
+            f"{controller} controller)."
         )
 
 

@@ -1,6 +1,6 @@
-"""Options shared by `eigengait track` and `eigengait balance`: the robustness slider and, beside
-it, the cylinder foot model it acts through (control/balance/foot.py, E30): radius, COM height and
-friction.
+"""Options shared by `eigengait track` and `eigengait balance`: the controller, the robustness
+slider and, beside it, the cylinder foot model the momentum controller's slider acts through
+(control/balance/foot.py, E30): radius, COM height and friction.
 
 `balance_settings` checks them all before any simulation runs and turns the foot's into
 `TrackerSettings` fields.
@@ -12,26 +12,35 @@ import typer
 
 from eigengait.inputs import check_range
 
+CONTROLLER_OPTION = typer.Option(
+    "qp",
+    "--controller",
+    help="qp: whole-body inverse dynamics, one least-squares problem over accelerations and "
+    "contact forces per step; momentum: joint PD with balance through the momentum Jacobian and "
+    "the stance-foot compensation (the chapter's).",
+)
 ROBUSTNESS_OPTION = typer.Option(
     0.5,
     "--robustness",
     help=(
-        "0 = physically correct (no artificial torque) … 1 = stance-foot torque fully cancelled "
-        "(very stable)."
+        "0 = physically correct (no artificial torque) … 1 = artificial torque on the pelvis "
+        "nearly free (qp) or the stance-foot torque fully cancelled (momentum): very stable."
     ),
 )
 FOOT_RADIUS_OPTION = typer.Option(
     0.1,
     "--foot-radius",
-    help="Foot model radius (m): with the robustness, sets the stance-foot torque cancelled.",
+    help="Foot model radius (m), momentum controller: with the robustness, sets the stance-foot "
+    "torque cancelled.",
 )
 FOOT_HEIGHT_OPTION = typer.Option(
-    0.05, "--foot-height", help="Foot model COM height above the floor (m)."
+    0.05, "--foot-height", help="Foot model COM height above the floor (m), momentum controller."
 )
 FOOT_FRICTION_OPTION = typer.Option(
     1.0,
     "--foot-friction",
-    help="Foot model friction coefficient μ (the friction cone's edge is atan(1/μ)).",
+    help="Foot model friction coefficient μ, momentum controller (the friction cone's edge is "
+    "atan(1/μ)).",
 )
 
 

@@ -8,6 +8,7 @@ from pathlib import Path
 import typer
 
 from eigengait.cli.balance_options import (
+    CONTROLLER_OPTION,
     FOOT_FRICTION_OPTION,
     FOOT_HEIGHT_OPTION,
     FOOT_RADIUS_OPTION,
@@ -60,13 +61,7 @@ def register(app: typer.Typer) -> None:
             "--tolerance",
             help="Switch balance off while the compensated fraction is below this.",
         ),
-        controller: str = typer.Option(
-            "momentum",
-            "--controller",
-            help="momentum: joint PD with balance through the momentum Jacobian and the "
-            "stance-foot compensation (the chapter's); qp: whole-body inverse dynamics, one "
-            "least-squares problem over accelerations and contact forces per step.",
-        ),
+        controller: str = CONTROLLER_OPTION,
         kinematic: bool = typer.Option(
             False,
             "--kinematic",

@@ -90,7 +90,7 @@ def run_track(
     tolerance: float,
     clean: bool = True,
     foot: dict | None = None,
-    controller: str = "momentum",
+    controller: str = "qp",
 ) -> tuple[object, object, object]:
     """Load, retarget, clean the feet (unless `clean` is False), replay and track; returns (world,
     reference, result); result.foot_skate_m is the simulated motion's skate (m, mean per stance,

@@ -96,7 +96,7 @@ class TrackerSettings:
     foot_com_height_m: float = 0.05
     foot_friction: float = 1.0
     soles: bool = True
-    controller: str = "momentum"
+    controller: str = "qp"
 
 
 @dataclass

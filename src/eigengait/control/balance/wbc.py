@@ -19,8 +19,8 @@ units (m/s², rad/s²):
 * COM: c̈ = c̈_ref + ω_c² (c_ref − c) + 2 ω_c (ċ_ref − ċ), and the root's orientation likewise with
   ω_r: only while a contact is held (in flight nothing can change either);
 * joints: q̈ = q̈_ref + ω_q² e + 2 ω_q (q̇_ref − q̇), e the joint error (`pd.joint_error`);
-* regularization: β small; a weighted ARTIFICIAL_WEIGHT (1 − R) / R, so R = 0 has none and R = 1
-  gives it for nearly free.
+* regularization: β small; a weighted ARTIFICIAL_WEIGHT ((1 − R) / R + ARTIFICIAL_FLOOR), so R = 0
+  has none and R = 1 gives it cheaply, never for free.
 
 The motor torques are the internal rows τ = M q̈ + h − Σ Jᵀ D β; `a` is applied to the root as an
 external torque. Unlike the momentum controller's joint PD, which pulls each joint toward the
@@ -50,7 +50,12 @@ ROOT_WEIGHT = 10.0
 JOINT_WEIGHT = 1.0
 LANDING_WEIGHT = 3.0  # a foot the reference has down that does not touch yet: its ground speed
 FORCE_WEIGHT = 1e-3  # on β (N)
-ARTIFICIAL_WEIGHT = 10.0  # on the artificial torque (N·m over the body mass), × (1 − R) / R
+# on the artificial torque (N·m over the body mass), × ((1 − R) / R + ARTIFICIAL_FLOOR)
+ARTIFICIAL_WEIGHT = 10.0
+# its price at R = 1, as a share of ARTIFICIAL_WEIGHT: a free torque left the root's rows with
+# nothing to decide them, and the walks at R = 1 took 176-363 N·m of it with 5.5-7.0° of joint
+# error (1.5-2.2° and 101-167 N·m with this floor)
+ARTIFICIAL_FLOOR = 0.1
 JOINT_BANDWIDTH = 30.0  # ω_q, rad/s
 COM_BANDWIDTH = 10.0  # ω_c, rad/s (6: the run and the jump 5.9 and 7.0 cm of COM error)
 ROOT_BANDWIDTH = 15.0  # ω_r, rad/s
@@ -153,7 +158,8 @@ class WholeBodyQP:
         if n_art:
             art = np.zeros((3, size))
             art[:, nv + n_force :] = np.eye(3)
-            price = ARTIFICIAL_WEIGHT * (1.0 - self.robustness) / self.robustness / self.mass
+            share = (1.0 - self.robustness) / self.robustness + ARTIFICIAL_FLOOR
+            price = ARTIFICIAL_WEIGHT * share / self.mass
             task(art, np.zeros(3), price)
         lower = np.full(size, -np.inf)
         lower[nv : nv + n_force] = 0.0
