@@ -1,11 +1,13 @@
 """Track a motion-capture clip (a BVH file inside the studio folder) in physics with the balance
 controller.
 
-The robustness slider is the foot model's main parameter: 0 = physically correct (no artificial
-torque at the stance foot), 1 = the stance-foot torque fully cancelled (very stable); beside it, the
-cylinder foot's radius, COM height and friction set how much torque a given robustness cancels
-(control/balance/foot.py). The tracked motion plays on the stage with the camera following; the
-report gives the tracking errors and the artificial torque used.
+The controller is the whole-body QP (`qp`, the default) or the chapter's momentum law
+(`momentum`). The robustness slider prices the artificial torque: 0 = physically correct (none),
+1 = very stable (the QP's torque on the pelvis nearly free, or the momentum law's stance-foot torque
+fully cancelled); beside it, the momentum law's cylinder foot: its radius, COM height and friction
+set how much torque a given robustness cancels (control/balance/foot.py). The tracked motion plays
+on the stage with the camera following; the report gives the tracking errors and the artificial
+torque used.
 """
 
 from __future__ import annotations
@@ -13,6 +15,7 @@ from __future__ import annotations
 import viser
 
 from eigengait.character import builtin_names
+from eigengait.control.balance.tracker import CONTROLLERS, TrackerSettings
 from eigengait.errors import UserInputError
 from eigengait.motion.tracking import run_track
 from eigengait.studio.messages import Messages
@@ -38,13 +41,16 @@ class TrackPanel:
             self.clip = gui.add_text("BVH clip", "", hint="a .bvh file inside the studio folder")
             choices = [c for c in TRACKING_CHARACTERS if c in builtin_names()]
             self.character = gui.add_dropdown("character", choices, initial_value=choices[0])
+            self.controller = gui.add_dropdown(
+                "controller", CONTROLLERS, initial_value=TrackerSettings().controller
+            )
             self.robustness = gui.add_slider(
                 "robustness",
                 min=0.0,
                 max=1.0,
                 step=0.05,
                 initial_value=0.5,
-                hint="0 = physically correct … 1 = stance-foot torque cancelled",
+                hint="0 = physically correct … 1 = artificial torque nearly free",
             )
             self.foot_radius = gui.add_number("foot radius (m)", 0.1, min=0.0, max=1.0, step=0.01)
             self.foot_height = gui.add_number(
@@ -74,7 +80,15 @@ class TrackPanel:
             "foot_friction": float(self.foot_friction.value),
         }
         world, reference, result = run_track(
-            path, self.character.value, float(self.robustness.value), push, None, 1, 0.0, foot=foot
+            path,
+            self.character.value,
+            float(self.robustness.value),
+            push,
+            None,
+            1,
+            0.0,
+            foot=foot,
+            controller=self.controller.value,
         )
         self.result = result
         self.stage.show("tracking", world, result.qpos, 1.0 / result.frame_time, follow=True)
@@ -83,7 +97,7 @@ class TrackPanel:
             f"**{path.name}** on {self.character.value}: tracked {result.duration_s:.2f} s of "
             f"{reference.duration:.2f} s ({state}); joint RMS {result.joint_rms_deg:.1f}°, COM "
             f"error {result.com_error_m:.3f} m, mean artificial torque "
-            f"{result.artificial_torque:.1f} N·m."
+            f"{result.artificial_torque:.1f} N·m ({self.controller.value} controller)."
         )
         self.messages.info(f"Tracking `{self.sandbox.relative(path)}` in physics.", client)
         return result
