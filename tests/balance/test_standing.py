@@ -115,3 +115,12 @@ def test_a_push_is_survived_when_the_fall_comes_after_the_next_one():
     assert pushes_survived([2.0, 1.0], 2.5) == 1
     assert pushes_survived([1.0, 2.0], 1.05) == 0  # fell during the first push
     assert pushes_survived([], 0.3) == 0
+
+
+def test_an_unknown_controller_is_refused_before_any_simulation():
+    app = typer.Typer()
+    register(app)
+    app.command("noop")(lambda: None)
+    result = CliRunner().invoke(app, ["balance", "walker", "--controller", "pid"])
+    assert result.exit_code != 0 and isinstance(result.exception, UserInputError)
+    assert result.exception.field == "controller" and "qp" in str(result.exception)
