@@ -13,11 +13,16 @@ from eigengait.control.playback import pushes_survived
 from eigengait.errors import UserInputError
 
 
-def _balance(*args):
+def _invoke(*args):
+    """`eigengait balance walker ARGS` through the CLI; the runner's result."""
     app = typer.Typer()
     register(app)
     app.command("noop")(lambda: None)
-    result = CliRunner().invoke(app, ["balance", "walker", "--json", *args])
+    return CliRunner().invoke(app, ["balance", "walker", *args])
+
+
+def _balance(*args):
+    result = _invoke("--json", *args)
     assert result.exit_code == 0, result.output
     return json.loads(result.stdout)
 
@@ -118,9 +123,6 @@ def test_a_push_is_survived_when_the_fall_comes_after_the_next_one():
 
 
 def test_an_unknown_controller_is_refused_before_any_simulation():
-    app = typer.Typer()
-    register(app)
-    app.command("noop")(lambda: None)
-    result = CliRunner().invoke(app, ["balance", "walker", "--controller", "pid"])
+    result = _invoke("--controller", "pid")
     assert result.exit_code != 0 and isinstance(result.exception, UserInputError)
     assert result.exception.field == "controller" and "qp" in str(result.exception)
