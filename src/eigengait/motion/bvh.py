@@ -2,8 +2,12 @@
 
 A clip keeps raw channel values exactly as stored (file length units, degrees, file channel order).
 Each joint's local rotation is the product of its rotation channels in the listed order
-(intrinsic rotations, column vectors): ``R = R(first) @ R(second) @ R(third)``. Position channels
-are added to the joint's OFFSET. Conversion to metres and to the z-up world happens elsewhere, once.
+(intrinsic rotations, column vectors): ``R = R(first) @ R(second) @ R(third)``. A position
+channel is the joint's local translation along its axis, in place of the OFFSET's component (the
+OFFSET is the rest pose): the files that put position channels on every joint store the bone there
+(Bandai Namco's: the Hips channels hold the 90 cm hip height beside a 94 cm OFFSET; added, the legs
+would be twice as long). Roots with a zero OFFSET, as CMU's, read the same either way. Conversion
+to metres and to the z-up world happens elsewhere, once.
 """
 
 from __future__ import annotations
@@ -55,6 +59,15 @@ class BvhClip:
             if joint.name == name:
                 return i
         raise KeyError(name)
+
+    def rest(self) -> "BvhClip":
+        """The one-frame rest pose: every rotation zero, every position channel at its OFFSET."""
+        row = np.zeros((1, self.frames.shape[1]))
+        for joint, cols in zip(self.joints, self.channel_slices()):
+            for k, channel in enumerate(joint.channels):
+                if channel in POSITION_CHANNELS:
+                    row[0, cols.start + k] = joint.offset[_AXIS[channel[0]]]
+        return BvhClip(self.joints, self.frame_time, row)
 
     def channel_slices(self) -> list[slice]:
         """Column range of each joint's channels in ``frames``."""
@@ -376,7 +389,7 @@ def local_transforms(clip: BvhClip) -> tuple[np.ndarray, np.ndarray]:
             if channel.endswith("rotation"):
                 rotations[:, index] = rotations[:, index] @ axis_rotation(axis, values[:, k])
             else:
-                translations[:, index, _AXIS[axis]] += values[:, k]
+                translations[:, index, _AXIS[axis]] = values[:, k]
     return rotations, translations
 
 

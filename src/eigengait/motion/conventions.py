@@ -5,10 +5,12 @@
 * Facing: the rest pose's left direction (left hip − right hip, all rotations zero) made
   perpendicular to up and snapped to a file axis; forward = left × up. The retarget maps the root's
   rest orientation onto the character's with no offset, so the rest pose, not the first frame, fixes
-  the facing.
-* Unit: the rest-pose hip height h (root above its lowest point along the leg direction;
-  rotation-invariant) is compared with an adult hip height of 0.9 m; the unit of UNITS that brings h
-  closest to it (in ratio) wins.
+  the facing. A rest pose that does not stand (`rest_stands`: Bandai Namco's lies along one line)
+  fixes nothing: the first frame's hips give the facing, and the retarget takes its rest offsets
+  from the motion (`rest_offsets`).
+* Unit: the rest pose's (or first frame's) hip height h (root above its lowest point along the leg
+  direction; rotation-invariant) is compared with an adult hip height of 0.9 m; the unit
+  of UNITS that brings h closest to it (in ratio) wins.
 * Channel order: read per joint from the file (reported, not detected).
 Result: the proper rotation C with world = C · file (world: x forward, y left, z up).
 """
@@ -24,6 +26,7 @@ from eigengait.motion.bvh import BvhClip, end_site_positions, global_transforms
 
 UNITS = {"m": 1.0, "cm": 0.01, "mm": 0.001, "in": 0.0254, "CMU": 0.0254 / 0.45}  # metres per unit
 ADULT_HIP_HEIGHT_M = 0.9
+STANDING_TILT_DEG = 45.0  # a rest pose whose legs lean further from up does not stand
 _NAMES = "xyz"
 
 
@@ -40,6 +43,7 @@ class Conventions:
     metres_per_unit: float
     hip_height: float
     rotation_orders: dict[str, int]
+    rest_stands: bool = True
 
     def summary(self) -> dict:
         return {
@@ -49,6 +53,7 @@ class Conventions:
             "metres_per_unit": round(self.metres_per_unit, 6),
             "hip_height_m": round(self.hip_height * self.metres_per_unit, 4),
             "rotation_orders": self.rotation_orders,
+            "rest_pose_stands": self.rest_stands,
         }
 
 
@@ -74,20 +79,39 @@ def _points(clip: BvhClip, frames: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return pos, np.concatenate([pos] + [e[:, None] for e in ends], axis=1)
 
 
+def rest_stands(clip: BvhClip, roles: dict[str, str], up: np.ndarray) -> bool:
+    """Whether the clip's rest pose (`BvhClip.rest`) stands: its legs (root to the feet's mean)
+    within STANDING_TILT_DEG of `up` (file axes) and its thighs side by side across it. CMU's rest
+    T-poses stand; Bandai Namco's lays every bone along its joint's x axis, legs and spine in one
+    line."""
+    index = {role: clip.joint_index(name) for role, name in roles.items()}
+    rest, _ = _points(clip, clip.rest().frames)
+    leg = rest[0, index["root"]] - rest[0, [index["left_foot"], index["right_foot"]]].mean(axis=0)
+    across = rest[0, index["left_thigh"]] - rest[0, index["right_thigh"]]
+    upright = leg @ up >= np.cos(np.radians(STANDING_TILT_DEG)) * np.linalg.norm(leg)
+    level = np.linalg.norm(across - (across @ up) * up)
+    return bool(upright and level >= 0.5 * np.linalg.norm(across))
+
+
 def detect_conventions(clip: BvhClip, roles: dict[str, str], start_frame: int = 1) -> Conventions:
     """Conventions of a clip whose roles (from `skeleton_names.find_roles`) include root, thighs and
-    feet."""
+    feet. A rest pose that does not stand (`rest_stands`) gives way to the clip's first frame for
+    the facing and the hip height."""
     index = {role: clip.joint_index(name) for role, name in roles.items()}
     root, feet = index["root"], [index["left_foot"], index["right_foot"]]
-    pos, _ = _points(clip, clip.frames[start_frame:])
+    pos, pos_all = _points(clip, clip.frames[start_frame:])
     up = _snap((pos[:, root] - pos[:, feet].mean(axis=1)).mean(axis=0))
-    rest, rest_all = _points(clip, np.zeros((1, clip.frames.shape[1])))
-    left = rest[0, index["left_thigh"]] - rest[0, index["right_thigh"]]
+    stands = rest_stands(clip, roles, up)
+    if stands:
+        shape, shape_all = _points(clip, clip.rest().frames)
+    else:
+        shape, shape_all = pos[:1], pos_all[:1]
+    left = shape[0, index["left_thigh"]] - shape[0, index["right_thigh"]]
     left = _snap(left - (left @ up) * up)
     forward = np.cross(left, up)
-    leg = rest[0, root] - rest[0, feet].mean(axis=0)
+    leg = shape[0, root] - shape[0, feet].mean(axis=0)
     leg /= np.linalg.norm(leg)
-    hip_height = float(np.max((rest[0, root] - rest_all[0]) @ leg))
+    hip_height = float(np.max((shape[0, root] - shape_all[0]) @ leg))
     unit = min(
         UNITS, key=lambda u: abs(np.log(max(hip_height, 1e-9) * UNITS[u] / ADULT_HIP_HEIGHT_M))
     )
@@ -102,4 +126,5 @@ def detect_conventions(clip: BvhClip, roles: dict[str, str], start_frame: int = 
         metres_per_unit=UNITS[unit],
         hip_height=hip_height,
         rotation_orders={k: v for k, v in sorted(orders.items()) if k},
+        rest_stands=stands,
     )

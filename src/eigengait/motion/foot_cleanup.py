@@ -84,6 +84,8 @@ def _slip(points: np.ndarray, start: int, end: int) -> np.ndarray:
     for i in range(start, end - 1):
         low = min(points[i, :, 2].min(), points[i + 1, :, 2].min())
         touching = (points[i, :, 2] <= low + TOUCH_M) & (points[i + 1, :, 2] <= low + TOUCH_M)
+        if not touching.any():  # a foot dropping fast between frames (a 30 Hz clip's landing)
+            touching = np.arange(points.shape[1]) == np.argmin(points[i : i + 2, :, 2].max(axis=0))
         step = (points[i + 1, touching, :2] - points[i, touching, :2]).mean(axis=0)
         slip[i - start + 1] = slip[i - start] + step
     return slip

@@ -36,13 +36,14 @@ import mujoco
 import numpy as np
 from pydantic import BaseModel, ConfigDict, field_validator
 
-from eigengait.geometry import mat_to_quat, min_arc, quat_exp, quat_log, quat_to_mat
+from eigengait.geometry import mat_to_quat, quat_exp, quat_log, quat_to_mat
 from eigengait.errors import UserInputError
 from eigengait.files import load_model
 from eigengait.motion.bvh import BvhClip, end_site_positions, global_transforms
-from eigengait.motion.conventions import detect_conventions
+from eigengait.motion.conventions import detect_conventions, rest_stands
 from eigengait.motion.foot_level import level_feet
 from eigengait.motion.grounding import floor_offset, lowest_foot_points
+from eigengait.motion.rest_offsets import planted_frames, rest_offsets
 from eigengait.motion.root_scale import leg_consistent_factor
 from eigengait.motion.skeleton_names import LEG_ROLES, find_roles
 from eigengait.motion.soles import sole_points
@@ -219,6 +220,42 @@ def _check_mapping(mapping: Mapping, clip: BvhClip, world: World) -> tuple[dict[
     return pairs, root
 
 
+def _left_unless_rest_stands(clip: BvhClip, axes: np.ndarray, pos: np.ndarray) -> np.ndarray | None:
+    """(F, 3) unit world directions from the right thigh to the left one when the clip's rest pose
+    does not stand; None when it does or when its legs are not found by name (`pos`: the frames'
+    joint positions, file axes, (F, J, 3))."""
+    roles = find_roles(clip)
+    if not set(LEG_ROLES) <= set(roles) or rest_stands(clip, roles, axes[2]):
+        return None
+    left, right = _thighs(clip)
+    across = (pos[:, left] - pos[:, right]) @ axes.T
+    return across / np.linalg.norm(across, axis=1, keepdims=True)
+
+
+def _thighs(clip: BvhClip) -> tuple[int, int]:
+    roles = find_roles(clip)
+    return clip.joint_index(roles["left_thigh"]), clip.joint_index(roles["right_thigh"])
+
+
+def _root_up(
+    clip: BvhClip, pairs: dict[int, int], root: int, frames: BvhClip, body_of: dict[int, int], xpos
+) -> tuple[np.ndarray, np.ndarray]:
+    """The root's up direction, from its thighs' midpoint to its other mapped descendants (the
+    torso), in the root joint's own frame (file axes, averaged over `frames`) and on the character
+    (world, relax pose): the root's bone when the rest pose does not stand (the mean of all its
+    mapped descendants lies too close to it to give a direction)."""
+    rot, pos = global_transforms(frames)
+    left, right = _thighs(clip)
+    parents = [j.parent for j in clip.joints]
+    others = [k for k in _nearest_mapped(parents, root, set(pairs)) if k not in (left, right)]
+    up = pos[:, others].mean(axis=1) - (pos[:, left] + pos[:, right]) / 2
+    body_up = (
+        xpos[[body_of[k] for k in others]].mean(axis=0)
+        - (xpos[body_of[left]] + xpos[body_of[right]]) / 2
+    )
+    return np.einsum("fji,fj->i", rot[:, root], up) / len(pos), body_up
+
+
 def _nearest_mapped(parents: list[int], start: int, mapped: set[int]) -> list[int]:
     """Mapped descendants of `start` with no mapped node between them and `start`."""
     children: dict[int, list[int]] = {}
@@ -234,24 +271,28 @@ def _nearest_mapped(parents: list[int], start: int, mapped: set[int]) -> list[in
     return found
 
 
-def _bvh_rest_bones(clip: BvhClip, pairs: dict[int, int]) -> dict[int, np.ndarray]:
-    """Bone direction of every mapped BVH joint in the zero-rotation rest pose, file axes."""
-    rest = BvhClip(clip.joints, clip.frame_time, np.zeros((1, clip.frames.shape[1])))
-    rot, pos = global_transforms(rest)
-    ends = end_site_positions(rest, rot, pos)
+def _bvh_bones(clip: BvhClip, pairs: dict[int, int], frames: BvhClip) -> dict[int, np.ndarray]:
+    """Bone direction of every mapped BVH joint in its own frame (file axes), averaged over the
+    poses of `frames` (the rest pose, or the motion when the rest pose does not stand)."""
+    rot, pos = global_transforms(frames)
+    ends = end_site_positions(frames, rot, pos)
     parents = [j.parent for j in clip.joints]
     bones = {}
     for b in pairs:
         targets = _nearest_mapped(parents, b, set(pairs))
+        children = [i for i, p in enumerate(parents) if p == b]
         if targets:
-            bones[b] = pos[0, targets].mean(axis=0) - pos[0, b]
+            tip = pos[:, targets].mean(axis=1)
+        elif children:
+            tip = pos[:, children[0]]
         else:
-            children = [i for i, p in enumerate(parents) if p == b]
-            bones[b] = (
-                pos[0, children[0]] - pos[0, b]
-                if children
-                else ends.get(b, np.array([[0, 1, 0]]))[0] - pos[0, b]
-            )
+            tip = ends.get(b, pos[:, b])
+        bone = np.einsum("fji,fj->i", rot[:, b], tip - pos[:, b]) / len(pos)
+        if np.linalg.norm(bone) < 1e-9 and parents[b] >= 0:
+            # a zero-length bone (an End Site on its joint, as in Bandai Namco's heads) continues
+            # the parent's
+            bone = np.einsum("fji,fj->i", rot[:, b], pos[:, b] - pos[:, parents[b]]) / len(pos)
+        bones[b] = bone if np.linalg.norm(bone) >= 1e-9 else np.array([0.0, 1.0, 0.0])
     return bones
 
 
@@ -310,16 +351,28 @@ def retarget(clip: BvhClip, world: World, mapping: Mapping, start_frame: int = 1
     rot, pos = global_transforms(clip)
     rot, pos = rot[start_frame:], pos[start_frame:]
     world_rot = axes @ rot @ axes.T  # (F, J, 3, 3) world axes
-    bvh_bones = _bvh_rest_bones(clip, pairs)
+    left = _left_unless_rest_stands(clip, axes, pos)
+    shapes = (
+        clip.rest()
+        if left is None
+        else BvhClip(clip.joints, clip.frame_time, clip.frames[start_frame:])
+    )
+    bvh_bones = _bvh_bones(clip, pairs, shapes)
     body_bones = _body_rest_bones(world, data, body_of)
+    if left is not None:
+        bvh_bones[root], body_bones[body_of[root]] = _root_up(
+            clip, pairs, root, shapes, body_of, data.xpos
+        )
     feet = _foot_sites(world)
-    orient = {}
-    for b, body in body_of.items():
-        bone = axes @ bvh_bones[b]
-        if body in feet:
-            bone[2] = 0.0
-        offset = np.eye(3) if b == root else min_arc(body_bones[body], bone)
-        orient[body] = world_rot[:, b] @ offset @ rest_world[body]
+    offsets = rest_offsets(
+        world_rot,
+        {b: axes @ bvh_bones[b] for b in body_of},
+        {b: body_bones[body] for b, body in body_of.items()},
+        {b: planted_frames(pos[:, b] @ axes[2]) for b, body in body_of.items() if body in feet},
+        root,
+        left,
+    )
+    orient = {body: world_rot[:, b] @ offsets[b] @ rest_world[body] for b, body in body_of.items()}
 
     n = len(rot)
     qpos = np.tile(model.qpos0, (n, 1))

@@ -3,10 +3,10 @@ model.
 
 For every frame: qpos is set, ``mj_forward`` gives the COM, every body's world orientation and each
 foot's sole centre and height, qvel comes from central differences (``mj_differentiatePos``)
-smoothed by a 5-frame moving average (mocap is noisy), and ``mj_subtreeVel`` gives the COM velocity
-and the angular momentum about the COM; their rates (the COM acceleration and dL/dt, the momentum
-feed-forward) are central differences of those, smoothed the same way. All vectors are in world
-axes, SI units.
+smoothed by a moving average over SMOOTHING_S (mocap is noisy), and ``mj_subtreeVel`` gives the
+COM velocity and the angular momentum about the COM; their rates (the COM acceleration and dL/dt,
+the momentum feed-forward) are central differences of those, smoothed the same way. All vectors
+are in world axes, SI units.
 A foot is in reference contact when its lowest contact point is within ``CONTACT_HEIGHT`` of the
 floor; the support point is the mean of the contacting feet's toe/heel midpoints, held through
 flight phases.
@@ -23,7 +23,9 @@ from eigengait.control.balance.planting import transition_windows
 from eigengait.sim.world import World
 
 CONTACT_HEIGHT = 0.05  # m
-SMOOTHING_FRAMES = 5
+# s: the moving average's width (5 frames of a 120 Hz CMU clip); a 30 Hz clip smoothed over 5 of its
+# frames lost its accelerations (a Bandai Namco walk tracked 1.5 s behind its momentum, and fell)
+SMOOTHING_S = 5 / 120
 
 
 @dataclass
@@ -76,6 +78,11 @@ class Reference:
         return i, i + 1, x - i
 
 
+def _smoothing_frames(frame_time: float) -> int:
+    """Odd moving-average width (frames) closest to SMOOTHING_S."""
+    return 2 * int(round((SMOOTHING_S / frame_time - 1) / 2)) + 1
+
+
 def _smooth(values: np.ndarray, width: int) -> np.ndarray:
     if len(values) < width:
         return values
@@ -89,7 +96,7 @@ def _rate(values: np.ndarray, frame_time: float) -> np.ndarray:
     """Smoothed central-difference time derivative of per-frame values."""
     if len(values) < 2:
         return np.zeros_like(values)
-    return _smooth(np.gradient(values, frame_time, axis=0), SMOOTHING_FRAMES)
+    return _smooth(np.gradient(values, frame_time, axis=0), _smoothing_frames(frame_time))
 
 
 def foot_points(world: World, data: mujoco.MjData) -> dict[str, np.ndarray]:
@@ -106,7 +113,7 @@ def kinematic_replay(world: World, qpos: np.ndarray, frame_time: float) -> Refer
     for i in range(n):
         a, b = max(i - 1, 0), min(i + 1, n - 1)
         mujoco.mj_differentiatePos(model, qvel[i], (b - a) * frame_time, qpos[a], qpos[b])
-    qvel = _smooth(qvel, SMOOTHING_FRAMES)
+    qvel = _smooth(qvel, _smoothing_frames(frame_time))
     root = world.root_body
     feet = list(world.foot_spheres)
     com, com_vel, ang = np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3))
