@@ -116,9 +116,16 @@ def _holds(
     bound: np.ndarray | float = STANCE_SPEED,
 ) -> list[tuple[int, int, int, int]]:
     """(hold start, core start, core end, hold end) per stance: the still core (speed at most
-    `bound`, m/s, per frame or one value) grown while the foot stays low; `centre` (F, 2) the sole
-    centre's horizontal position (m)."""
-    still = runs((low <= STANCE_M) & (speed <= bound), frame_time, MIN_STANCE_S)
+    `bound`, m/s, per frame or one value; at least MIN_STANCE_S long unless it touches either end of
+    the clip, where its true length is unknown: a run clip that starts 0.09 s before a foot lifts
+    otherwise began on a foot lifted as a swing, and fell) grown while the foot stays low; `centre`
+    (F, 2) the sole centre's horizontal position (m)."""
+    shortest = max(1, int(round(MIN_STANCE_S / frame_time)))
+    still = [
+        (a, b)
+        for a, b in runs((low <= STANCE_M) & (speed <= bound), frame_time, 0.0)
+        if b - a >= shortest or a == 0 or b == len(low)
+    ]
     cores = _joined(still, low, centre)
     grow, out = int(round(EXTEND_S / frame_time)), []
     for k, (a, b) in enumerate(cores):

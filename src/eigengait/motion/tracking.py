@@ -15,13 +15,13 @@ from eigengait.inputs import check_range
 def reference_poses(
     clip_path: Path, character: str, mapping: Path | None, start_frame: int, clean: bool = True
 ) -> dict:
-    """Load and retarget a clip from `start_frame`, its lead-in skipped (`lead_in.py`), then clean
-    its feet (unless `clean` is False).
+    """Load and retarget a clip from `start_frame`, its lead-in skipped (`lead_in.py`), bring it
+    to 120 frames/s if it is slower (`upsample.py`), then clean its feet (unless `clean` is False).
 
-    Returns world, poses (F, nq), first_frame (the clip frame they start at), frame_time (s), scale
-    (m per file unit), root_factor (`root_scale`), foot_level_deg (`foot_level`), conventions
-    (or None when the skeleton's legs are not found by name), raw and final foot reports
-    (`foot_metrics`)."""
+    Returns world, poses (F, nq), first_frame (the clip frame they start at), frame_time (s, of the
+    poses), scale (m per file unit), root_factor (`root_scale`), foot_level_deg (`foot_level`),
+    conventions (or None when the skeleton's legs are not found by name), raw and final foot
+    reports (`foot_metrics`)."""
     from eigengait.character import load_character
     from eigengait.motion.bvh import read_bvh
     from eigengait.motion.conventions import detect_conventions
@@ -31,6 +31,7 @@ def reference_poses(
     from eigengait.motion.retarget import builtin_mapping, load_mapping, retarget
     from eigengait.motion.skeleton_names import LEG_ROLES, find_roles
     from eigengait.motion.soles import sole_points
+    from eigengait.motion.upsample import upsampled
     from eigengait.sim.world import build_world
 
     clip = read_bvh(clip_path)
@@ -41,16 +42,15 @@ def reference_poses(
     retargeted = retarget(clip, world, chosen, start_frame=first)
     roles = find_roles(clip)
     conventions = detect_conventions(clip, roles, first) if set(LEG_ROLES) <= set(roles) else None
-    raw = foot_report(sole_points(world, retargeted.qpos), retargeted.frame_time)
-    qpos = (
-        clean_feet(world, retargeted.qpos, retargeted.frame_time).qpos if clean else retargeted.qpos
-    )
-    final = foot_report(sole_points(world, qpos), retargeted.frame_time) if clean else raw
+    qpos, frame_time = upsampled(world.model, retargeted.qpos, retargeted.frame_time)
+    raw = foot_report(sole_points(world, qpos), frame_time)
+    qpos = clean_feet(world, qpos, frame_time).qpos if clean else qpos
+    final = foot_report(sole_points(world, qpos), frame_time) if clean else raw
     return {
         "world": world,
         "qpos": qpos,
         "first_frame": first,
-        "frame_time": retargeted.frame_time,
+        "frame_time": frame_time,
         "scale": retargeted.scale,
         "root_factor": retargeted.root_factor,
         "foot_level_deg": retargeted.foot_level_deg,
