@@ -12,6 +12,7 @@ from eigengait.motion.foot_cleanup import (
     CLEARANCE_M,
     MAX_CORRECTION_SPEED,
     PACE_FRACTION,
+    MIN_STANCE_S,
     TOUCHDOWN_M,
     clean_feet,
     foot_corrections,
@@ -153,3 +154,18 @@ def test_root_pace_is_the_roots_horizontal_speed(cleaned):
     qpos[:, 0] = 1.5 * np.arange(100) * 0.01  # 1.5 m/s along x, 2 m/s up: not counted
     qpos[:, 2] += 2.0 * np.arange(100) * 0.01
     np.testing.assert_allclose(root_pace(world, qpos, 0.01), 1.5, rtol=1e-9)
+
+
+def test_a_short_stance_is_kept_only_at_the_clips_ends():
+    # A foot on the floor for 0.06 s (less than MIN_STANCE_S) at the clip's start, at its middle
+    # and at its end, 10 cm up in between: the runs at the ends, whose true length is unknown, are
+    # stances; the one in the middle (a brush of the floor) is not.
+    frame_time, n = 1 / 120, 240
+    points = np.zeros((n, 2, 3))
+    points[:, 1, 0] = 0.18
+    points[..., 2] = 0.1
+    for down in (slice(0, 7), slice(117, 124), slice(n - 7, n)):
+        points[down, :, 2] = 0.0
+    assert 7 * frame_time < MIN_STANCE_S
+    _, holds = foot_corrections(points, frame_time)
+    assert [(a, b) for a, b in holds] == [(0, 7), (n - 7, n)]
