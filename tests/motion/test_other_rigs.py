@@ -12,7 +12,8 @@ from eigengait.control.balance.reference import kinematic_replay
 from eigengait.geometry import min_arc, quat_angle
 from eigengait.motion.bvh import BvhClip, BvhJoint, global_transforms, local_transforms, read_bvh
 from eigengait.motion.conventions import detect_conventions
-from eigengait.motion.retarget import builtin_mapping, retarget
+from eigengait.errors import UserInputError
+from eigengait.motion.retarget import Mapping, builtin_mapping, retarget
 from eigengait.motion.skeleton_names import find_roles
 from eigengait.sim.world import build_world
 
@@ -139,3 +140,21 @@ def test_a_30_hz_clip_keeps_its_accelerations(walk):
     slow = kinematic_replay(world, qpos[::4], 4 * walk.frame_time)
     ratio = np.sqrt(np.mean(slow.com_acc**2)) / np.sqrt(np.mean(fast.com_acc**2))
     assert 0.6 < ratio < 1.2
+
+
+def test_a_lying_rest_pose_needs_its_thighs_mapped(walk):
+    world = build_world(load_character("walker"))
+    other = rerested(walk, BANDAI_NAMES)
+    joints = dict(builtin_mapping("walker", other).joints)
+    del joints["UpperLeg_L"]
+    with pytest.raises(UserInputError) as err:
+        retarget(other, world, Mapping(joints=joints))
+    assert "UpperLeg_L" in str(err.value) and "rest pose does not stand" in str(err.value)
+    # without the torso mapped the root still stands up: the file's up is the character's
+    joints = {k: v for k, v in builtin_mapping("walker", other).joints.items() if v != "torso"}
+    moved = retarget(other, world, Mapping(joints=joints)).qpos
+    original = retarget(walk, world, builtin_mapping("walker", walk)).qpos
+    root = world.model.jnt_qposadr[0] + 3
+    assert (
+        np.degrees(quat_angle(original[:, root : root + 4], moved[:, root : root + 4])).mean() < 10
+    )

@@ -220,14 +220,24 @@ def _check_mapping(mapping: Mapping, clip: BvhClip, world: World) -> tuple[dict[
     return pairs, root
 
 
-def _left_unless_rest_stands(clip: BvhClip, axes: np.ndarray, pos: np.ndarray) -> np.ndarray | None:
+def _left_unless_rest_stands(
+    clip: BvhClip, axes: np.ndarray, pos: np.ndarray, pairs: dict[int, int]
+) -> np.ndarray | None:
     """(F, 3) unit world directions from the right thigh to the left one when the clip's rest pose
     does not stand; None when it does or when its legs are not found by name (`pos`: the frames'
-    joint positions, file axes, (F, J, 3))."""
+    joint positions, file axes, (F, J, 3)). The thighs must then be mapped."""
     roles = find_roles(clip)
     if not set(LEG_ROLES) <= set(roles) or rest_stands(clip, roles, axes[2]):
         return None
     left, right = _thighs(clip)
+    if left not in pairs or right not in pairs:
+        raise UserInputError(
+            "the clip's rest pose does not stand (its legs are not under its hips with all "
+            "rotations zero), so the retarget takes its rest offsets from the motion, which needs "
+            f"the thighs '{roles['left_thigh']}' and '{roles['right_thigh']}' mapped.",
+            field="joints",
+            fix="map both thighs to the character's thigh joints in the mapping file.",
+        )
     across = (pos[:, left] - pos[:, right]) @ axes.T
     return across / np.linalg.norm(across, axis=1, keepdims=True)
 
@@ -238,7 +248,13 @@ def _thighs(clip: BvhClip) -> tuple[int, int]:
 
 
 def _root_up(
-    clip: BvhClip, pairs: dict[int, int], root: int, frames: BvhClip, body_of: dict[int, int], xpos
+    clip: BvhClip,
+    pairs: dict[int, int],
+    root: int,
+    frames: BvhClip,
+    body_of: dict[int, int],
+    xpos: np.ndarray,
+    axes: np.ndarray,
 ) -> tuple[np.ndarray, np.ndarray]:
     """The root's up direction, from its thighs' midpoint to its other mapped descendants (the
     torso), in the root joint's own frame (file axes, averaged over `frames`) and on the character
@@ -248,6 +264,8 @@ def _root_up(
     left, right = _thighs(clip)
     parents = [j.parent for j in clip.joints]
     others = [k for k in _nearest_mapped(parents, root, set(pairs)) if k not in (left, right)]
+    if not others:  # no torso mapped: the file's up (`axes[2]`), averaged, is the character's
+        return np.einsum("fji,j->i", rot[:, root], axes[2]) / len(pos), np.array([0.0, 0, 1])
     up = pos[:, others].mean(axis=1) - (pos[:, left] + pos[:, right]) / 2
     body_up = (
         xpos[[body_of[k] for k in others]].mean(axis=0)
@@ -351,7 +369,7 @@ def retarget(clip: BvhClip, world: World, mapping: Mapping, start_frame: int = 1
     rot, pos = global_transforms(clip)
     rot, pos = rot[start_frame:], pos[start_frame:]
     world_rot = axes @ rot @ axes.T  # (F, J, 3, 3) world axes
-    left = _left_unless_rest_stands(clip, axes, pos)
+    left = _left_unless_rest_stands(clip, axes, pos, pairs)
     shapes = (
         clip.rest()
         if left is None
@@ -361,7 +379,7 @@ def retarget(clip: BvhClip, world: World, mapping: Mapping, start_frame: int = 1
     body_bones = _body_rest_bones(world, data, body_of)
     if left is not None:
         bvh_bones[root], body_bones[body_of[root]] = _root_up(
-            clip, pairs, root, shapes, body_of, data.xpos
+            clip, pairs, root, shapes, body_of, data.xpos, axes
         )
     feet = _foot_sites(world)
     offsets = rest_offsets(
