@@ -51,7 +51,8 @@ def rest_offsets(
     offsets = {}
     for b, bone in bones.items():
         if left is None:
-            offsets[b] = np.eye(3) if b == root else min_arc(body_bones[b], _flat(bone, b in feet))
+            seen = _level(bone) if b in feet else bone
+            offsets[b] = np.eye(3) if b == root else min_arc(body_bones[b], seen)
         elif b in feet:
             seen = _level(world_rot[:, b] @ bone)
             target = body_bones[b] / np.linalg.norm(body_bones[b])
@@ -77,7 +78,3 @@ def _level(v: np.ndarray) -> np.ndarray:
     out = np.array(v, float)
     out[..., 2] = 0.0
     return out
-
-
-def _flat(bone: np.ndarray, levelled: bool) -> np.ndarray:
-    return _level(bone) if levelled else np.asarray(bone, float)

@@ -251,16 +251,17 @@ def _root_up(
     clip: BvhClip,
     pairs: dict[int, int],
     root: int,
-    frames: BvhClip,
+    rot: np.ndarray,
+    pos: np.ndarray,
     body_of: dict[int, int],
     xpos: np.ndarray,
     axes: np.ndarray,
 ) -> tuple[np.ndarray, np.ndarray]:
     """The root's up direction, from its thighs' midpoint to its other mapped descendants (the
-    torso), in the root joint's own frame (file axes, averaged over `frames`) and on the character
-    (world, relax pose): the root's bone when the rest pose does not stand (the mean of all its
-    mapped descendants lies too close to it to give a direction)."""
-    rot, pos = global_transforms(frames)
+    torso), in the root joint's own frame (file axes, averaged over the poses `rot`, `pos`:
+    `global_transforms`) and on the character (world, relax pose): the root's bone when the rest
+    pose does not stand (the mean of all its mapped descendants lies too close to it to give a
+    direction)."""
     left, right = _thighs(clip)
     parents = [j.parent for j in clip.joints]
     others = [k for k in _nearest_mapped(parents, root, set(pairs)) if k not in (left, right)]
@@ -289,11 +290,13 @@ def _nearest_mapped(parents: list[int], start: int, mapped: set[int]) -> list[in
     return found
 
 
-def _bvh_bones(clip: BvhClip, pairs: dict[int, int], frames: BvhClip) -> dict[int, np.ndarray]:
+def _bvh_bones(
+    clip: BvhClip, pairs: dict[int, int], rot: np.ndarray, pos: np.ndarray
+) -> dict[int, np.ndarray]:
     """Bone direction of every mapped BVH joint in its own frame (file axes), averaged over the
-    poses of `frames` (the rest pose, or the motion when the rest pose does not stand)."""
-    rot, pos = global_transforms(frames)
-    ends = end_site_positions(frames, rot, pos)
+    poses `rot`, `pos` (`global_transforms` of the rest pose, or of the motion when the rest pose
+    does not stand)."""
+    ends = end_site_positions(clip, rot, pos)
     parents = [j.parent for j in clip.joints]
     bones = {}
     for b in pairs:
@@ -370,16 +373,13 @@ def retarget(clip: BvhClip, world: World, mapping: Mapping, start_frame: int = 1
     rot, pos = rot[start_frame:], pos[start_frame:]
     world_rot = axes @ rot @ axes.T  # (F, J, 3, 3) world axes
     left = _left_unless_rest_stands(clip, axes, pos, pairs)
-    shapes = (
-        clip.rest()
-        if left is None
-        else BvhClip(clip.joints, clip.frame_time, clip.frames[start_frame:])
+    bvh_bones = _bvh_bones(
+        clip, pairs, *(global_transforms(clip.rest()) if left is None else (rot, pos))
     )
-    bvh_bones = _bvh_bones(clip, pairs, shapes)
     body_bones = _body_rest_bones(world, data, body_of)
     if left is not None:
         bvh_bones[root], body_bones[body_of[root]] = _root_up(
-            clip, pairs, root, shapes, body_of, data.xpos, axes
+            clip, pairs, root, rot, pos, body_of, data.xpos, axes
         )
     feet = _foot_sites(world)
     offsets = rest_offsets(

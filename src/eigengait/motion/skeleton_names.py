@@ -38,6 +38,7 @@ UNSIDED_ALIASES: dict[str, tuple[str, ...]] = {
     "head": ("head",),
 }
 LEG_ROLES = ("root", "left_thigh", "left_foot", "right_thigh", "right_foot")
+_PARTS = frozenset(alias for aliases in PART_ALIASES.values() for alias in aliases)
 
 
 def normalise(name: str) -> str:
@@ -48,13 +49,12 @@ def normalise(name: str) -> str:
 def sided_parts(name: str) -> set[tuple[str, str]]:
     """Every (side, part name) reading of a joint name whose part is a known alias: 'UpperLeg_L' →
     {('left', 'upperleg')}, 'lShin' → {('left', 'shin')}, 'LeftLeg' → {('left', 'leg')}."""
-    known = {alias for aliases in PART_ALIASES.values() for alias in aliases}
     flat = normalise(name)
     readings = set()
     for side, tokens in SIDES.items():
         for token in tokens:
             for rest in (flat.removeprefix(token), flat.removesuffix(token)):
-                if rest != flat and rest in known:
+                if rest != flat and rest in _PARTS:
                     readings.add((side, rest))
     return readings
 
