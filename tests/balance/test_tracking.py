@@ -166,3 +166,15 @@ def test_a_mirrored_clip_is_tracked_as_the_mirror_image(tmp_path):
     np.testing.assert_allclose(mirrored.qpos[:, 0], walked.qpos[:, 0], atol=1e-6)
     np.testing.assert_allclose(mirrored.qpos[:, 1], -walked.qpos[:, 1], atol=1e-6)
     assert mirrored.joint_rms_deg == pytest.approx(walked.joint_rms_deg, abs=1e-3)
+
+
+def test_the_tracker_hardens_friction_on_its_own_copy_of_the_model(walker_walk):
+    """The tracker's model has friction IMPRATIO times as hard as its normal contact (the walks'
+    skate, docs/balance.md); the world the caller shares keeps its own."""
+    from eigengait.control.balance.tracker import IMPRATIO, Tracker
+
+    world, ref = walker_walk
+    before = world.model.opt.impratio
+    tracker = Tracker(world, ref, 0.5)
+    assert tracker.model.opt.impratio == IMPRATIO > 1.0
+    assert world.model.opt.impratio == before == 1.0

@@ -3,11 +3,11 @@ balance through the momentum Jacobian, the tunable stance-foot compensation).
 
 `Tracker` is the simulation loop around the stateless control law. On a private copy of the world's
 model (the passive springs switched off; the PD's −k_d ω_a term as implicit joint damping; the feet
-given soles, `foot_sole`), every ``control_every`` physics steps it samples the reference at the
-current time (its COM target shifted after a flight, `landing`), reads the feet's contacts (a
-contact that vanishes for a step bridged, `contact_memory`), asks `controller.balance_torque` for
-the motor torques and the stance feet's artificial torques, applies them and the active pushes
-(torques held in between), steps the physics and checks for a fall.
+given soles, `foot_sole`; friction made harder, IMPRATIO), every ``control_every`` physics steps
+it samples the reference at the current time (its COM target shifted after a flight, `landing`),
+reads the feet's contacts (a contact that vanishes for a step bridged, `contact_memory`), asks
+`controller.balance_torque` for the motor torques and the stance feet's artificial torques, applies
+them and the active pushes (torques held in between), steps the physics and checks for a fall.
 """
 
 from __future__ import annotations
@@ -42,6 +42,11 @@ from eigengait.sim.stepping import step
 from eigengait.sim.world import GRAVITY, World
 
 PUSH_DURATION = 0.1  # s
+# the tracker's friction twice as hard as the normal contact (MuJoCo's impratio; the world's is 1):
+# the walks' simulated skate 4.4-7.3 -> 3.2-6.0 cm per stance and joint RMS down by 0.2-0.5° on
+# the CMU clips and 44 Bandai Namco clips, the same ones tracked whole; at 3, three of those fell,
+# at 10 the run's COM error passed 5 cm (docs/balance.md, "Friction as hard as")
+IMPRATIO = 2.0
 CONTROLLERS = ("momentum", "qp")  # `TrackerSettings.controller`
 
 
@@ -146,6 +151,7 @@ class Tracker:
         self.model = model = copy.deepcopy(world.model)
         if settings.soles:
             add_soles(model, world.foot_spheres)
+        model.opt.impratio = IMPRATIO
         self.data = mujoco.MjData(model)
         mujoco.mj_forward(model, self.data)
         self.mass = float(model.body_subtreemass[world.root_body])
