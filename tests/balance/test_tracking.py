@@ -9,7 +9,7 @@ import pytest
 
 from eigengait.character import load_character
 from eigengait.control.balance.reference import kinematic_replay
-from eigengait.control.balance.tracker import TrackerSettings, track
+from eigengait.control.balance.tracker import IMPRATIO, Tracker, TrackerSettings, track
 from eigengait.errors import UserInputError
 from eigengait.motion.bvh import BvhClip, BvhJoint, read_bvh, write_bvh
 from eigengait.motion.retarget import builtin_mapping, load_mapping, retarget
@@ -171,8 +171,6 @@ def test_a_mirrored_clip_is_tracked_as_the_mirror_image(tmp_path):
 def test_the_tracker_hardens_friction_on_its_own_copy_of_the_model(walker_walk):
     """The tracker's model has friction IMPRATIO times as hard as its normal contact (the walks'
     skate, docs/balance.md); the world the caller shares keeps its own."""
-    from eigengait.control.balance.tracker import IMPRATIO, Tracker
-
     world, ref = walker_walk
     before = world.model.opt.impratio
     tracker = Tracker(world, ref, 0.5)
