@@ -221,15 +221,19 @@ def _check_mapping(mapping: Mapping, clip: BvhClip, world: World) -> tuple[dict[
 
 
 def _left_unless_rest_stands(
-    clip: BvhClip, axes: np.ndarray, pos: np.ndarray, pairs: dict[int, int]
+    clip: BvhClip,
+    roles: dict[str, str],
+    axes: np.ndarray,
+    pos: np.ndarray,
+    pairs: dict[int, int],
 ) -> np.ndarray | None:
     """(F, 3) unit world directions from the right thigh to the left one when the clip's rest pose
-    does not stand; None when it does or when its legs are not found by name (`pos`: the frames'
-    joint positions, file axes, (F, J, 3)). The thighs must then be mapped."""
-    roles = find_roles(clip)
+    does not stand; None when it does or when its legs are not found by name (`roles`:
+    `find_roles`; `pos`: the frames' joint positions, file axes, (F, J, 3)). The thighs must then
+    be mapped."""
     if not set(LEG_ROLES) <= set(roles) or rest_stands(clip, roles, axes[2]):
         return None
-    left, right = _thighs(clip)
+    left, right = _thighs(clip, roles)
     if left not in pairs or right not in pairs:
         raise UserInputError(
             "the clip's rest pose does not stand (its legs are not under its hips with all "
@@ -242,8 +246,8 @@ def _left_unless_rest_stands(
     return across / np.linalg.norm(across, axis=1, keepdims=True)
 
 
-def _thighs(clip: BvhClip) -> tuple[int, int]:
-    roles = find_roles(clip)
+def _thighs(clip: BvhClip, roles: dict[str, str]) -> tuple[int, int]:
+    """Joint indices of the left and right thighs named in `roles` (`find_roles`)."""
     return clip.joint_index(roles["left_thigh"]), clip.joint_index(roles["right_thigh"])
 
 
@@ -251,6 +255,7 @@ def _root_up(
     clip: BvhClip,
     pairs: dict[int, int],
     root: int,
+    thighs: tuple[int, int],
     rot: np.ndarray,
     pos: np.ndarray,
     body_of: dict[int, int],
@@ -261,8 +266,8 @@ def _root_up(
     torso), in the root joint's own frame (file axes, averaged over the poses `rot`, `pos`:
     `global_transforms`) and on the character (world, relax pose): the root's bone when the rest
     pose does not stand (the mean of all its mapped descendants lies too close to it to give a
-    direction)."""
-    left, right = _thighs(clip)
+    direction; `thighs`: the left and right thighs' joint indices)."""
+    left, right = thighs
     parents = [j.parent for j in clip.joints]
     others = [k for k in _nearest_mapped(parents, root, set(pairs)) if k not in (left, right)]
     if not others:  # no torso mapped: the file's up (`axes[2]`), averaged, is the character's
@@ -372,14 +377,15 @@ def retarget(clip: BvhClip, world: World, mapping: Mapping, start_frame: int = 1
     rot, pos = global_transforms(clip)
     rot, pos = rot[start_frame:], pos[start_frame:]
     world_rot = axes @ rot @ axes.T  # (F, J, 3, 3) world axes
-    left = _left_unless_rest_stands(clip, axes, pos, pairs)
+    roles = find_roles(clip)
+    left = _left_unless_rest_stands(clip, roles, axes, pos, pairs)
     bvh_bones = _bvh_bones(
         clip, pairs, *(global_transforms(clip.rest()) if left is None else (rot, pos))
     )
     body_bones = _body_rest_bones(world, data, body_of)
     if left is not None:
         bvh_bones[root], body_bones[body_of[root]] = _root_up(
-            clip, pairs, root, rot, pos, body_of, data.xpos, axes
+            clip, pairs, root, _thighs(clip, roles), rot, pos, body_of, data.xpos, axes
         )
     feet = _foot_sites(world)
     offsets = rest_offsets(
