@@ -17,7 +17,8 @@ units (m/s², rad/s²):
   nor sinks; a foot the reference lifts gets no force, so it can leave the floor (planned forces on
   a toe that is leaving whipped the foot);
 * COM: c̈ = c̈_ref + ω_c² (c_ref − c) + 2 ω_c (ċ_ref − ċ), and the root's orientation likewise with
-  ω_r: only while a contact is held (in flight nothing can change either);
+  ω_r: only while a contact is held (in flight nothing can change either); in the push-off before a
+  reference flight the vertical row weighs TAKEOFF_COM_GAIN times more (`takeoff.py`);
 * joints: q̈ = q̈_ref + ω_q² e + 2 ω_q (q̇_ref − q̇), e the joint error (`pd.joint_error`);
 * regularization: β small; a weighted ARTIFICIAL_WEIGHT ((1 − R) / R + ARTIFICIAL_FLOOR), so R = 0
   has none and R = 1 gives it cheaply, never for free.
@@ -40,6 +41,7 @@ from eigengait.control.balance.controller import BalanceRig
 from eigengait.control.balance.double_support import CONTACT_M
 from eigengait.control.balance.pd import joint_error
 from eigengait.control.balance.reference import Reference
+from eigengait.control.balance.takeoff import TAKEOFF_COM_GAIN, takeoff_windows
 from eigengait.sim.world import GRAVITY
 
 BASE_WEIGHT = 1000.0  # floating-base rows (accelerations, m/s²)
@@ -92,6 +94,7 @@ class WholeBodyQP:
         self.mass = float(model.body_subtreemass[rig.root_body])
         self.qacc_ref = np.gradient(reference.qvel, reference.frame_time, axis=0)
         self.foot_sink = np.gradient(reference.foot_height, reference.frame_time, axis=0) < 0
+        self.takeoff = takeoff_windows(reference.foot_height, reference.frame_time)
         self.joints = np.asarray(rig.joint_dofs)
         self.root_turn = np.asarray(rig.root_dofs)[3:6]
         nv = model.nv
@@ -107,7 +110,8 @@ class WholeBodyQP:
         model, rig, nv = self.model, self.rig, self.model.nv
         body_weight = self.mass * GRAVITY
         i, j, blend = self.reference.frame_at(float(data.time))
-        sinking = self.foot_sink[i if blend < 0.5 else j]
+        nearest = i if blend < 0.5 else j
+        sinking = self.foot_sink[nearest]
         held = [
             (rig.foot_bodies[foot], point[:3])
             for foot, height, sinks in zip(rig.foot_bodies, target["foot_height"], sinking)
@@ -140,7 +144,8 @@ class WholeBodyQP:
             task(hold, -HOLD_RATE * (jac @ data.qvel), HOLD_WEIGHT)
         qacc_ref = (1 - blend) * self.qacc_ref[i] + blend * self.qacc_ref[j]
         if held:
-            task(*self._com_task(data, target, size), COM_WEIGHT)
+            vertical = TAKEOFF_COM_GAIN if self.takeoff[nearest] else 1.0
+            task(*self._com_task(data, target, size, vertical), COM_WEIGHT)
             task(*self._root_task(data, target, qacc_ref, size), ROOT_WEIGHT)
         held_bodies = {body for body, _ in held}
         for foot, height, velocity in zip(
@@ -193,7 +198,8 @@ class WholeBodyQP:
         a[:, : self.model.nv] = jac
         return a, -HOLD_RATE * (jac @ data.qvel - reference_velocity)
 
-    def _com_task(self, data, target, size) -> tuple[np.ndarray, np.ndarray]:
+    def _com_task(self, data, target, size, vertical: float) -> tuple[np.ndarray, np.ndarray]:
+        """The COM rows, the vertical one weighted `vertical` times."""
         root, w = self.rig.root_body, COM_BANDWIDTH
         mujoco.mj_jacSubtreeCom(self.model, data, self._com_jac, root)
         mujoco.mj_subtreeVel(self.model, data)
@@ -205,7 +211,8 @@ class WholeBodyQP:
         )
         a = np.zeros((3, size))
         a[:, : self.model.nv] = self._com_jac
-        return a, acc
+        scale = np.array([1.0, 1.0, vertical])
+        return scale[:, None] * a, scale * acc
 
     def _root_task(self, data, target, qacc_ref, size) -> tuple[np.ndarray, np.ndarray]:
         adr, turn, w = self.rig.root_qpos + 3, self.root_turn, ROOT_BANDWIDTH
