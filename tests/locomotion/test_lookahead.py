@@ -19,6 +19,7 @@ from eigengait.control.lookahead import (
     LookaheadRunner,
     LookaheadSettings,
     TaskCost,
+    plan_size,
     plan_weights,
     sliding_cost,
 )
@@ -91,6 +92,20 @@ def test_sliding_cost_counts_spheres_touching_at_both_samples_by_their_ground_sp
     np.testing.assert_allclose(
         sliding_cost(points, r, dt, v_unit), [(3.0 / v_unit) ** 2, (3.0 / v_unit) ** 2 / 2]
     )
+
+
+def test_plan_size_is_the_mean_squared_offset_over_the_spread_and_the_directions_drawn_in():
+    directions = [np.eye(3)[:, :2], np.eye(3)]  # state 0 draws in 2 directions, state 1 in 3
+    plans = np.zeros((2, 3, 3))  # plans × knots × motors (N·m)
+    plans[0, 0] = [3.0, 4.0, 0.0]  # knot 0 (state 1): |Δτ|² = 25
+    plans[0, 1] = [1.0, 0.0, 0.0]  # knot 1 (state 0): 1
+    plans[0, 2] = [0.0, 0.0, 2.0]  # knot 2 (state 1): 4
+    sigma = 2.0
+    expected = (25 / (4 * 3) + 1 / (4 * 2) + 4 / (4 * 3)) / 3
+    np.testing.assert_allclose(plan_size(plans, directions, 1, sigma), [expected, 0.0])
+    rng = np.random.default_rng(0)  # plans drawn at the spread from unit directions: about 1
+    drawn = rng.normal(0.0, sigma, (4000, 3, 2)) @ directions[0].T
+    assert plan_size(drawn, [directions[0]], 0, sigma).mean() == pytest.approx(1.0, abs=0.05)
 
 
 def test_task_cost_charges_sliding_feet_only_with_a_slip_weight(hopper):
@@ -227,7 +242,11 @@ def test_controller_file_keeps_lookahead_and_refuses_it_with_touchdown_timing(ho
     with pytest.raises(UserInputError) as err:
         validate(ControllerFile, data, path, "fix it")
     assert "slip_weight" in str(err.value)
-    data["lookahead"]["slip_weight"], data["lookahead"]["max_tilt_deg"] = 2.0, 0.0
+    data["lookahead"]["slip_weight"], data["lookahead"]["effort_weight"] = 2.0, -0.1
+    with pytest.raises(UserInputError) as err:
+        validate(ControllerFile, data, path, "fix it")
+    assert "effort_weight" in str(err.value)
+    data["lookahead"]["effort_weight"], data["lookahead"]["max_tilt_deg"] = 0.1, 0.0
     with pytest.raises(UserInputError) as err:
         validate(ControllerFile, data, path, "fix it")
     assert "max_tilt_deg" in str(err.value)
@@ -258,6 +277,13 @@ def test_play_uses_the_controllers_lookahead_unless_told_not_to(hopper, tmp_path
     assert json.loads(cleaner.stdout)["lookahead_slip_weight"] == 2.0
     refused = eigengait_cli("play", str(controller), "--cycles", "1", "--slip-weight", "-1")
     assert refused.returncode != 0 and "--slip-weight" in refused.stderr
+    assert json.loads(on.stdout)["lookahead_effort_weight"] == 0.0
+    gentler = eigengait_cli(
+        "play", str(controller), "--cycles", "1", "--json", "--effort-weight", "0.1"
+    )
+    assert json.loads(gentler.stdout)["lookahead_effort_weight"] == 0.1
+    refused = eigengait_cli("play", str(controller), "--cycles", "1", "--effort-weight", "-1")
+    assert refused.returncode != 0 and "--effort-weight" in refused.stderr
     assert json.loads(on.stdout)["lookahead_max_tilt_deg"] is None
     bounded = eigengait_cli("play", str(controller), "--cycles", "1", "--json", "--max-tilt", "30")
     assert json.loads(bounded.stdout)["lookahead_max_tilt_deg"] == 30.0
@@ -366,3 +392,23 @@ def test_plans_move_the_light_limbs_in_proportion_to_their_mass(hopper):
         offsets[share] = np.abs(run.torques[0, :n] - pulses[:n])
     assert offsets[0.5][:, light].max() < 0.5 * offsets[0.0][:, light].max()
     assert offsets[0.5][:, ~light].max() > 1.0  # N·m: the plans still act on the rest
+
+
+def test_a_charge_on_the_plans_size_picks_smaller_offsets(hopper):
+    """Among plans that do not fall, the size charge makes the smaller win: the played torques
+    stay closer to the pulses than without it, and the hop still stands."""
+    system, p, _ = hopper
+    n_motor = system.world.nmotor
+    limit = system.torque_limits
+    pulses = np.clip(np.vstack([system.controls(p, cycles=1)[:, :n_motor]] * 3), -limit, limit)
+    rms = {}
+    for weight in (0.0, 5.0):
+        runner = LookaheadRunner(
+            system, LookaheadSettings(speed=1.0, effort_weight=weight, **QUICK)
+        )
+        run = runner.run(p, 2)
+        runner.close()
+        assert not run.fell[0]
+        n = int(run.ended[0])
+        rms[weight] = float(np.sqrt(np.mean((run.torques[0, :n] - pulses[:n]) ** 2)))
+    assert rms[5.0] < 0.5 * rms[0.0]

@@ -233,6 +233,14 @@ def play_command(
             "docs/locomotion.md)."
         ),
     ),
+    effort_weight: Optional[float] = typer.Option(
+        None,
+        "--effort-weight",
+        help=(
+            "Weight of the lookahead's charge on a plan's size, instead of the controller's (0: "
+            "off; higher: the smallest of the plans that score alike wins; docs/locomotion.md)."
+        ),
+    ),
     max_tilt: Optional[float] = typer.Option(
         None,
         "--max-tilt",
@@ -282,8 +290,14 @@ def play_command(
         )
     check_range(plans, "--plans", 2, 4096, fix="use 2 to 4096 plans per decision (default: 96)")
     check_range(slip_weight, "--slip-weight", 0, 1000, fix="use a weight from 0 (off) to 1000")
+    check_range(effort_weight, "--effort-weight", 0, 1000, fix="use a weight from 0 (off) to 1000")
     check_range(max_tilt, "--max-tilt", 1, 180, fix="use 1 to 180 degrees from upright")
-    overrides = {"samples": plans, "slip_weight": slip_weight, "max_tilt_deg": max_tilt}
+    overrides = {
+        "samples": plans,
+        "slip_weight": slip_weight,
+        "effort_weight": effort_weight,
+        "max_tilt_deg": max_tilt,
+    }
     overrides = {k: v for k, v in overrides.items() if v is not None}
     if overrides and c.lookahead is not None:
         c = c.model_copy(update={"lookahead": c.lookahead.model_copy(update=overrides)})
@@ -312,6 +326,7 @@ def play_command(
         **result.summary(),
         "lookahead_plans": None if planner is None else planner.samples,
         "lookahead_slip_weight": None if planner is None else planner.slip_weight,
+        "lookahead_effort_weight": None if planner is None else planner.effort_weight,
         "lookahead_max_tilt_deg": None if planner is None else planner.max_tilt_deg,
     }
     if c.sketch is not None:

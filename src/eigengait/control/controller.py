@@ -17,6 +17,7 @@ from pydantic import BaseModel, ConfigDict, Field, field_validator, model_valida
 from eigengait.control.activations import dense_to_sparse
 from eigengait.control.feedback import FEATURES, HIP_GAINS, FeedbackGains
 from eigengait.control.lookahead import (
+    EFFORT_WEIGHT,
     LIGHT_LIMB_SHARE,
     SAMPLES,
     SLIP_WEIGHT,
@@ -106,6 +107,8 @@ class LookaheadFile(BaseModel):
     speed_weight: float = Field(SPEED_WEIGHT, ge=0, le=1000)
     # weight of the plans' sliding-feet term (0: the plans do not look at the feet)
     slip_weight: float = Field(SLIP_WEIGHT, ge=0, le=1000)
+    # weight of the plans' size (0: any of the plans that score alike may win)
+    effort_weight: float = Field(EFFORT_WEIGHT, ge=0, le=1000)
     # degrees from upright past which a plan counts as falling (None: the character's fall rule)
     max_tilt_deg: float | None = Field(None, gt=0, le=180)
 

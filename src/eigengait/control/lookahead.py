@@ -56,6 +56,9 @@ SIDE_WEIGHT = 0.2  # × (COM sideways offset from the start / h)²
 # then buy clean feet with speed and uprightness (docs/locomotion.md, "Sliding feet in the plans'
 # cost")
 SLIP_WEIGHT = 0.0
+# × a plan's size (`plan_size`: about 1 for a plan drawn at the spread), so that among plans that
+# score alike the gentlest wins: off by default (docs/locomotion.md, "The plans' size")
+EFFORT_WEIGHT = 0.0
 FALL_COST = 1000.0  # a plan that falls costs this × (1 + share of the horizon left when it fell)
 COST_EVERY = 0.01  # s between the samples of a plan's trajectory that the cost averages
 MAX_ESCALATIONS = 2  # times the spread doubles when every plan falls
@@ -97,6 +100,8 @@ class LookaheadSettings:
     speed_weight: float = SPEED_WEIGHT
     # weight of the plans' sliding-feet term (`sliding_cost`): higher keeps touching feet still
     slip_weight: float = SLIP_WEIGHT
+    # weight of the plans' size (`plan_size`): higher picks smaller offsets among alike plans
+    effort_weight: float = EFFORT_WEIGHT
     # a plan whose root tilts further than this from upright (degrees) falls at that instant (None:
     # no bound): a plan that breaks the torso bound is chosen only when every plan does, after the
     # spread has been widened as for falls (a cost short of a fall, measured, kept the bound less
@@ -177,6 +182,18 @@ def sliding_cost(
     both = touching[:, 1:] & touching[:, :-1]
     speed = np.linalg.norm(np.diff(points[..., :2], axis=1), axis=-1) / sample_dt
     return ((speed / v_unit) ** 2 * both).sum(axis=-1).mean(axis=1)
+
+
+def plan_size(
+    plans: np.ndarray, directions: list[np.ndarray], state: int, sigma: float
+) -> np.ndarray:
+    """Per plan (plans × knots × motors, N·m): the mean over its knots of |Δτ|² / (σ² k), k the
+    number of directions the knot's state draws in (`directions`, from `state` on, cyclically) and
+    σ the spread (N·m); about 1 for a plan drawn at the spread from unit directions."""
+    counts = np.array(
+        [directions[(state + j) % len(directions)].shape[1] for j in range(plans.shape[1])]
+    )
+    return ((plans**2).sum(axis=-1) / (sigma**2 * counts)).mean(axis=1)
 
 
 def plan_directions(system: GaitSystem, state: State, settings: LookaheadSettings) -> np.ndarray:
@@ -382,6 +399,11 @@ class LookaheadRunner:
             )
             self.rollouts += K
             scores = cost(s, d, max(1, int(round(COST_EVERY / self.plan_model.opt.timestep))))
+            if settings.effort_weight:
+                size = plan_size(candidates, directions, state, float(np.mean(sigma)))
+                scores = np.where(
+                    scores < FALL_COST, scores + settings.effort_weight * size, scores
+                )
             i = int(np.argmin(scores))
             if scores[i] < best_cost:
                 best, best_cost, best_controls = candidates[i], scores[i], controls[i]
