@@ -270,25 +270,16 @@ def test_play_uses_the_controllers_lookahead_unless_told_not_to(hopper, tmp_path
     assert json.loads(on.stdout)["lookahead_plans"] == QUICK["samples"]
     refused = eigengait_cli("play", str(controller), "--cycles", "1", "--plans", "1")
     assert refused.returncode != 0 and "--plans" in refused.stderr
-    assert json.loads(on.stdout)["lookahead_slip_weight"] == 0.0
-    cleaner = eigengait_cli(
-        "play", str(controller), "--cycles", "1", "--json", "--slip-weight", "2"
-    )
-    assert json.loads(cleaner.stdout)["lookahead_slip_weight"] == 2.0
-    refused = eigengait_cli("play", str(controller), "--cycles", "1", "--slip-weight", "-1")
-    assert refused.returncode != 0 and "--slip-weight" in refused.stderr
-    assert json.loads(on.stdout)["lookahead_effort_weight"] == 0.0
-    gentler = eigengait_cli(
-        "play", str(controller), "--cycles", "1", "--json", "--effort-weight", "0.1"
-    )
-    assert json.loads(gentler.stdout)["lookahead_effort_weight"] == 0.1
-    refused = eigengait_cli("play", str(controller), "--cycles", "1", "--effort-weight", "-1")
-    assert refused.returncode != 0 and "--effort-weight" in refused.stderr
-    assert json.loads(on.stdout)["lookahead_max_tilt_deg"] is None
-    bounded = eigengait_cli("play", str(controller), "--cycles", "1", "--json", "--max-tilt", "30")
-    assert json.loads(bounded.stdout)["lookahead_max_tilt_deg"] == 30.0
-    refused = eigengait_cli("play", str(controller), "--cycles", "1", "--max-tilt", "0")
-    assert refused.returncode != 0 and "--max-tilt" in refused.stderr
+    for option, key, default, value, bad in (
+        ("--slip-weight", "lookahead_slip_weight", 0.0, "2", "-1"),
+        ("--effort-weight", "lookahead_effort_weight", 0.0, "0.1", "-1"),
+        ("--max-tilt", "lookahead_max_tilt_deg", None, "30", "0"),
+    ):
+        assert json.loads(on.stdout)[key] == default
+        chosen = eigengait_cli("play", str(controller), "--cycles", "1", "--json", option, value)
+        assert json.loads(chosen.stdout)[key] == float(value)
+        refused = eigengait_cli("play", str(controller), "--cycles", "1", option, bad)
+        assert refused.returncode != 0 and option in refused.stderr
 
 
 def test_plans_can_keep_to_the_sketchs_modes():
