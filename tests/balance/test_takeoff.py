@@ -10,6 +10,8 @@ from eigengait.control.balance.double_support import CONTACT_M
 from eigengait.control.balance.takeoff import TAKEOFF_COM_GAIN, takeoff_windows
 from eigengait.motion.tracking import run_track
 
+MOCAP = Path(__file__).resolve().parents[3] / "shared" / "data" / "mocap"  # shared/ beside the repo
+
 
 def test_the_window_covers_the_push_off_before_each_flight_and_nothing_else():
     # 100 frames at 0.01 s, two feet: a run with flights at frames 40-49 and 80-89 (both feet up),
@@ -36,13 +38,18 @@ def test_a_flight_that_starts_the_clip_has_no_push_off_to_weight():
 def test_tracking_the_runs_take_offs_harder_keeps_its_flights_near_the_reference(monkeypatch):
     # measured (CMU 16_36 run, robustness 0.5): COM error 3.3 cm with the take-off weighting, 4.7 cm
     # without, the body flying higher than the reference after each push-off
-    clip = (
-        Path(__file__).resolve().parents[3] / "shared" / "data" / "mocap" / "cmu_16_36_run_daz.bvh"
-    )
     errors = {}
     for gain in (1.0, TAKEOFF_COM_GAIN):
         monkeypatch.setattr(wbc, "TAKEOFF_COM_GAIN", gain)
-        _, _, result = run_track(clip, "walker", 0.5, None, None, 1, 0.0)
+        _, _, result = run_track(
+            MOCAP / "cmu_16_36_run_daz.bvh",
+            "walker",
+            0.5,
+            push=None,
+            mapping=None,
+            start_frame=1,
+            tolerance=0.0,
+        )
         assert not result.fell
         errors[gain] = result.com_error_m
     assert errors[TAKEOFF_COM_GAIN] < 0.8 * errors[1.0]

@@ -400,7 +400,7 @@ class LookaheadRunner:
             self.rollouts += K
             scores = cost(s, d, max(1, int(round(COST_EVERY / self.plan_model.opt.timestep))))
             if settings.effort_weight:
-                size = plan_size(candidates, directions, state, float(np.mean(sigma)))
+                size = plan_size(candidates, directions, state, sigma)
                 scores = np.where(
                     scores < FALL_COST, scores + settings.effort_weight * size, scores
                 )
