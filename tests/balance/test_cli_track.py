@@ -9,11 +9,10 @@ import typer
 from typer.testing import CliRunner
 
 from eigengait.cli.track import register
+from shared_data import MOCAP
 
-WALK = str(Path(__file__).resolve().parents[3] / "shared" / "data" / "mocap" / "cmu_02_01_walk.bvh")
-DAZ_WALK = str(
-    Path(__file__).resolve().parents[3] / "shared" / "data" / "mocap" / "cmu_07_06_walk_daz.bvh"
-)
+WALK = str(MOCAP / "cmu_02_01_walk.bvh")
+DAZ_WALK = str(MOCAP / "cmu_07_06_walk_daz.bvh")
 MAIN = (
     "import sys, typer; from eigengait.cli.track import register; from eigengait.errors import "
     "UserInputError\n"

@@ -1,16 +1,13 @@
 """The push-off windows before a reference's flights (`takeoff.py`), where the QP tracks the COM's
 vertical motion harder."""
 
-from pathlib import Path
-
 import numpy as np
 
 from eigengait.control.balance import wbc
 from eigengait.control.balance.double_support import CONTACT_M
 from eigengait.control.balance.takeoff import TAKEOFF_COM_GAIN, takeoff_windows
 from eigengait.motion.tracking import run_track
-
-MOCAP = Path(__file__).resolve().parents[3] / "shared" / "data" / "mocap"  # shared/ beside the repo
+from shared_data import MOCAP
 
 
 def test_the_window_covers_the_push_off_before_each_flight_and_nothing_else():

@@ -2,7 +2,6 @@
 tracking run."""
 
 import re
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -15,8 +14,7 @@ from eigengait.motion.bvh import BvhClip, BvhJoint, read_bvh, write_bvh
 from eigengait.motion.retarget import builtin_mapping, load_mapping, retarget
 from eigengait.motion.tracking import run_track
 from eigengait.sim.world import build_world
-
-MOCAP = Path(__file__).resolve().parents[3] / "shared" / "data" / "mocap"  # shared/ beside the repo
+from shared_data import MOCAP
 
 
 @pytest.fixture(scope="module")

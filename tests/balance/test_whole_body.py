@@ -1,7 +1,5 @@
 """The tracker's whole-body inverse-dynamics controller (`wbc.py`, `--controller qp`)."""
 
-from pathlib import Path
-
 import mujoco
 import numpy as np
 import pytest
@@ -15,8 +13,8 @@ from eigengait.errors import UserInputError
 from eigengait.motion.bvh import read_bvh
 from eigengait.motion.retarget import builtin_mapping, retarget
 from eigengait.sim.world import GRAVITY, build_world
+from shared_data import MOCAP
 
-MOCAP = Path(__file__).resolve().parents[3] / "shared" / "data" / "mocap"
 QP = TrackerSettings(controller="qp")
 
 

@@ -9,9 +9,10 @@ import sys
 from pathlib import Path
 
 import numpy as np
+from shared_data import DM_CONTROL
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
-WALKER = Path(__file__).resolve().parents[3] / "shared/data/models/dm_control/suite/walker.xml"
+WALKER = DM_CONTROL / "suite" / "walker.xml"
 
 
 def run_example(name: str, *args: str) -> str:

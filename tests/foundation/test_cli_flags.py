@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import sys
-from pathlib import Path
 
 import pytest
 import typer
@@ -11,8 +10,7 @@ import typer
 from eigengait.cli import build_app, main
 from eigengait.cli.flags import FLAGS, for_command_line
 from eigengait.errors import SimulationBlowUp, UserInputError
-
-MOCAP = Path(__file__).resolve().parents[3] / "shared/data/mocap"
+from shared_data import MOCAP
 
 
 def _stiffness_rule():

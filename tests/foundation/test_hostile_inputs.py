@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import json
 import pickle
-from pathlib import Path
 import sys
 
 import pytest
@@ -18,8 +17,8 @@ import pytest
 from eigengait.cli import main
 from eigengait.cloth.library import example_path
 from eigengait.control.library import resolve
+from shared_data import MOCAP
 
-MOCAP = Path(__file__).resolve().parents[3] / "shared/data/mocap"
 LATIN1 = "name: caf\xe9\n".encode("latin-1")
 
 

@@ -5,12 +5,11 @@ Budgets are tiny (16 evaluations): these check that every command accepts the mo
 gait walks."""
 
 import json
-from pathlib import Path
 
 import pytest
+from shared_data import DM_CONTROL
 
-# beside the repo
-MODELS = Path(__file__).resolve().parents[3] / "shared" / "data" / "models" / "dm_control"
+MODELS = DM_CONTROL
 
 
 @pytest.mark.parametrize("model", ["suite/walker.xml", "suite/humanoid_CMU.xml"])

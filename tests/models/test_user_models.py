@@ -2,7 +2,6 @@
 
 import json
 import re
-from pathlib import Path
 
 import mujoco
 import numpy as np
@@ -17,9 +16,9 @@ from eigengait.modal import compute_modes
 from eigengait.optimize.problem import Problem
 from eigengait.sim import build_world
 from eigengait.sim.stepping import MAX_SPEED
+from shared_data import DM_CONTROL
 
-# beside the repo
-MODELS = Path(__file__).resolve().parents[3] / "shared" / "data" / "models" / "dm_control"
+MODELS = DM_CONTROL
 WALKER = MODELS / "suite" / "walker.xml"
 # model -> (internal DOF, rigid air modes, guessed feet)
 EXPECTED = {

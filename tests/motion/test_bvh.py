@@ -1,8 +1,6 @@
 """BVH reader/writer: round trips on the real CMU clips, channel orders, and clear errors for bad
 files."""
 
-from pathlib import Path
-
 import numpy as np
 import pytest
 
@@ -15,8 +13,8 @@ from eigengait.motion.bvh import (
     read_bvh,
     write_bvh,
 )
+from shared_data import MOCAP
 
-MOCAP = Path(__file__).resolve().parents[3] / "shared" / "data" / "mocap"  # shared/ beside the repo
 CLIPS = {
     "cmu_02_01_walk.bvh": (31, 96, 344),
     "cmu_16_36_run_daz.bvh": (43, 132, 190),

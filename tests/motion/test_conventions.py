@@ -1,8 +1,6 @@
 """Unit, up axis and facing detected on both CMU skeleton families, on a re-axed metre copy, and
 joint roles by name."""
 
-from pathlib import Path
-
 import numpy as np
 import pytest
 
@@ -12,8 +10,8 @@ from eigengait.motion.conventions import detect_conventions
 from eigengait.motion.retarget import builtin_mapping, retarget
 from eigengait.motion.skeleton_names import find_roles
 from eigengait.sim.world import build_world
+from shared_data import MOCAP
 
-MOCAP = Path(__file__).resolve().parents[3] / "shared" / "data" / "mocap"  # shared/ beside the repo
 Z_UP = np.array([[1.0, 0, 0], [0, 0, -1.0], [0, 1.0, 0]])  # new = Z_UP @ old: old +Y → new +Z
 
 

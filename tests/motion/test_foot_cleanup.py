@@ -1,8 +1,6 @@
 """Skate removal by leg IK on a Daz-skeleton walk: the cleaned reference's feet hold still, the
 upper body is kept."""
 
-from pathlib import Path
-
 import numpy as np
 import pytest
 
@@ -23,8 +21,8 @@ from eigengait.motion.lead_in import first_frame_after_lead_in
 from eigengait.motion.retarget import builtin_mapping, retarget
 from eigengait.motion.soles import sole_points
 from eigengait.sim.world import build_world
+from shared_data import MOCAP
 
-MOCAP = Path(__file__).resolve().parents[3] / "shared" / "data" / "mocap"  # shared/ beside the repo
 SKATE_BOUND_M = 0.03
 SKATE_FRACTION = 0.35
 

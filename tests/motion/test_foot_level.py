@@ -1,8 +1,6 @@
 """Levelling and joint ranges on retargeted CMU clips: feet that stand still stand flat, no joint
 past its limit."""
 
-from pathlib import Path
-
 import mujoco
 import numpy as np
 import pytest
@@ -13,8 +11,7 @@ from eigengait.motion.foot_level import level_feet, still_frames
 from eigengait.motion.retarget import builtin_mapping, retarget
 from eigengait.motion.soles import sole_points
 from eigengait.sim.world import build_world
-
-MOCAP = Path(__file__).resolve().parents[3] / "shared" / "data" / "mocap"  # shared/ beside the repo
+from shared_data import MOCAP
 
 
 @pytest.fixture(scope="module")

@@ -1,8 +1,6 @@
 """Skeletons from outside CMU: game-rig joint names, position channels on every joint, and a rest
 pose that does not stand (every bone along its joint's x axis, as Bandai Namco's files lay it)."""
 
-from pathlib import Path
-
 import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
@@ -16,8 +14,8 @@ from eigengait.errors import UserInputError
 from eigengait.motion.retarget import Mapping, builtin_mapping, retarget
 from eigengait.motion.skeleton_names import find_roles
 from eigengait.sim.world import build_world
+from shared_data import MOCAP
 
-MOCAP = Path(__file__).resolve().parents[3] / "shared" / "data" / "mocap"  # shared/ beside the repo
 # the rig naming conventions of the module doc: left thigh, shin, foot and upper arm
 RIGS = {
     "unity": ("UpperLeg_L", "LowerLeg_L", "Foot_L", "UpperArm_L"),

@@ -5,8 +5,9 @@ import json
 from pathlib import Path
 
 import pytest
+from shared_data import MOCAP
 
-WALK = Path(__file__).resolve().parents[3] / "shared" / "data" / "mocap" / "cmu_02_01_walk.bvh"
+WALK = MOCAP / "cmu_02_01_walk.bvh"
 
 
 def _commands(tmp: Path) -> list[list[str]]:

@@ -2,15 +2,13 @@
 
 import os
 import socket
-from pathlib import Path
 
 import pytest
 from studio_helpers import ARTIFACTS, gui_label
+from shared_data import MOCAP
 
 CHROMIUM = "/usr/bin/chromium"
-MOCAP_WALK = (
-    Path(__file__).resolve().parents[3] / "shared" / "data" / "mocap" / "cmu_02_01_walk.bvh"
-)
+MOCAP_WALK = MOCAP / "cmu_02_01_walk.bvh"
 CHROMIUM_ARGS = [
     "--headless",
     "--no-sandbox",
