@@ -16,7 +16,8 @@ def reference_poses(
     clip_path: Path, character: str, mapping: Path | None, start_frame: int, clean: bool = True
 ) -> dict:
     """Load and retarget a clip from `start_frame`, its lead-in skipped (`lead_in.py`), bring it
-    to 120 frames/s if it is slower (`upsample.py`), then clean its feet (unless `clean` is False).
+    to 120 frames/s if it is slower (`upsample.py`), clean its feet (unless `clean` is False) and
+    start it at its first supported pose (`lead_in.first_supported_pose`).
 
     Returns world, poses (F, nq), first_frame (the clip frame they start at), frame_time (s, of the
     poses), scale (m per file unit), root_factor (`root_scale`), foot_level_deg (`foot_level`),
@@ -27,7 +28,7 @@ def reference_poses(
     from eigengait.motion.conventions import detect_conventions
     from eigengait.motion.foot_cleanup import clean_feet
     from eigengait.motion.foot_metrics import foot_report
-    from eigengait.motion.lead_in import first_frame_after_lead_in
+    from eigengait.motion.lead_in import first_frame_after_lead_in, first_supported_pose
     from eigengait.motion.retarget import builtin_mapping, load_mapping, retarget
     from eigengait.motion.skeleton_names import LEG_ROLES, find_roles
     from eigengait.motion.soles import sole_points
@@ -42,9 +43,12 @@ def reference_poses(
     retargeted = retarget(clip, world, chosen, start_frame=first)
     roles = find_roles(clip)
     conventions = detect_conventions(clip, roles, first) if set(LEG_ROLES) <= set(roles) else None
-    qpos, frame_time = upsampled(world.model, retargeted.qpos, retargeted.frame_time)
-    raw = foot_report(sole_points(world, qpos), frame_time)
-    qpos = clean_feet(world, qpos, frame_time).qpos if clean else qpos
+    raw_qpos, frame_time = upsampled(world.model, retargeted.qpos, retargeted.frame_time)
+    qpos = clean_feet(world, raw_qpos, frame_time).qpos if clean else raw_qpos
+    start = first_supported_pose(sole_points(world, qpos))
+    first += int(round(start * frame_time / clip.frame_time))
+    raw_qpos, qpos = raw_qpos[start:], qpos[start:]
+    raw = foot_report(sole_points(world, raw_qpos), frame_time)
     final = foot_report(sole_points(world, qpos), frame_time) if clean else raw
     return {
         "world": world,
