@@ -422,3 +422,12 @@ def end_site_positions(
         for i, joint in enumerate(clip.joints)
         if joint.end_site is not None
     }
+
+
+def frame_points(clip: BvhClip, frames: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Global positions (file units) in the given raw frames (F, channels) of the clip's joints
+    (F, J, 3) and of its joints followed by its End Sites (F, J + E, 3)."""
+    some = BvhClip(clip.joints, clip.frame_time, frames)
+    rotations, positions = global_transforms(some)
+    ends = [p[:, None] for p in end_site_positions(some, rotations, positions).values()]
+    return positions, np.concatenate([positions, *ends], axis=1)

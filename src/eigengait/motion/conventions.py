@@ -22,7 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from eigengait.motion.bvh import BvhClip, end_site_positions, global_transforms
+from eigengait.motion.bvh import BvhClip, frame_points
 
 UNITS = {"m": 1.0, "cm": 0.01, "mm": 0.001, "in": 0.0254, "CMU": 0.0254 / 0.45}  # metres per unit
 ADULT_HIP_HEIGHT_M = 0.9
@@ -70,22 +70,13 @@ def _label(axis: np.ndarray) -> str:
     return ("+" if axis[k] > 0 else "-") + _NAMES[k]
 
 
-def _points(clip: BvhClip, frames: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Joint positions (F, J, 3) and joints plus End Sites (F, J + E, 3) of the given raw frames,
-    file units."""
-    one = BvhClip(clip.joints, clip.frame_time, frames)
-    rot, pos = global_transforms(one)
-    ends = list(end_site_positions(one, rot, pos).values())
-    return pos, np.concatenate([pos] + [e[:, None] for e in ends], axis=1)
-
-
 def rest_stands(clip: BvhClip, roles: dict[str, str], up: np.ndarray) -> bool:
     """Whether the clip's rest pose (`BvhClip.rest`) stands: its legs (root to the feet's mean)
     within STANDING_TILT_DEG of `up` (file axes) and its thighs side by side across it. CMU's rest
     T-poses stand; Bandai Namco's lays every bone along its joint's x axis, legs and spine in one
     line."""
     index = {role: clip.joint_index(name) for role, name in roles.items()}
-    rest, _ = _points(clip, clip.rest().frames)
+    rest, _ = frame_points(clip, clip.rest().frames)
     leg = rest[0, index["root"]] - rest[0, [index["left_foot"], index["right_foot"]]].mean(axis=0)
     across = rest[0, index["left_thigh"]] - rest[0, index["right_thigh"]]
     upright = leg @ up >= np.cos(np.radians(STANDING_TILT_DEG)) * np.linalg.norm(leg)
@@ -99,11 +90,11 @@ def detect_conventions(clip: BvhClip, roles: dict[str, str], start_frame: int = 
     the facing and the hip height."""
     index = {role: clip.joint_index(name) for role, name in roles.items()}
     root, feet = index["root"], [index["left_foot"], index["right_foot"]]
-    pos, pos_all = _points(clip, clip.frames[start_frame:])
+    pos, pos_all = frame_points(clip, clip.frames[start_frame:])
     up = _snap((pos[:, root] - pos[:, feet].mean(axis=1)).mean(axis=0))
     stands = rest_stands(clip, roles, up)
     if stands:
-        shape, shape_all = _points(clip, clip.rest().frames)
+        shape, shape_all = frame_points(clip, clip.rest().frames)
     else:
         shape, shape_all = pos[:1], pos_all[:1]
     left = shape[0, index["left_thigh"]] - shape[0, index["right_thigh"]]

@@ -39,7 +39,7 @@ from pydantic import BaseModel, ConfigDict, field_validator
 from eigengait.geometry import mat_to_quat, quat_exp, quat_log, quat_to_mat
 from eigengait.errors import UserInputError
 from eigengait.files import load_model
-from eigengait.motion.bvh import BvhClip, end_site_positions, global_transforms
+from eigengait.motion.bvh import BvhClip, end_site_positions, frame_points, global_transforms
 from eigengait.motion.conventions import detect_conventions, rest_stands
 from eigengait.motion.foot_level import level_feet
 from eigengait.motion.grounding import floor_offset, lowest_foot_points
@@ -473,9 +473,5 @@ def _continuous(quat: np.ndarray) -> np.ndarray:
 
 def _lowest_bvh_point(clip: BvhClip, axes: np.ndarray, frame: int) -> float:
     """World height (file units) of the lowest joint or End Site in one frame."""
-    one = BvhClip(clip.joints, clip.frame_time, clip.frames[frame : frame + 1])
-    rot, pos = global_transforms(one)
-    points = np.concatenate(
-        [pos[0], *[p for p in end_site_positions(one, rot, pos).values()]]
-    ).reshape(-1, 3)
-    return float((points @ axes.T)[:, 2].min())
+    _, points = frame_points(clip, clip.frames[frame : frame + 1])
+    return float((points[0] @ axes.T)[:, 2].min())
