@@ -45,7 +45,7 @@ def reference_poses(
     conventions = detect_conventions(clip, roles, first) if set(LEG_ROLES) <= set(roles) else None
     raw_qpos, frame_time = upsampled(world.model, retargeted.qpos, retargeted.frame_time)
     qpos = clean_feet(world, raw_qpos, frame_time).qpos if clean else raw_qpos
-    start = first_supported_pose(sole_points(world, qpos))
+    start = min(first_supported_pose(sole_points(world, qpos)), len(qpos) - 2)  # two poses kept
     first += int(round(start * frame_time / clip.frame_time))
     raw_qpos, qpos = raw_qpos[start:], qpos[start:]
     raw = foot_report(sole_points(world, raw_qpos), frame_time)
