@@ -8,9 +8,12 @@ from eigengait.character import load_character
 from eigengait.motion.bvh import read_bvh
 from eigengait.motion.foot_cleanup import (
     CLEARANCE_M,
+    HOVER_CLIMB_SPEED,
+    HOVERING_STANCE_M,
     MAX_CORRECTION_SPEED,
     PACE_FRACTION,
     MIN_STANCE_S,
+    STANCE_M,
     TOUCHDOWN_M,
     clean_feet,
     foot_corrections,
@@ -167,3 +170,39 @@ def test_a_short_stance_is_kept_only_at_the_clips_ends():
     assert 7 * frame_time < MIN_STANCE_S
     _, holds = foot_corrections(points, frame_time)
     assert [(a, b) for a, b in holds] == [(0, 7), (n - 7, n)]
+
+
+def _planted_then_landing(frame_time: float, height: float, drop_speed: float) -> np.ndarray:
+    """Sole points (F, 2, 3) of a foot standing still `height` m up for 0.5 s (a planted foot the
+    retargeting left hovering), then, after a 0.3 s swing 15 cm up, coming straight down onto the
+    floor at `drop_speed` m/s and standing there 0.3 s."""
+    hover, swing, stand = (int(round(s / frame_time)) for s in (0.5, 0.3, 0.3))
+    drop = int(round(0.15 / drop_speed / frame_time))
+    z = np.concatenate([np.full(hover, height), np.full(swing, 0.15)])
+    z = np.concatenate([z, np.linspace(0.15, 0.0, drop), np.zeros(stand)])
+    x = np.concatenate([np.zeros(hover), np.linspace(0.0, 1.0, swing), np.ones(drop + stand)])
+    points = np.zeros((len(z), 2, 3))
+    points[:, 0, 0], points[:, 1, 0] = x, x + 0.18
+    points[..., 2] = z[:, None]
+    return points
+
+
+def test_a_foot_hovering_still_above_the_stance_band_is_a_stance_put_on_the_floor():
+    frame_time = 1 / 120
+    height = 0.065
+    assert STANCE_M < height < HOVERING_STANCE_M
+    points = _planted_then_landing(frame_time, height, drop_speed=1.5)
+    correction, holds = foot_corrections(points, frame_time)
+    assert holds[0][0] == 0 and holds[0][1] >= int(round(0.45 / frame_time))
+    assert correction[30, 2] == pytest.approx(-height)  # held on the floor, mid-hover
+
+
+def test_a_foot_dropping_through_the_band_is_held_only_below_the_stance_band():
+    # Landing at 1.5 m/s (a runner's foot, measured 1.7 m/s) it passes 8 -> 5 cm in 20 ms; the
+    # hold begins where the foot is within STANCE_M, not above.
+    frame_time = 1 / 120
+    assert 1.5 > HOVER_CLIMB_SPEED
+    points = _planted_then_landing(frame_time, 0.065, drop_speed=1.5)
+    _, holds = foot_corrections(points, frame_time)
+    landing_start = holds[-1][0]
+    assert points[landing_start, :, 2].min() <= STANCE_M + 1e-9

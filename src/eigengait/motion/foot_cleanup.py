@@ -9,7 +9,14 @@ the reference.
    found; a swing foot passing low over the floor moves faster, at one to three times the body's
    pace). A retargeted runner's stance feet slide at up to 1.5 m/s at 2.2 m/s (CMU 16_36): with
    the walking bound alone two of its four stances were missed and then lifted as swing feet
-   (step 3), so that the reference ran on feet 5 cm above the floor. Two such runs between which
+   (step 3), so that the reference ran on feet 5 cm above the floor. A foot higher than STANCE_M
+   but within HOVERING_STANCE_M, the most the grounding leaves under a supporting foot
+   (`grounding.FLIGHT_M`), is found too when it also holds its height (its lowest sole point's
+   vertical speed, smoothed likewise, under HOVER_CLIMB_SPEED): retargeted, a CMU kick's planted
+   foot hovers 5-9 cm up for 0.7 s, was lifted as a swing, and the body fell as the other leg
+   kicked. Measured in that band, over horizontally slow frames: hovering stances (the kick, the
+   walk 08_08) rise or sink at 0.07-0.16 m/s (median; 0.33 at the 90th percentile), runners' feet
+   landing or leaving at 1.7 m/s. Two such runs between which
    the foot's lowest sole point stays within TOUCH_M of the floor and its sole centre travels less
    than JOIN_TRAVEL_M are one stance: a retargeted foot sliding fast mid-stance without leaving the
    floor (CMU 07_06, 05_01: 1-7 cm between the runs) was otherwise found as two stances back to
@@ -48,11 +55,14 @@ import mujoco
 import numpy as np
 
 from eigengait.motion.foot_metrics import CONTACT_M, runs
+from eigengait.motion.grounding import FLIGHT_M
 from eigengait.motion.leg_ik import leg_dofs, solve_leg
 from eigengait.motion.soles import sole_points
 from eigengait.sim.world import World
 
 STANCE_M = 0.05
+HOVERING_STANCE_M = FLIGHT_M  # m
+HOVER_CLIMB_SPEED = 0.5  # m/s
 TOUCH_M = 0.02
 JOIN_TRAVEL_M = 0.3  # m: less than half a stride
 STANCE_SPEED = 0.8  # m/s
@@ -112,18 +122,22 @@ def _holds(
     low: np.ndarray,
     centre: np.ndarray,
     speed: np.ndarray,
+    climb: np.ndarray,
     frame_time: float,
     bound: np.ndarray | float = STANCE_SPEED,
 ) -> list[tuple[int, int, int, int]]:
     """(hold start, core start, core end, hold end) per stance: the still core (speed at most
-    `bound`, m/s, per frame or one value; at least MIN_STANCE_S long unless it touches either end of
-    the clip, where its true length is unknown: a run clip that starts 0.09 s before a foot lifts
-    otherwise began on a foot lifted as a swing, and fell) grown while the foot stays low; `centre`
-    (F, 2) the sole centre's horizontal position (m)."""
+    `bound`, m/s, per frame or one value; the foot within STANCE_M, or within HOVERING_STANCE_M
+    with its vertical speed `climb` (F,) m/s under HOVER_CLIMB_SPEED; at least MIN_STANCE_S long
+    unless it touches either end of the clip, where its true length is unknown: a run clip that
+    starts 0.09 s before a foot lifts otherwise began on a foot lifted as a swing, and fell) grown
+    while the foot stays within STANCE_M; `centre` (F, 2) the sole centre's horizontal position
+    (m)."""
     shortest = max(1, int(round(MIN_STANCE_S / frame_time)))
+    low_enough = (low <= STANCE_M) | ((low <= HOVERING_STANCE_M) & (climb < HOVER_CLIMB_SPEED))
     still = [
         (a, b)
-        for a, b in runs((low <= STANCE_M) & (speed <= bound), frame_time, 0.0)
+        for a, b in runs(low_enough & (speed <= bound), frame_time, 0.0)
         if b - a >= shortest or a == 0 or b == len(low)
     ]
     cores = _joined(still, low, centre)
@@ -175,8 +189,9 @@ def foot_corrections(
     low, centre = points[..., 2].min(axis=1), points.mean(axis=1)[:, :2]
     n, width = len(points), max(1, int(round(SPEED_SMOOTHING_S / frame_time)))
     speed = _smoothed(np.linalg.norm(np.gradient(centre, frame_time, axis=0), axis=1), width)
+    climb = np.abs(_smoothed(np.gradient(low, frame_time), width))
     bound = STANCE_SPEED if pace is None else np.maximum(STANCE_SPEED, PACE_FRACTION * pace)
-    holds = _holds(low, centre, speed, frame_time, bound)
+    holds = _holds(low, centre, speed, climb, frame_time, bound)
     correction = np.zeros((n, 3))
     held = np.zeros(n, bool)
     blend = max(1, int(round(BLEND_S / frame_time)))
