@@ -118,6 +118,15 @@ def test_a_swing_that_skims_the_floor_a_stride_forward_is_a_step():
     assert held[-1, 0, 0] - held[0, 0, 0] == pytest.approx(1.0, abs=1e-9)
 
 
+def _soles(x: np.ndarray, z: np.ndarray) -> np.ndarray:
+    """Sole points (F, 2, 3) of a level foot 18 cm long whose heel point follows x (F,) forward and
+    both points z (F,) up (m)."""
+    points = np.zeros((len(x), 2, 3))
+    points[:, 0, 0], points[:, 1, 0] = x, x + 0.18
+    points[..., 2] = z[:, None]
+    return points
+
+
 def _runner_foot(frame_time: float) -> np.ndarray:
     """Sole points (F, 2, 3) of a runner's foot: 0.25 s on the floor sliding at 1.1 m/s (a
     retargeted stance), 0.3 s of swing 8 cm up at 4.4 m/s, 0.25 s on the floor again."""
@@ -125,10 +134,7 @@ def _runner_foot(frame_time: float) -> np.ndarray:
     speed = np.concatenate([np.full(n_stance, 1.1), np.full(n_swing, 4.4), np.full(n_stance, 1.1)])
     x = np.cumsum(speed) * frame_time
     z = np.concatenate([np.zeros(n_stance), np.full(n_swing, 0.08), np.zeros(n_stance)])
-    points = np.zeros((len(x), 2, 3))
-    points[:, 0, 0], points[:, 1, 0] = x, x + 0.18
-    points[..., 2] = z[:, None]
-    return points
+    return _soles(x, z)
 
 
 def test_a_runners_sliding_stance_is_found_at_its_pace():
@@ -181,10 +187,7 @@ def _planted_then_landing(frame_time: float, height: float, drop_speed: float) -
     z = np.concatenate([np.full(hover, height), np.full(swing, 0.15)])
     z = np.concatenate([z, np.linspace(0.15, 0.0, drop), np.zeros(stand)])
     x = np.concatenate([np.zeros(hover), np.linspace(0.0, 1.0, swing), np.ones(drop + stand)])
-    points = np.zeros((len(z), 2, 3))
-    points[:, 0, 0], points[:, 1, 0] = x, x + 0.18
-    points[..., 2] = z[:, None]
-    return points
+    return _soles(x, z)
 
 
 def test_a_foot_hovering_still_above_the_stance_band_is_a_stance_put_on_the_floor():
