@@ -9,21 +9,20 @@ the reference.
    found; a swing foot passing low over the floor moves faster, at one to three times the body's
    pace). A retargeted runner's stance feet slide at up to 1.5 m/s at 2.2 m/s (CMU 16_36): with
    the walking bound alone two of its four stances were missed and then lifted as swing feet
-   (step 3), so that the reference ran on feet 5 cm above the floor. A foot higher than STANCE_M
-   but within HOVERING_STANCE_M, the most the grounding leaves under a supporting foot
-   (`grounding.FLIGHT_M`), is found too when it also holds its height (its lowest sole point's
-   vertical speed, smoothed likewise, under HOVER_CLIMB_SPEED): retargeted, a CMU kick's planted
-   foot hovers 5-9 cm up for 0.7 s, was lifted as a swing, and the body fell as the other leg
-   kicked. Measured in that band, over horizontally slow frames: hovering stances (the kick, the
-   walk 08_08) rise or sink at 0.07-0.16 m/s (median; 0.33 at the 90th percentile), runners' feet
-   landing or leaving at 1.7 m/s. Two such runs between which
+   (step 3), so that the reference ran on feet 5 cm above the floor. Two such runs between which
    the foot's lowest sole point stays within TOUCH_M of the floor and its sole centre travels less
    than JOIN_TRAVEL_M are one stance: a retargeted foot sliding fast mid-stance without leaving the
    floor (CMU 07_06, 05_01: 1-7 cm between the runs) was otherwise found as two stances back to
    back, each held where it stood at its own middle, and the bounded change between them (step 4)
    left 10-16 cm of skate in a stance. A swing that skims the floor travels a stride (1 m in 05_01,
    whose swing foot rises 2.0-2.6 cm): joined, the walk played 1.25 times faster lost a step and
-   fell.
+   fell. A foot higher than STANCE_M but within HOVERING_STANCE_M, the most the grounding leaves
+   under a supporting foot (`grounding.FLIGHT_M`), is in a stance too when it also holds its height
+   (its lowest sole point's vertical speed, smoothed likewise, under HOVER_CLIMB_SPEED): retargeted,
+   a CMU kick's planted foot hovers 5-9 cm up for 0.7 s, was lifted as a swing, and the body fell as
+   the other leg kicked. Measured in that band, over horizontally slow frames: hovering stances (the
+   kick, the walk 08_08) rise or sink at 0.07-0.16 m/s (median; 0.33 at the 90th percentile),
+   runners' feet landing or leaving at 1.7 m/s.
 2. Each stance is held from its start to its end, grown by up to EXTEND_S on each side while the
    foot stays within STANCE_M (touch-down and lift-off). Over the hold, the foot's slip is the
    cumulative horizontal displacement of its touching sole points (those within TOUCH_M of its
