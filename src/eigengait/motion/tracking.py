@@ -45,11 +45,12 @@ def reference_poses(
     conventions = detect_conventions(clip, roles, first) if set(LEG_ROLES) <= set(roles) else None
     raw_qpos, frame_time = upsampled(world.model, retargeted.qpos, retargeted.frame_time)
     qpos = clean_feet(world, raw_qpos, frame_time).qpos if clean else raw_qpos
-    start = min(first_supported_pose(sole_points(world, qpos)), len(qpos) - 2)  # two poses kept
+    soles = sole_points(world, qpos)
+    start = min(first_supported_pose(soles), len(qpos) - 2)  # two poses kept
     first += int(round(start * frame_time / clip.frame_time))
     raw_qpos, qpos = raw_qpos[start:], qpos[start:]
-    raw = foot_report(sole_points(world, raw_qpos), frame_time)
-    final = foot_report(sole_points(world, qpos), frame_time) if clean else raw
+    final = foot_report({foot: points[start:] for foot, points in soles.items()}, frame_time)
+    raw = foot_report(sole_points(world, raw_qpos), frame_time) if clean else final
     return {
         "world": world,
         "qpos": qpos,
