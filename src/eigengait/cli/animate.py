@@ -16,7 +16,7 @@ import typer
 from rich.console import Console
 from rich.table import Table
 
-from eigengait.cli.character import RELAX_OPTION
+from eigengait.cli.character import PARTNER_OPTION, RELAX_OPTION
 from eigengait.cli.media import BVH_UNITS_OPTION, CAMERA_OPTION, SPEED_OPTION, MediaOptions
 from eigengait.errors import UserInputError
 from eigengait.inputs import check_range
@@ -33,7 +33,13 @@ MIX_HELP = (
 )
 
 
-def _world_and_modes(character: str, phase: str, foot: Optional[str], relax: Optional[str]):
+def _world_and_modes(
+    character: str,
+    phase: str,
+    foot: Optional[str],
+    relax: Optional[str],
+    partners: Optional[list[str]],
+):
     from eigengait.character import load_character
     from eigengait.character.relax import parse_relax_argument
     from eigengait.modal import compute_modes
@@ -42,7 +48,7 @@ def _world_and_modes(character: str, phase: str, foot: Optional[str], relax: Opt
     world = build_world(
         load_character(character), parse_relax_argument(relax), WorldOptions(gravity=False)
     )
-    return world, compute_modes(world, phase, foot)
+    return world, compute_modes(world, phase, foot, partners=partners or ())
 
 
 def palette_command(
@@ -51,6 +57,7 @@ def palette_command(
         "air", "--phase", help="air (free body) or ground (stance toe pinned)."
     ),
     foot: Optional[str] = typer.Option(None, "--foot", help="Stance foot for the ground phase."),
+    partners: Optional[list[str]] = PARTNER_OPTION,
     relax: Optional[str] = RELAX_OPTION,
     output: Path = typer.Option(Path("palette.png"), "-o", "--output", help="PNG file to write."),
     count: Optional[int] = typer.Option(None, "--modes", help="Show modes 1..N (default: all)."),
@@ -70,7 +77,7 @@ def palette_command(
     require_suffix(output, (".png",), "--output")
     check_range(angle, "--angle", 0.1, 180, "degrees")
     refuse_existing([output], force)
-    world, modes = _world_and_modes(character, phase, foot, relax)
+    world, modes = _world_and_modes(character, phase, foot, relax, partners)
     image = write_palette(world, modes, output, count, columns, tile, angle)
     console.print(
         f"wrote {output} ({image.shape[1]}×{image.shape[0]} px, {count or modes.count} modes)"
@@ -84,6 +91,7 @@ def animate_command(
         "air", "--phase", help="air (free body) or ground (stance toe pinned)."
     ),
     foot: Optional[str] = typer.Option(None, "--foot", help="Stance foot for the ground phase."),
+    partners: Optional[list[str]] = PARTNER_OPTION,
     relax: Optional[str] = RELAX_OPTION,
     seconds: float = typer.Option(4.0, "--seconds", help="Duration in seconds."),
     fps: float = typer.Option(30.0, "--fps", help="Frames per second of the video and the BVH."),
@@ -135,7 +143,7 @@ def animate_command(
     check_range(base_hz, "--base-hz", 0.01, 100, "Hz")
     refuse_existing([video, bvh], force)
     terms = parse_mix(mix)
-    world, modes = _world_and_modes(character, phase, foot, relax)
+    world, modes = _world_and_modes(character, phase, foot, relax, partners)
     modal_mix = build_mix(world, modes, terms, angle, base_hz)
     times, qpos = mix_trajectory(world, modal_mix, seconds, fps)
 

@@ -38,6 +38,11 @@ STIFFNESS_OPTION = typer.Option(
     ),
 )
 RELAX_OPTION = typer.Option(None, "--relax", help="Relax pose: preset or JOINT=rx,ry,rz;...")
+PARTNER_OPTION = typer.Option(
+    None,
+    "--partner",
+    help="Ground phase: a foot on the floor with the stance foot, its toe pinned too (repeatable).",
+)
 
 
 def print_notes(character) -> None:

@@ -10,7 +10,13 @@ from rich.console import Console
 from rich.table import Table
 
 from eigengait import json_text
-from eigengait.cli.character import BODY_OPTION, RELAX_OPTION, STIFFNESS_OPTION, print_notes
+from eigengait.cli.character import (
+    BODY_OPTION,
+    PARTNER_OPTION,
+    RELAX_OPTION,
+    STIFFNESS_OPTION,
+    print_notes,
+)
 from eigengait.outputs import refuse_existing, require_suffix
 
 console = Console()
@@ -20,6 +26,7 @@ def modes_command(
     character: str = typer.Argument(..., help="Built-in name, MJCF path or character sidecar."),
     phase: str = typer.Option("air", "--phase", help="air (free body) or ground (toe pinned)."),
     foot: Optional[str] = typer.Option(None, "--foot", help="Stance foot for the ground phase."),
+    partners: Optional[list[str]] = PARTNER_OPTION,
     relax: Optional[str] = RELAX_OPTION,
     as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
     save: Optional[Path] = typer.Option(None, "--save", help="Save the ModeSet (.npz)."),
@@ -36,14 +43,14 @@ def modes_command(
     refuse_existing([save], force)
     loaded = load_character(character, body, stiffness)
     print_notes(loaded)
-    modes = compute_modes(loaded, phase, foot, parse_relax_argument(relax))
+    modes = compute_modes(loaded, phase, foot, parse_relax_argument(relax), partners or ())
     if save:
         modes.save(save)
     if as_json:
         print(json_text.dumps(modes.summary()))
         return
     title = f"{modes.character} — {modes.phase} phase" + (
-        f", {modes.foot} toe pinned" if modes.foot else ""
+        f", {modes.pinned_text()}" if modes.foot else ""
     )
     table = Table(
         title=title,

@@ -33,6 +33,7 @@ def gait_system(
         WorldOptions(gravity=gravity, activation_time=spec.activation_time),
         source,
         spec.swing_servo,
+        spec.stance_partners,
     )
 
 

@@ -157,6 +157,8 @@ class ControllerFile(BaseModel):
     feedback: FeedbackFile = Field(default_factory=lambda: FeedbackFile())
     # the swing-foot servo added to every simulation of the gait (none: pulses and feedback alone)
     swing_servo: ServoSettings | None = None
+    # foot -> feet pinned with it in its ground modes (control/gait.py)
+    stance_partners: dict[str, list[str]] = Field(default_factory=dict)
     lookahead: LookaheadFile | None = None
     # the modes of the sketch it was made from
     sketch: dict[Literal["air", "ground"], PhaseSketch] | None = None
@@ -211,6 +213,7 @@ def to_file(
         torque_limit=system.torque_limit,
         activation_time=system.options.activation_time,
         swing_servo=system.swing_servo,
+        stance_partners=system.stance_partners,
         period=p.period,
         air_ratio=p.air_ratio,
         pulse_air=p.pulse_air,

@@ -60,6 +60,9 @@ class GaitSystem:
     source: str | Path | None = None
     # the swing-foot servo added to every simulation of the gait (None: pulses and feedback alone)
     swing_servo: ServoSettings | None = None
+    # feet on the floor with each clocked foot in its ground state, pinned with it in its ground
+    # modes (a trot's diagonal partner); none: the clocked foot's toe alone, as in the thesis
+    stance_partners: dict[str, list[str]] = field(default_factory=dict)
 
     def __post_init__(self):
         blamed = self.source or self.character.path
@@ -78,8 +81,17 @@ class GaitSystem:
             self.character, self.pose, WorldOptions(gravity=False, floor=False)
         )
         self.air_modes = compute_modes(modal_world, "air")
+        for foot in self.stance_partners:
+            if foot not in self.feet:
+                raise UserInputError(
+                    f"stance_partners names '{foot}', which is not one of the gait's feet",
+                    file=blamed,
+                    field="stance_partners",
+                    fix=f"give partners for feet among: {', '.join(self.feet)}",
+                )
         self.ground_modes = {
-            f: compute_modes(modal_world, "ground", f) for f in dict.fromkeys(self.feet)
+            f: compute_modes(modal_world, "ground", f, partners=self.stance_partners.get(f, ()))
+            for f in dict.fromkeys(self.feet)
         }
         self.mirror = Mirror(self.world) if self.symmetric and len(self.feet) > 1 else None
         self.servo = None if self.swing_servo is None else SwingServo(self.world, self.swing_servo)

@@ -5,6 +5,8 @@ eigengait_sketch: 1
 character: humanoid          # built-in name, MJCF path or character sidecar (NAME.eigengait.yaml)
 relax_pose: default          # preset name or {joint: [rx, ry, rz] degrees}
 feet: [left, right]          # stance order (default: the character's gait_order)
+stance_partners: {}          # foot -> feet also on the floor in its ground state (a trot: its
+                             # diagonal partner), pinned with it in its ground modes
 symmetric: true              # second foot mirrors the first
 basis: modal                 # or canonical (one torque per joint dof: the thesis's comparison)
 air:    {priority: {2: 30, 10: -20, 11: 20}, allowed: [1, 3, 4], excluded: [5]}
@@ -141,6 +143,13 @@ class Sketch(BaseModel):
     swing_servo: ServoSettings | None = Field(
         None,
         description="a swing-foot servo in every simulation of the gait (control/swing_servo.py)",
+    )
+    stance_partners: dict[str, list[str]] = Field(
+        default_factory=dict,
+        description=(
+            "foot -> feet on the floor with it in its ground state, pinned with it in its ground "
+            "modes (a trot's diagonal partner)"
+        ),
     )
 
     @model_validator(mode="after")

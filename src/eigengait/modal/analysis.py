@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
+import numpy as np
 
 from eigengait.character.loader import Character
 from eigengait.character.relax import DEFAULT_POSE
@@ -34,6 +37,18 @@ def stance_foot(character: Character, foot: str | None) -> str:
     return foot
 
 
+def partner_foot(character: Character, foot: str, partner: str) -> str:
+    """A foot pinned with stance foot `foot`: one of the character's feet, not `foot` itself."""
+    if partner not in character.feet or partner == foot:
+        raise UserInputError(
+            f"'{partner}' cannot be pinned with stance foot '{foot}'",
+            file=character.path,
+            field="partners",
+            fix=f"use other feet among: {', '.join(f for f in character.feet if f != foot)}",
+        )
+    return partner
+
+
 def dof_labels(character: Character) -> list[str]:
     return [
         f"{j}:{'xyz'[a]}" if character.joint_dofs[j] == 3 else j
@@ -47,11 +62,19 @@ def compute_modes(
     phase: str = "air",
     foot: str | None = None,
     pose: str | dict = DEFAULT_POSE,
+    partners: Sequence[str] = (),
 ) -> ModeSet:
     """Modes of a character (or an already built world) in the air (free) or ground (toe pinned)
-    phase."""
+    phase; in the ground phase the toes of `partners`, feet on the floor with the stance foot (a
+    trot's diagonal partner), are pinned too."""
     if phase not in PHASES:
         raise UserInputError(f"unknown phase '{phase}'", field="phase", fix="use air or ground")
+    if partners and phase != "ground":
+        raise UserInputError(
+            "partner feet are pinned only in the ground phase",
+            field="partners",
+            fix="use phase='ground', or give no partners",
+        )
     world = (
         source
         if isinstance(source, World)
@@ -61,7 +84,8 @@ def compute_modes(
     G = None
     if phase == "ground":
         foot = stance_foot(character, foot)
-        G = point_jacobian(world, character.feet[foot].toe)
+        pinned = [foot, *(partner_foot(character, foot, p) for p in partners)]
+        G = np.vstack([point_jacobian(world, character.feet[f].toe) for f in pinned])
     else:
         foot = None
     lam, shapes, rigid = constrained_modes(stiffness_matrix(world), mass_matrix(world), G)
@@ -76,4 +100,5 @@ def compute_modes(
         shapes=shapes,
         torque_basis=unit_torque_basis(shapes[world.internal_qvel]),
         dof_labels=dof_labels(character),
+        partners=list(partners),
     )

@@ -35,10 +35,24 @@ class ModeSet:
     shapes: np.ndarray
     torque_basis: np.ndarray
     dof_labels: list[str] = field(default_factory=list)  # "joint:x" for each internal dof
+    # feet whose toes are pinned with the stance foot's in the ground phase (a trot's diagonal pair)
+    partners: list[str] = field(default_factory=list)
 
     @property
     def count(self) -> int:
         return len(self.frequencies_hz)
+
+    @property
+    def pinned_feet(self) -> list[str]:
+        """The feet whose toes are pinned: none in the air phase."""
+        return [self.foot, *self.partners] if self.foot else []
+
+    def pinned_text(self) -> str:
+        """E.g. "left toe pinned", "rear_left + front_right toes pinned"; "" in the air."""
+        feet = self.pinned_feet
+        if not feet:
+            return ""
+        return " + ".join(feet) + (" toe pinned" if len(feet) == 1 else " toes pinned")
 
     def summary(self) -> dict:
         """The JSON object the CLI prints."""
@@ -47,6 +61,7 @@ class ModeSet:
             "relax_pose": self.relax_pose,
             "phase": self.phase,
             "foot": self.foot,
+            "partners": list(self.partners),
             "dofs": self.dofs,
             "rigid_modes": self.rigid_modes,
             "frequencies_hz": [round(float(f), 6) for f in self.frequencies_hz],

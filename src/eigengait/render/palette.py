@@ -229,8 +229,8 @@ def _add_cues(renderer: FrameRenderer, relax: np.ndarray, modes: ModeSet) -> Non
         ARROW_RGBA,
         to_x,
     )
-    if modes.foot:
-        site = renderer.model.site(renderer.world.character.feet[modes.foot].toe).id
+    for foot in modes.pinned_feet:
+        site = renderer.model.site(renderer.world.character.feet[foot].toe).id
         renderer.add_marker(
             mujoco.mjtGeom.mjGEOM_SPHERE,
             (0.04 * size,) * 3,
@@ -247,7 +247,7 @@ def _corners(world: World, qpos: np.ndarray) -> np.ndarray:
 
 
 def palette_title(modes: ModeSet) -> str:
-    where = f"{modes.phase} phase" + (f", {modes.foot} toe pinned" if modes.foot else "")
+    where = f"{modes.phase} phase" + (f", {modes.pinned_text()}" if modes.foot else "")
     pose = "" if modes.relax_pose == "default" else f", relax pose {modes.relax_pose}"
     return f"{modes.character} — {where}{pose}"
 

@@ -105,7 +105,7 @@ class PaletteView:
                     )
                 )
             title = f"{phase.upper()} phase modes" + (
-                f" ({modes.foot} toe pinned)" if modes.foot else ""
+                f" ({modes.pinned_text()})" if modes.foot else ""
             )
             top = rows * spacing[1]
             labels.append(
