@@ -115,3 +115,17 @@ def test_modes_command_pins_the_partner(eigengait_cli):
     assert out["partners"] == ["front_right"] and out["rigid_modes"] == 1
     refused = eigengait_cli("modes", "dog", "--partner", "front_right")
     assert refused.returncode != 0 and "ground phase" in refused.stderr
+
+
+@pytest.mark.parametrize(
+    "partners",
+    [
+        {"rear_left": ["front_right"], "rear_right": ["front_right"]},
+        {"rear_left": ["front_right"]},
+    ],
+)
+def test_a_symmetric_gait_needs_mirrored_partners(partners):
+    with pytest.raises(UserInputError, match="not mirror images") as error:
+        gait_system(_trot_sketch(stance_partners=partners))
+    assert error.value.field == "stance_partners"
+    gait_system(_trot_sketch(stance_partners=partners, symmetric=False))  # each foot its own

@@ -102,6 +102,24 @@ class GaitSystem:
                 field="feet",
                 fix="give two mirrored feet, or set symmetric: false",
             )
+        if self.mirror is not None and self.stance_partners:
+            self._check_mirrored_partners(blamed)
+
+    def _check_mirrored_partners(self, blamed: str | Path) -> None:
+        """A symmetric gait's second foot plays the first foot's torques mirrored, so its ground
+        problem must be the first's mirror image: the same frequencies (the partners mirrored)."""
+        first, second = (self.ground_modes[f].frequencies_hz for f in self.feet)
+        if len(first) != len(second) or not np.allclose(first, second, rtol=1e-6):
+            partners = [self.stance_partners.get(f, []) for f in self.feet]
+            raise UserInputError(
+                f"the stance partners of '{self.feet[0]}' {partners[0]} and of "
+                f"'{self.feet[1]}' {partners[1]} are not mirror images, so the second foot "
+                "cannot play the first foot's torques mirrored",
+                file=blamed,
+                field="stance_partners",
+                fix="give each foot the mirror image of the other's partners, or set symmetric: "
+                "false",
+            )
 
     @property
     def active_feet(self) -> list[str]:
