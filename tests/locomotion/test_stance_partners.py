@@ -105,6 +105,13 @@ def test_partners_of_a_foot_the_gait_does_not_clock_are_refused():
     assert error.value.field == "stance_partners"
 
 
+def test_a_sketch_naming_an_unknown_partner_is_blamed():
+    sketch = _trot_sketch(stance_partners={"rear_left": ["tail"], "rear_right": ["front_left"]})
+    with pytest.raises(UserInputError, match="'tail' cannot be pinned") as error:
+        gait_system(sketch, source="my_trot.yaml")
+    assert (error.value.file, error.value.field) == ("my_trot.yaml", "stance_partners.rear_left")
+
+
 def test_modes_command_pins_the_partner(eigengait_cli):
     result = eigengait_cli(
         "modes", "dog", "--phase", "ground", "--foot", "rear_left", "--partner", "front_right",

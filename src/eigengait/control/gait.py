@@ -21,7 +21,7 @@ from eigengait.control.mirror import Mirror
 from eigengait.control.pulse import State, control_sequence, schedule, state_torques
 from eigengait.control.swing_servo import ServoSettings, SwingServo
 from eigengait.errors import UserInputError
-from eigengait.modal.analysis import compute_modes
+from eigengait.modal.analysis import compute_modes, partner_foot
 from eigengait.sim.world import World, WorldOptions, build_world
 
 
@@ -81,7 +81,7 @@ class GaitSystem:
             self.character, self.pose, WorldOptions(gravity=False, floor=False)
         )
         self.air_modes = compute_modes(modal_world, "air")
-        for foot in self.stance_partners:
+        for foot, partners in self.stance_partners.items():
             if foot not in self.feet:
                 raise UserInputError(
                     f"stance_partners names '{foot}', which is not one of the gait's feet",
@@ -89,6 +89,8 @@ class GaitSystem:
                     field="stance_partners",
                     fix=f"give partners for feet among: {', '.join(self.feet)}",
                 )
+            for partner in partners:
+                partner_foot(self.character, foot, partner, blamed, f"stance_partners.{foot}")
         self.ground_modes = {
             f: compute_modes(modal_world, "ground", f, partners=self.stance_partners.get(f, ()))
             for f in dict.fromkeys(self.feet)

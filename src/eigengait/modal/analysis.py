@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Sequence
+from pathlib import Path
 
 import numpy as np
 
@@ -37,13 +38,20 @@ def stance_foot(character: Character, foot: str | None) -> str:
     return foot
 
 
-def partner_foot(character: Character, foot: str, partner: str) -> str:
-    """A foot pinned with stance foot `foot`: one of the character's feet, not `foot` itself."""
+def partner_foot(
+    character: Character,
+    foot: str,
+    partner: str,
+    file: str | Path | None = None,
+    field: str = "partners",
+) -> str:
+    """A foot pinned with stance foot `foot`: one of the character's feet, not `foot` itself. An
+    error names `file` and `field` (default: the character's file)."""
     if partner not in character.feet or partner == foot:
         raise UserInputError(
             f"'{partner}' cannot be pinned with stance foot '{foot}'",
-            file=character.path,
-            field="partners",
+            file=file or character.path,
+            field=field,
             fix=f"use other feet among: {', '.join(f for f in character.feet if f != foot)}",
         )
     return partner
