@@ -10,6 +10,7 @@ import typer
 from typer.testing import CliRunner
 
 from eigengait.cli.track import register
+from eigengait.motion.bvh import read_bvh, write_bvh
 from shared_data import MOCAP
 
 WALK = str(MOCAP / "cmu_02_01_walk.bvh")
@@ -107,6 +108,24 @@ def test_kinematic_json_reports_the_reference_feet_and_the_source_conventions():
     # the root translation fitted to the legs: the Daz exports travel about 1.6 times too far
     # (measured 0.62)
     assert 0.5 < out["root_scale_factor"] < 0.75 and out["retarget_scale_m_per_unit"] < 0.01
+    assert out["capture_glitches"] == []
+
+
+def test_kinematic_reports_a_flipped_thigh_it_repaired(tmp_path):
+    # The Daz walk with its right thigh turned 160° about its axis for 5 frames (a capture glitch).
+    clip = read_bvh(DAZ_WALK)
+    thigh = clip.joint_index("rThigh")
+    yaw = clip.channel_slices()[thigh].start + clip.joints[thigh].channels.index("Yrotation")
+    clip.frames[200:205, yaw] += 160.0
+    glitched = tmp_path / "glitched.bvh"
+    write_bvh(clip, glitched)
+    result = CliRunner().invoke(_app(), ["track", str(glitched), "--kinematic", "--json"])
+    assert result.exit_code == 0, result.output
+    (glitch,) = json.loads(result.output)["capture_glitches"]
+    assert glitch["joint"] == "rThigh"
+    assert glitch["start_s"] <= 200 * clip.frame_time and glitch["end_s"] >= 205 * clip.frame_time
+    text = CliRunner().invoke(_app(), ["track", str(glitched), "--kinematic"]).output
+    assert "capture glitch repaired: rThigh" in text
 
 
 def _run(*args):

@@ -13,7 +13,10 @@ from eigengait.motion.foot_cleanup import (
     MAX_CORRECTION_SPEED,
     PACE_FRACTION,
     MIN_STANCE_S,
+    SOLE_SUPPORT_GAP_M,
+    SOLE_SUPPORT_SPEED,
     STANCE_M,
+    STANCE_SPEED,
     TOUCHDOWN_M,
     clean_feet,
     foot_corrections,
@@ -209,3 +212,21 @@ def test_a_foot_dropping_through_the_band_is_held_only_below_the_stance_band():
     _, holds = foot_corrections(points, frame_time)
     landing_start = holds[-1][0]
     assert points[landing_start, :, 2].min() <= STANCE_M + 1e-9
+
+
+def test_the_only_foot_near_the_floor_is_a_stance_while_it_slides():
+    # A dancer's standing foot sliding at 1.2 m/s at a 0.8 m/s pace (above both stance bounds)
+    # while the other foot kicks 0.6 m up: the only possible support, held still; the same slide
+    # with the other foot on the floor too is not (two low feet, one of them may be skimming).
+    frame_time, n = 1 / 120, 60
+    points = _soles(1.2 * frame_time * np.arange(n), np.zeros(n))
+    pace = np.full(n, 0.8)
+    assert 1.2 > max(STANCE_SPEED, PACE_FRACTION * 0.8) and 1.2 <= SOLE_SUPPORT_SPEED
+    kick = np.full(n, 0.6)
+    assert kick.min() > SOLE_SUPPORT_GAP_M
+    correction, holds = foot_corrections(points, frame_time, pace, kick)
+    assert holds == [(0, n)]
+    held = points[..., :2] + correction[:, None, :2]
+    np.testing.assert_allclose(held, np.broadcast_to(held[n // 2], held.shape), atol=1e-9)
+    _, none = foot_corrections(points, frame_time, pace, np.zeros(n))
+    assert none == []

@@ -155,3 +155,8 @@ def _print_kinematic(report: dict, as_json: bool) -> None:
         f"cleanup), floor penetration {report['floor_penetration_m']:.3f} m, ground clearance "
         f"{'n/a' if clearance is None else f'{clearance:.3f} m'}."
     )
+    for glitch in report["capture_glitches"]:
+        typer.echo(
+            f"capture glitch repaired: {glitch['joint']} turned faster than a human joint can, "
+            f"{glitch['start_s']:.3f}-{glitch['end_s']:.3f} s of the clip (interpolated)."
+        )

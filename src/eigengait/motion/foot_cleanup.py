@@ -22,7 +22,11 @@ the reference.
    a CMU kick's planted foot hovers 5-9 cm up for 0.7 s, was lifted as a swing, and the body fell as
    the other leg kicked. Measured in that band, over horizontally slow frames: hovering stances (the
    kick, the walk 08_08) rise or sink at 0.07-0.16 m/s (median; 0.33 at the 90th percentile),
-   runners' feet landing or leaving at 1.7 m/s.
+   runners' feet landing or leaving at 1.7 m/s. A foot that is the body's only possible support
+   (every other foot more than SOLE_SUPPORT_GAP_M up) and holds its height (vertical speed under
+   HOVER_CLIMB_SPEED) is in a stance up to SOLE_SUPPORT_SPEED: a CMU dancer's standing foot slides
+   at 0.6-1.2 m/s under a high kick at a 0.5-1 m/s pace, was lifted to the swing clearance, and the
+   body, standing on nothing, fell.
 2. Each stance is held from its start to its end, grown by up to EXTEND_S on each side while the
    foot stays within STANCE_M (touch-down and lift-off). Over the hold, the foot's slip is the
    cumulative horizontal displacement of its touching sole points (those within TOUCH_M of its
@@ -74,6 +78,8 @@ BLEND_S = 0.1
 CLEARANCE_M = 0.05
 TOUCHDOWN_M = CONTACT_M + 0.005  # a held foot's height at its hold's ends
 LIFT_S = 0.05
+SOLE_SUPPORT_GAP_M = 2 * CLEARANCE_M  # the other feet this far up: this foot is the only support
+SOLE_SUPPORT_SPEED = 2 * STANCE_SPEED  # m/s, the stance bound of an only support
 MAX_CORRECTION_SPEED = 2.0  # m/s
 
 
@@ -124,19 +130,26 @@ def _holds(
     climb: np.ndarray,
     frame_time: float,
     bound: np.ndarray | float = STANCE_SPEED,
+    others_low: np.ndarray | None = None,
 ) -> list[tuple[int, int, int, int]]:
     """(hold start, core start, core end, hold end) per stance: the still core (speed at most
-    `bound`, m/s, per frame or one value; the foot within STANCE_M, or within HOVERING_STANCE_M
-    with its vertical speed `climb` (F,) m/s under HOVER_CLIMB_SPEED; at least MIN_STANCE_S long
+    `bound`, m/s, per frame or one value, or SOLE_SUPPORT_SPEED where every other foot's lowest
+    sole point `others_low` (F,) m is above SOLE_SUPPORT_GAP_M and `climb` is under
+    HOVER_CLIMB_SPEED; the foot within STANCE_M, or within HOVERING_STANCE_M with its vertical speed
+    `climb` (F,) m/s under HOVER_CLIMB_SPEED; at least MIN_STANCE_S long
     unless it touches either end of the clip, where its true length is unknown: a run clip that
     starts 0.09 s before a foot lifts otherwise began on a foot lifted as a swing, and fell) grown
     while the foot stays within STANCE_M; `centre` (F, 2) the sole centre's horizontal position
     (m)."""
     shortest = max(1, int(round(MIN_STANCE_S / frame_time)))
     low_enough = (low <= STANCE_M) | ((low <= HOVERING_STANCE_M) & (climb < HOVER_CLIMB_SPEED))
+    slow = speed <= bound
+    if others_low is not None:
+        alone = (others_low > SOLE_SUPPORT_GAP_M) & (climb < HOVER_CLIMB_SPEED)
+        slow |= alone & (speed <= SOLE_SUPPORT_SPEED)
     still = [
         (a, b)
-        for a, b in runs(low_enough & (speed <= bound), frame_time, 0.0)
+        for a, b in runs(low_enough & slow, frame_time, 0.0)
         if b - a >= shortest or a == 0 or b == len(low)
     ]
     cores = _joined(still, low, centre)
@@ -180,17 +193,20 @@ def _ramp(n: int) -> np.ndarray:
 
 
 def foot_corrections(
-    points: np.ndarray, frame_time: float, pace: np.ndarray | None = None
+    points: np.ndarray,
+    frame_time: float,
+    pace: np.ndarray | None = None,
+    others_low: np.ndarray | None = None,
 ) -> tuple[np.ndarray, list[tuple[int, int]]]:
     """Per-frame correction (F, 3) of one foot (m, world) and its stances (holds), from its sole
-    points (F, k, 3) and the body's pace (F,) m/s (`root_pace`; None: the walking bound
-    STANCE_SPEED alone)."""
+    points (F, k, 3), the body's pace (F,) m/s (`root_pace`; None: the walking bound
+    STANCE_SPEED alone) and the other feet's lowest sole height (F,) m (None: no other foot)."""
     low, centre = points[..., 2].min(axis=1), points.mean(axis=1)[:, :2]
     n, width = len(points), max(1, int(round(SPEED_SMOOTHING_S / frame_time)))
     speed = _smoothed(np.linalg.norm(np.gradient(centre, frame_time, axis=0), axis=1), width)
     climb = np.abs(_smoothed(np.gradient(low, frame_time), width))
     bound = STANCE_SPEED if pace is None else np.maximum(STANCE_SPEED, PACE_FRACTION * pace)
-    holds = _holds(low, centre, speed, climb, frame_time, bound)
+    holds = _holds(low, centre, speed, climb, frame_time, bound, others_low)
     correction = np.zeros((n, 3))
     held = np.zeros(n, bool)
     blend = max(1, int(round(BLEND_S / frame_time)))
@@ -243,7 +259,16 @@ def clean_feet(world: World, qpos: np.ndarray, frame_time: float) -> CleanedFeet
     soles = sole_points(world, qpos)
     feet = {f: int(model.geom_bodyid[g[0]]) for f, g in world.foot_spheres.items()}
     pace = root_pace(world, qpos, frame_time)
-    plan = {f: foot_corrections(soles[f], frame_time, pace) for f in feet}
+    lows = {f: soles[f][..., 2].min(axis=1) for f in feet}
+    plan = {
+        f: foot_corrections(
+            soles[f],
+            frame_time,
+            pace,
+            np.min([lows[o] for o in feet if o != f], axis=0) if len(feet) > 1 else None,
+        )
+        for f in feet
+    }
     out, worst = qpos.copy(), 0.0
     chains = {f: leg_dofs(model, body, world.root_body) for f, body in feet.items()}
     for i in range(len(qpos)):

@@ -15,16 +15,18 @@ from eigengait.inputs import check_range
 def reference_poses(
     clip_path: Path, character: str, mapping: Path | None, start_frame: int, clean: bool = True
 ) -> dict:
-    """Load and retarget a clip from `start_frame`, its lead-in skipped (`lead_in.py`), bring it
+    """Load and retarget a clip from `start_frame`, its lead-in skipped (`lead_in.py`) and its
+    capture glitches repaired (`capture_glitches.py`), bring it
     to 120 frames/s if it is slower (`upsample.py`), clean its feet (unless `clean` is False) and
     start it at its first supported pose (`lead_in.first_supported_pose`).
 
     Returns world, poses (F, nq), first_frame (the clip frame they start at), frame_time (s, of the
     poses), scale (m per file unit), root_factor (`root_scale`), foot_level_deg (`foot_level`),
     conventions (or None when the skeleton's legs are not found by name), raw and final foot
-    reports (`foot_metrics`)."""
+    reports (`foot_metrics`), glitches (`capture_glitches.Glitch` list)."""
     from eigengait.character import load_character
     from eigengait.motion.bvh import read_bvh
+    from eigengait.motion.capture_glitches import repair_glitches
     from eigengait.motion.conventions import detect_conventions
     from eigengait.motion.foot_cleanup import clean_feet
     from eigengait.motion.foot_metrics import foot_report
@@ -40,6 +42,7 @@ def reference_poses(
     world = build_world(char)
     chosen = load_mapping(mapping) if mapping else builtin_mapping(char.name, clip)
     first = first_frame_after_lead_in(clip, start_frame)
+    clip, glitches = repair_glitches(clip, first)
     retargeted = retarget(clip, world, chosen, start_frame=first)
     roles = find_roles(clip)
     conventions = detect_conventions(clip, roles, first) if set(LEG_ROLES) <= set(roles) else None
@@ -62,6 +65,7 @@ def reference_poses(
         "conventions": conventions,
         "raw": raw,
         "final": final,
+        "glitches": glitches,
     }
 
 
@@ -82,6 +86,9 @@ def kinematic_summary(ref: dict, clean: bool) -> dict:
         "feet_cleaned": clean,
         **ref["final"].summary(),
         "raw": ref["raw"].summary(),
+        "capture_glitches": [
+            {"joint": g.joint, "start_s": g.start_s, "end_s": g.end_s} for g in ref["glitches"]
+        ],
     }
 
 
