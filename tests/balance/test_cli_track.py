@@ -59,6 +59,7 @@ def test_json_reports_the_required_fields(tmp_path):
     assert {"duration_s", "fell", "joint_rms_deg", "com_error_m", "artificial_torque"} <= set(out)
     assert out["duration_s"] > 0.25 and out["fell"] is False and out["fall_time_s"] is None
     assert 0.0 <= out["foot_skate_m"] < 0.5 and out["bvh_units"] == "cm"
+    assert out["recoveries"] == 0 and out["recovery_simulations"] == 0  # nothing fell
     assert out_bvh.read_text().startswith("HIERARCHY")
 
 
@@ -145,3 +146,5 @@ def test_bad_inputs_exit_with_status_2(tmp_path):
     assert proc.returncode == 2 and "FORCE@TIME" in proc.stderr
     proc = _run(WALK, "--controller", "pid")
     assert proc.returncode == 2 and "controller" in proc.stderr and "qp" in proc.stderr
+    proc = _run(WALK, "--recoveries", "-1")
+    assert proc.returncode == 2 and "recoveries" in proc.stderr

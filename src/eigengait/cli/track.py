@@ -62,6 +62,13 @@ def register(app: typer.Typer) -> None:
             help="Switch balance off while the compensated fraction is below this.",
         ),
         controller: str = CONTROLLER_OPTION,
+        recoveries: int = typer.Option(
+            None,
+            "--recoveries",
+            help="Falls searched past: at a fall the simulation is rewound 0.3-1 s and replayed "
+            "with sampled balance targets until one stays up (default 4; 0: the controller "
+            "alone).",
+        ),
         kinematic: bool = typer.Option(
             False,
             "--kinematic",
@@ -120,6 +127,7 @@ def register(app: typer.Typer) -> None:
             clean_feet,
             foot,
             controller,
+            recoveries,
         )
         write_media(world, result.qpos, 1.0 / result.frame_time, media, status_console(as_json))
         if as_json:

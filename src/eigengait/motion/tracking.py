@@ -103,6 +103,7 @@ def run_track(
     clean: bool = True,
     foot: dict | None = None,
     controller: str = "qp",
+    recoveries: int | None = None,
 ) -> tuple[object, object, object]:
     """Load, retarget, clean the feet (unless `clean` is False), replay and track; returns (world,
     reference, result); result.foot_skate_m is the simulated motion's skate (m, mean per stance,
@@ -111,10 +112,16 @@ def run_track(
     `push`: pushes as text, FORCE@TIME[,FORCE@TIME…] in N and s (`control.playback.parse_pushes`),
     sideways (+y) on the torso; `foot`: the foot model as `TrackerSettings` keyword arguments
     (foot_radius_m, foot_com_height_m, foot_friction), default the settings'; `controller`:
-    `TrackerSettings.controller`."""
+    `TrackerSettings.controller`; `recoveries`: falls searched past (`tracker` module doc,
+    "Recovery"; None: TRACK_RECOVERIES)."""
     from eigengait.control.balance.pushes import sideways_pushes
     from eigengait.control.balance.reference import kinematic_replay
-    from eigengait.control.balance.tracker import TrackerSettings, check_controller, track
+    from eigengait.control.balance.tracker import (
+        TRACK_RECOVERIES,
+        TrackerSettings,
+        check_controller,
+        track,
+    )
     from eigengait.motion.foot_metrics import foot_report
     from eigengait.motion.soles import sole_points
 
@@ -129,6 +136,8 @@ def run_track(
         tolerance, "tolerance", 0, 1, fix="use a value between 0 (never switch balance off) and 1."
     )
     check_controller(controller)
+    if recoveries is not None:
+        check_range(recoveries, "recoveries", 0, 1000, fix="use 0 (none) or a small count.")
     pushes = sideways_pushes([push], "torso") if push else ()
     ref = reference_poses(clip_path, character, mapping, start_frame, clean)
     world = ref["world"]
@@ -137,7 +146,12 @@ def run_track(
         world,
         reference,
         robustness,
-        TrackerSettings(tolerance=tolerance, controller=controller, **(foot or {})),
+        TrackerSettings(
+            tolerance=tolerance,
+            controller=controller,
+            recoveries=TRACK_RECOVERIES if recoveries is None else recoveries,
+            **(foot or {}),
+        ),
         pushes=pushes,
     )
     result.foot_skate_m = foot_report(

@@ -8,6 +8,22 @@ it samples the reference at the current time (its COM target shifted after a fli
 reads the feet's contacts (a contact that vanishes for a step bridged, `contact_memory`), asks
 `controller.balance_torque` for the motor torques and the stance feet's artificial torques, applies
 them and the active pushes (torques held in between), steps the physics and checks for a fall.
+
+Recovery (after SAMCON, Liu et al. 2010: sampled corrections kept when the simulation survives
+them). A tracked clip that falls has usually left the reference a few tenths of a second earlier
+(a stance that sinks, a landing that comes early), and a slightly different balance target then
+would have held it: the same tracker changed by one gain holds some falling clips and drops others
+(docs/balance.md). So the loop keeps a copy of its state every MARK_S seconds, and at a fall it
+rewinds to the copy REWINDS_S before it and replays the stretch with the COM target moved by a
+sampled offset (σ COM_SIGMA_M) and the root's orientation target turned by one (σ TILT_SIGMA_RAD
+about each world axis), held until HOLD_S after the fall. Of the samples still up then, the one
+with the least mean COM error is kept and tracking goes on from it; if none is, the next rewind is
+tried, and after the last the sample that stood longest is played on to its fall. The played
+motion is an ordinary simulation of the controller with those targets: nothing but the controller
+and the contacts moves the body. `TrackerSettings.recoveries` bounds the falls searched past per
+clip (0, the default: the controller alone, as push-survival figures need); `eigengait track`
+searches past up to TRACK_RECOVERIES. The result reports how many were and how many simulations
+it took.
 """
 
 from __future__ import annotations
@@ -35,7 +51,7 @@ from eigengait.control.balance.reference import Reference
 from eigengait.control.balance.virtual import VirtualGains, mass_scaled_gains
 from eigengait.control.balance.wbc import WholeBodyQP
 from eigengait.errors import UserInputError
-from eigengait.geometry import quat_angle
+from eigengait.geometry import quat_angle, quat_exp, quat_mul
 from eigengait.inputs import check_choice
 from eigengait.sim.falls import has_fallen
 from eigengait.sim.stepping import step
@@ -48,6 +64,17 @@ PUSH_DURATION = 0.1  # s
 # at 10 the run's COM error passed 5 cm (docs/balance.md, "Friction as hard as")
 IMPRATIO = 2.0
 CONTROLLERS = ("momentum", "qp")  # `TrackerSettings.controller`
+TRACK_RECOVERIES = 4  # falls `eigengait track` searches past by default
+
+
+# Recovery (module doc): marks every MARK_S; a fall is searched past by rewinding REWINDS_S before
+# it, in turn, and trying `recovery_samples` offsets of the COM and root orientation targets, held
+# until HOLD_S after the fall; the sample still up then with the least mean COM error is kept.
+MARK_S = 0.25  # s
+REWINDS_S = (0.3, 0.6, 1.0)  # s
+HOLD_S = 0.5  # s
+COM_SIGMA_M = np.array([0.03, 0.03, 0.015])  # a sample's COM target offset (m, world x y z)
+TILT_SIGMA_RAD = np.radians(5.0)  # a sample's root orientation target offset, per world axis
 
 
 def check_controller(name: str) -> None:
@@ -88,7 +115,9 @@ class TrackerSettings:
     only on their heel and toe spheres (`foot_sole`). ``controller``: ``momentum`` (the chapter's:
     joint PD, balance through the momentum Jacobian, the stance-foot compensation) or ``qp`` (the
     whole-body inverse dynamics of `wbc.py`, its artificial torque on the root; the gains above
-    and the foot model's compensation are the momentum controller's and unused)."""
+    and the foot model's compensation are the momentum controller's and unused). Recovery (module
+    doc): at most ``recoveries`` falls searched past, ``recovery_samples`` samples per rewind,
+    drawn from a generator seeded with ``recovery_seed``."""
 
     joint_gains: dict = field(default_factory=lambda: dict(BIPED_GAINS))
     damping_time: float = 0.1
@@ -102,6 +131,9 @@ class TrackerSettings:
     foot_friction: float = 1.0
     soles: bool = True
     controller: str = "qp"
+    recoveries: int = 0
+    recovery_samples: int = 8
+    recovery_seed: int = 0
 
 
 @dataclass
@@ -120,6 +152,8 @@ class TrackingResult:
     qpos: np.ndarray = field(repr=False)  # (T, nq) recorded at the reference frame rate
     frame_time: float = 0.0
     foot_skate_m: float | None = None
+    recoveries: int = 0
+    recovery_simulations: int = 0
 
     def summary(self) -> dict:
         skate = None if self.foot_skate_m is None else round(self.foot_skate_m, 4)
@@ -133,7 +167,32 @@ class TrackingResult:
             "artificial_torque": round(self.artificial_torque, 3),
             "artificial_torque_max": round(self.artificial_torque_max, 3),
             "robustness": self.robustness,
+            "recoveries": self.recoveries,
+            "recovery_simulations": self.recovery_simulations,
         }
+
+
+@dataclass
+class _Run:
+    """The tracking loop's state: the simulation, the controller's memories, the logs (joint
+    errors, COM errors, artificial torques, recorded poses) with their lengths at a mark, the next
+    recording time (s) and the sampled target offsets ((start s, end s, offset (6,)), `offset`)."""
+
+    data: mujoco.MjData
+    landing: LandingShift
+    memory: ContactMemory
+    logged: tuple
+    logs: tuple
+    next_record: float
+    offsets: list
+
+    def offset(self, t: float) -> np.ndarray:
+        """The targets' offset (6,) at time t (s): COM (m), root rotation vector (rad, world)."""
+        total = np.zeros(6)
+        for start, end, offset in self.offsets:
+            if start <= t < end:
+                total += offset
+        return total
 
 
 class Tracker:
@@ -265,35 +324,47 @@ class Tracker:
         self.data.qfrc_applied[self.qp.root_turn] = command.artificial
         return float(np.linalg.norm(command.artificial))
 
-    def run(
-        self, duration_s: float | None = None, pushes: Sequence[BodyPush] = ()
-    ) -> TrackingResult:
-        """Simulate from the reference's first frame for duration_s (default: the whole reference),
-        with the given pushes."""
-        model, data, ref = self.model, self.data, self.reference
-        duration = ref.duration if duration_s is None else min(duration_s, ref.duration)
-        data.qpos[:] = ref.qpos[0]
-        data.qvel[:] = ref.qvel[0]
-        mujoco.mj_forward(model, data)
-        push_bodies = self._push_bodies(pushes)
+    def _mark(self, run: _Run) -> _Run:
+        """A copy of the loop's state to rewind to."""
+        data = mujoco.MjData(self.model)
+        mujoco.mj_copyData(data, self.model, run.data)
+        return _Run(
+            data=data,
+            landing=copy.deepcopy(run.landing),
+            memory=copy.deepcopy(run.memory),
+            logged=tuple(len(log) for log in run.logs),
+            logs=run.logs,
+            next_record=run.next_record,
+            offsets=list(run.offsets),
+        )
+
+    def _rewind(self, run: _Run, mark: _Run) -> None:
+        """Put the loop's state back to `mark` (its logs cut to their length then)."""
+        mujoco.mj_copyData(run.data, self.model, mark.data)
+        run.landing, run.memory = copy.deepcopy(mark.landing), copy.deepcopy(mark.memory)
+        for log, length in zip(run.logs, mark.logged):
+            del log[length:]
+        run.next_record, run.offsets = mark.next_record, list(mark.offsets)
+
+    def _advance(self, run: _Run, until: float, pushes, push_bodies) -> float | None:
+        """Simulate from the run's state until time `until` (s); the time of a fall, or None."""
+        model, data, ref = self.model, run.data, self.reference
         dt = model.opt.timestep * self.settings.control_every
-        steps = int(round(duration / dt))
-        joint_err, com_err, torques, qpos_log = [], [], [], [ref.qpos[0].copy()]
-        next_record = ref.frame_time
-        fell_at = None
-        landing = LandingShift(dt)
-        memory = ContactMemory()
-        for k in range(steps):
+        joint_err, com_err, torques, qpos_log = run.logs
+        while data.time + 1e-9 < until - 0.5 * dt:
             t = data.time
             target = self._reference_at(t)
             mujoco.mj_forward(model, data)
             reference_com = target["com"]
-            target["com"] = landing.shifted(reference_com)
-            contacts = memory.bridged(foot_contacts(model, data, self.rig))
+            offset = run.offset(t)
+            target["com"] = run.landing.shifted(reference_com) + offset[:3]
+            root = slice(self.rig.root_qpos + 3, self.rig.root_qpos + 7)
+            target["qpos"][root] = quat_mul(quat_exp(offset[3:]), target["qpos"][root])
+            contacts = run.memory.bridged(foot_contacts(model, data, self.rig))
             if self.qp is None:
                 command = balance_torque(model, data, self.rig, target, contacts)
                 flight = command.airborne and not ref.foot_contact[ref.frame_at(t)[0]].any()
-                landing.update(flight, data.subtree_com[self.world.root_body], reference_com)
+                run.landing.update(flight, data.subtree_com[self.world.root_body], reference_com)
                 apply_foot_torques(data, self.rig, command)
                 data.ctrl[: self.world.nmotor] = command.torque[self.rig.joint_dofs]
                 artificial = command.artificial
@@ -309,11 +380,90 @@ class Tracker:
             com_z = data.subtree_com[self.world.root_body][2]
             up_z = self.world.root.up_z(data.qpos)
             if has_fallen(com_z, reference_com[2], up_z, self._touches_floor_off_feet()):
-                fell_at = float(data.time)
-                break
-            if data.time + 1e-9 >= next_record:
+                return float(data.time)
+            if data.time + 1e-9 >= run.next_record:
                 qpos_log.append(data.qpos.copy())
-                next_record += ref.frame_time
+                run.next_record += ref.frame_time
+        return None
+
+    def _recover(
+        self, run: _Run, marks: list[_Run], fell_at: float, end: float, rng, pushes, bodies
+    ) -> tuple[bool, int]:
+        """Search for a branch that does not fall (module doc, "Recovery") from the fall at
+        `fell_at` (s) of a clip ending at `end` (s). Returns (recovered, simulations run); the run
+        is left on the kept sample, or when none was kept on the one that stood longest, rewound
+        for the caller to play on to its fall."""
+        settings, sims = self.settings, 0
+        longest: tuple[float, _Run, tuple] | None = None
+        until = min(fell_at + HOLD_S, end)
+        sigma = np.concatenate([COM_SIGMA_M, np.full(3, TILT_SIGMA_RAD)])
+        for rewind in REWINDS_S:
+            base = next(m for m in reversed(marks) if m.data.time <= fell_at - rewind + 1e-9)
+            standing: list[tuple[float, tuple]] = []
+            for _ in range(settings.recovery_samples):
+                offset = (base.data.time, until, rng.normal(0.0, 1.0, 6) * sigma)
+                self._rewind(run, base)
+                run.offsets.append(offset)
+                fell = self._advance(run, until, pushes, bodies)
+                sims += 1
+                if fell is None:
+                    standing.append((float(np.mean(run.logs[1][base.logged[1] :])), offset))
+                elif longest is None or fell > longest[0]:
+                    longest = (fell, base, offset)
+            if standing:
+                self._rewind(run, base)
+                run.offsets.append(min(standing, key=lambda s: s[0])[1])
+                self._advance(run, until, pushes, bodies)
+                del marks[marks.index(base) + 1 :]
+                return True, sims + 1
+        _, base, offset = longest
+        self._rewind(run, base)
+        run.offsets.append(offset)
+        return False, sims
+
+    def run(
+        self, duration_s: float | None = None, pushes: Sequence[BodyPush] = ()
+    ) -> TrackingResult:
+        """Simulate from the reference's first frame for duration_s (default: the whole reference),
+        with the given pushes; a fall is searched past (module doc, "Recovery") at most
+        `settings.recoveries` times."""
+        model, ref, settings = self.model, self.reference, self.settings
+        duration = ref.duration if duration_s is None else min(duration_s, ref.duration)
+        data = self.data
+        data.qpos[:] = ref.qpos[0]
+        data.qvel[:] = ref.qvel[0]
+        mujoco.mj_forward(model, data)
+        push_bodies = self._push_bodies(pushes)
+        dt = model.opt.timestep * settings.control_every
+        run = _Run(
+            data=data,
+            landing=LandingShift(dt),
+            memory=ContactMemory(),
+            logged=(),
+            logs=([], [], [], [ref.qpos[0].copy()]),
+            next_record=ref.frame_time,
+            offsets=[],
+        )
+        marks = [self._mark(run)]
+        rng = np.random.default_rng(settings.recovery_seed)
+        fell_at, recovered, sims = None, 0, 0
+        while data.time + 0.5 * dt < duration:
+            until = min(marks[-1].data.time + MARK_S, duration)
+            fell_at = self._advance(run, until, pushes, push_bodies)
+            if fell_at is None:
+                marks.append(self._mark(run))
+                continue
+            if recovered >= settings.recoveries:
+                break
+            saved, used = self._recover(run, marks, fell_at, duration, rng, pushes, push_bodies)
+            sims += used
+            if not saved:
+                fell_at = self._advance(run, duration, pushes, push_bodies)
+                break
+            recovered += 1
+            fell_at = None
+            marks.append(self._mark(run))
+        joint_err, com_err, torques, qpos_log = run.logs
         joint_err = np.concatenate(joint_err) if joint_err else np.zeros(1)
         return TrackingResult(
             duration_s=float(data.time),
@@ -326,6 +476,8 @@ class Tracker:
             robustness=self.foot.robustness,
             qpos=np.array(qpos_log),
             frame_time=ref.frame_time,
+            recoveries=recovered,
+            recovery_simulations=sims,
         )
 
 
