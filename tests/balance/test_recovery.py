@@ -46,9 +46,26 @@ def test_a_fall_is_searched_past_and_the_played_motion_stays_whole(pushed_walk):
 
 
 def test_the_motion_before_the_rewind_is_the_controllers_own(pushed_walk):
-    # Up to the earliest state a recovery can rewind to, both runs are the same simulation.
+    # Both runs are the same simulation up to the mark the recovery rewound to (a multiple of
+    # MARK_S, at most the last rewind before the fall), and differ after it.
     alone, recovered = pushed_walk
-    earliest = alone.fall_time_s - max(REWINDS_S) - MARK_S
-    frames = int(earliest / alone.frame_time)
-    np.testing.assert_array_equal(recovered.qpos[:frames], alone.qpos[:frames])
-    assert not np.array_equal(recovered.qpos[: len(alone.qpos)], alone.qpos)
+    n = min(len(alone.qpos), len(recovered.qpos))
+    differs = np.flatnonzero(np.any(recovered.qpos[:n] != alone.qpos[:n], axis=1))
+    assert differs.size
+    diverged = differs[0] * alone.frame_time
+    mark = np.floor(diverged / MARK_S + 1e-9) * MARK_S
+    assert diverged - mark <= alone.frame_time + 1e-9  # within a frame after a mark
+    assert alone.fall_time_s - max(REWINDS_S) - MARK_S <= mark < alone.fall_time_s
+    assert mark >= PUSH.time_s  # here the first rewind held: 0.3 s back, after the push
+
+
+def test_a_fall_early_in_the_clip_rewinds_to_its_start_once():
+    # 3 000 N at 0.1 s: the walk falls at about 0.4 s, before any rewind of REWINDS_S fits; every
+    # rewind reaches the first mark, which is tried once (one sample each here).
+    ref = reference_poses(MOCAP / "cmu_02_01_walk.bvh", "walker", None, 1)
+    reference = kinematic_replay(ref["world"], ref["qpos"], ref["frame_time"])
+    shove = (BodyPush((0.0, 3000.0, 0.0), 0.1),)
+    settings = TrackerSettings(recoveries=1, recovery_samples=1)
+    result = track(ref["world"], reference, 0.5, settings, 1.5, shove)
+    assert result.fell and result.fall_time_s < REWINDS_S[0] + MARK_S
+    assert result.recoveries == 0 and result.recovery_simulations == 1

@@ -65,7 +65,7 @@ def register(app: typer.Typer) -> None:
         recoveries: int = typer.Option(
             None,
             "--recoveries",
-            help="Falls searched past: at a fall the simulation is rewound 0.3-1 s and replayed "
+            help="Falls searched past: at a fall the simulation is rewound 0.3-2 s and replayed "
             "with sampled balance targets until one stays up (default 4; 0: the controller "
             "alone).",
         ),

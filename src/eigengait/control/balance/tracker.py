@@ -14,7 +14,7 @@ them). A tracked clip that falls has usually left the reference a few tenths of 
 (a stance that sinks, a landing that comes early), and a slightly different balance target then
 would have held it: the same tracker changed by one gain holds some falling clips and drops others
 (docs/balance.md). So the loop keeps a copy of its state every MARK_S seconds, and at a fall it
-rewinds to the copy REWINDS_S before it and replays the stretch with the COM target moved by a
+rewinds to the copy REWINDS_S[0] before it and replays the stretch with the COM target moved by a
 sampled offset (σ COM_SIGMA_M) and the root's orientation target turned by one (σ TILT_SIGMA_RAD
 about each world axis), held until HOLD_S after the fall. Of the samples still up then, the one
 with the least mean COM error is kept and tracking goes on from it; if none is, the next rewind is
@@ -71,7 +71,7 @@ TRACK_RECOVERIES = 4  # falls `eigengait track` searches past by default
 # it, in turn, and trying `recovery_samples` offsets of the COM and root orientation targets, held
 # until HOLD_S after the fall; the sample still up then with the least mean COM error is kept.
 MARK_S = 0.25  # s
-REWINDS_S = (0.3, 0.6, 1.0)  # s
+REWINDS_S = (0.3, 0.6, 1.0, 1.5, 2.0)  # s
 HOLD_S = 0.5  # s
 COM_SIGMA_M = np.array([0.03, 0.03, 0.015])  # a sample's COM target offset (m, world x y z)
 TILT_SIGMA_RAD = np.radians(5.0)  # a sample's root orientation target offset, per world axis
@@ -397,8 +397,14 @@ class Tracker:
         longest: tuple[float, _Run, tuple] | None = None
         until = min(fell_at + HOLD_S, end)
         sigma = np.concatenate([COM_SIGMA_M, np.full(3, TILT_SIGMA_RAD)])
+        tried: set[int] = set()
         for rewind in REWINDS_S:
-            base = next(m for m in reversed(marks) if m.data.time <= fell_at - rewind + 1e-9)
+            base = next(
+                (m for m in reversed(marks) if m.data.time <= fell_at - rewind + 1e-9), marks[0]
+            )
+            if id(base) in tried:  # a fall early in the clip: the rewinds reach the same mark
+                continue
+            tried.add(id(base))
             standing: list[tuple[float, tuple]] = []
             for _ in range(settings.recovery_samples):
                 offset = (base.data.time, until, rng.normal(0.0, 1.0, 6) * sigma)
