@@ -148,3 +148,20 @@ def test_bad_inputs_exit_with_status_2(tmp_path):
     assert proc.returncode == 2 and "controller" in proc.stderr and "qp" in proc.stderr
     proc = _run(WALK, "--recoveries", "-1")
     assert proc.returncode == 2 and "recoveries" in proc.stderr
+
+
+def test_a_fall_searched_past_is_reported(tmp_path):
+    # The walk's first 0.8 s shoved with 3 000 N at 0.1 s falls at about 0.4 s; one recovery is
+    # searched (every rewind reaches the clip's start: 8 samples), and the output says so.
+    lines = Path(WALK).read_text().splitlines()
+    header = lines.index("MOTION")
+    short = tmp_path / "short.bvh"
+    frames = lines[header + 3 : header + 3 + 100]
+    short.write_text(
+        "\n".join(lines[: header + 1] + ["Frames: 100", "Frame Time: .0083333"] + frames) + "\n"
+    )
+    args = ["track", str(short), "--push", "3000@0.1", "--recoveries", "1"]
+    out = json.loads(CliRunner().invoke(_app(), [*args, "--json"]).stdout)
+    assert out["fell"] is True and out["recoveries"] == 0 and out["recovery_simulations"] == 8
+    text = CliRunner().invoke(_app(), args).output
+    assert "recovery: 0 fall(s) searched past, 8 simulations" in text

@@ -59,7 +59,7 @@ def test_the_motion_before_the_rewind_is_the_controllers_own(pushed_walk):
     assert mark >= PUSH.time_s  # here the first rewind held: 0.3 s back, after the push
 
 
-def test_a_fall_early_in_the_clip_rewinds_to_its_start_once():
+def test_a_fall_early_in_the_clip_rewinds_to_its_start_once_then_plays_as_without():
     # 3 000 N at 0.1 s: the walk falls at about 0.4 s, before any rewind of REWINDS_S fits; every
     # rewind reaches the first mark, which is tried once (one sample each here).
     ref = reference_poses(MOCAP / "cmu_02_01_walk.bvh", "walker", None, 1)
@@ -69,3 +69,7 @@ def test_a_fall_early_in_the_clip_rewinds_to_its_start_once():
     result = track(ref["world"], reference, 0.5, settings, 1.5, shove)
     assert result.fell and result.fall_time_s < REWINDS_S[0] + MARK_S
     assert result.recoveries == 0 and result.recovery_simulations == 1
+    # none kept: the clip is the controller's alone, pose for pose and error for error
+    alone = track(ref["world"], reference, 0.5, TrackerSettings(), 1.5, shove)
+    np.testing.assert_array_equal(result.qpos, alone.qpos)
+    assert result.joint_rms_deg == alone.joint_rms_deg and result.com_error_m == alone.com_error_m

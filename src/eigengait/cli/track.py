@@ -141,6 +141,12 @@ def register(app: typer.Typer) -> None:
             f"{result.foot_skate_m:.3f} m per stance (robustness {robustness}, {controller} "
             "controller)."
         )
+        if result.recovery_simulations:
+            typer.echo(
+                f"recovery: {result.recoveries} fall(s) searched past, "
+                f"{result.recovery_simulations} simulations of sampled balance targets "
+                "(--recoveries 0: the controller alone)."
+            )
 
 
 def _print_kinematic(report: dict, as_json: bool) -> None:

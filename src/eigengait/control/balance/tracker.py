@@ -16,14 +16,15 @@ would have held it: the same tracker changed by one gain holds some falling clip
 (docs/balance.md). So the loop keeps a copy of its state every MARK_S seconds, and at a fall it
 rewinds to the copy REWINDS_S[0] before it and replays the stretch with the COM target moved by a
 sampled offset (σ COM_SIGMA_M) and the root's orientation target turned by one (σ TILT_SIGMA_RAD
-about each world axis), held until HOLD_S after the fall. Of the samples still up then, the one
-with the least mean COM error is kept and tracking goes on from it; if none is, the next rewind is
-tried, and after the last the sample that stood longest is played on to its fall. The played
-motion is an ordinary simulation of the controller with those targets: nothing but the controller
-and the contacts moves the body. `TrackerSettings.recoveries` bounds the falls searched past per
-clip (0, the default: the controller alone, as push-survival figures need); `eigengait track`
-searches past up to TRACK_RECOVERIES. The result reports how many were and how many simulations
-it took.
+about each world axis), held until HOLD_S after the fall. Of the samples still up then with their
+COM within RECOVERED_COM_M of the reference's (a body held up by the artificial torque far off the
+reference's path is not being tracked), the one with the least mean COM error is kept and tracking
+goes on from it; if none is, the next rewind is tried, and after the last the clip is played on to
+its fall as the controller alone plays it. The played motion is an ordinary simulation of the
+controller with those targets: nothing but the controller and the contacts moves the body.
+`TrackerSettings.recoveries` bounds the falls searched past per clip (0, the default: the
+controller alone, as push-survival figures need); `eigengait track` searches past up to
+TRACK_RECOVERIES. The result reports how many were and how many simulations it took.
 """
 
 from __future__ import annotations
@@ -73,6 +74,7 @@ TRACK_RECOVERIES = 4  # falls `eigengait track` searches past by default
 MARK_S = 0.25  # s
 REWINDS_S = (0.3, 0.6, 1.0, 1.5, 2.0)  # s
 HOLD_S = 0.5  # s
+RECOVERED_COM_M = 0.2  # a sample standing then with its COM further off the reference's is not kept
 COM_SIGMA_M = np.array([0.03, 0.03, 0.015])  # a sample's COM target offset (m, world x y z)
 TILT_SIGMA_RAD = np.radians(5.0)  # a sample's root orientation target offset, per world axis
 
@@ -391,10 +393,10 @@ class Tracker:
     ) -> tuple[bool, int]:
         """Search for a branch that does not fall (module doc, "Recovery") from the fall at
         `fell_at` (s) of a clip ending at `end` (s). Returns (recovered, simulations run); the run
-        is left on the kept sample, or when none was kept on the one that stood longest, rewound
-        for the caller to play on to its fall."""
+        is left on the kept sample or, when none was kept, at the earliest mark tried (the samples
+        rewrote the logs from there), for the caller to replay the controller alone from it to its
+        fall."""
         settings, sims = self.settings, 0
-        longest: tuple[float, _Run, tuple] | None = None
         until = min(fell_at + HOLD_S, end)
         sigma = np.concatenate([COM_SIGMA_M, np.full(3, TILT_SIGMA_RAD)])
         tried: set[int] = set()
@@ -412,19 +414,15 @@ class Tracker:
                 run.offsets.append(offset)
                 fell = self._advance(run, until, pushes, bodies)
                 sims += 1
-                if fell is None:
+                if fell is None and run.logs[1][-1] <= RECOVERED_COM_M:
                     standing.append((float(np.mean(run.logs[1][base.logged[1] :])), offset))
-                elif longest is None or fell > longest[0]:
-                    longest = (fell, base, offset)
             if standing:
                 self._rewind(run, base)
                 run.offsets.append(min(standing, key=lambda s: s[0])[1])
                 self._advance(run, until, pushes, bodies)
                 del marks[marks.index(base) + 1 :]
                 return True, sims + 1
-        _, base, offset = longest
-        self._rewind(run, base)
-        run.offsets.append(offset)
+        self._rewind(run, base)  # the earliest tried: from it the caller replays the original
         return False, sims
 
     def run(
