@@ -456,6 +456,11 @@ class Tracker:
             fell_at = self._advance(run, until, pushes, push_bodies)
             if fell_at is None:
                 marks.append(self._mark(run))
+                # no rewind reaches behind the last mark before this horizon: a long clip keeps
+                # a few seconds of marks
+                horizon = data.time - max(REWINDS_S) - MARK_S
+                while len(marks) > 1 and marks[1].data.time <= horizon:
+                    marks.pop(0)
                 continue
             if recovered >= settings.recoveries:
                 break
