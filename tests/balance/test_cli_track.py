@@ -24,6 +24,16 @@ MAIN = (
 )
 
 
+def _walk_start(tmp_path, frames: int) -> Path:
+    """The 02_01 walk's first `frames` frames as a clip of its own."""
+    lines = Path(WALK).read_text().splitlines()
+    header = lines.index("MOTION")
+    short = tmp_path / "short.bvh"
+    kept = [f"Frames: {frames}", "Frame Time: .0083333"] + lines[header + 3 : header + 3 + frames]
+    short.write_text("\n".join(lines[: header + 1] + kept) + "\n")
+    return short
+
+
 def _app():
     app = typer.Typer()
     register(app)
@@ -32,13 +42,7 @@ def _app():
 
 
 def test_json_reports_the_required_fields(tmp_path):
-    lines = Path(WALK).read_text().splitlines()
-    header = lines.index("MOTION")
-    short = tmp_path / "short.bvh"
-    frames = lines[header + 3 : header + 3 + 40]
-    short.write_text(
-        "\n".join(lines[: header + 1] + ["Frames: 40", "Frame Time: .0083333"] + frames) + "\n"
-    )
+    short = _walk_start(tmp_path, 40)
     out_bvh = tmp_path / "out.bvh"
     result = CliRunner().invoke(
         _app(),
@@ -64,17 +68,7 @@ def test_json_reports_the_required_fields(tmp_path):
 
 
 def test_the_whole_body_controller_is_chosen_from_the_command_line(tmp_path):
-    lines = Path(WALK).read_text().splitlines()
-    header = lines.index("MOTION")
-    short = tmp_path / "short.bvh"
-    short.write_text(
-        "\n".join(
-            lines[: header + 1]
-            + ["Frames: 60", "Frame Time: .0083333"]
-            + lines[header + 3 : header + 63]
-        )
-        + "\n"
-    )
+    short = _walk_start(tmp_path, 60)
     result = CliRunner().invoke(
         _app(), ["track", str(short), "--controller", "qp", "--robustness", "0.5", "--json"]
     )
@@ -153,13 +147,7 @@ def test_bad_inputs_exit_with_status_2(tmp_path):
 def test_a_fall_searched_past_is_reported(tmp_path):
     # The walk's first 0.8 s shoved with 3 000 N at 0.1 s falls at about 0.4 s; one recovery is
     # searched (every rewind reaches the clip's start: 8 samples), and the output says so.
-    lines = Path(WALK).read_text().splitlines()
-    header = lines.index("MOTION")
-    short = tmp_path / "short.bvh"
-    frames = lines[header + 3 : header + 3 + 100]
-    short.write_text(
-        "\n".join(lines[: header + 1] + ["Frames: 100", "Frame Time: .0083333"] + frames) + "\n"
-    )
+    short = _walk_start(tmp_path, 100)
     args = ["track", str(short), "--push", "3000@0.1", "--recoveries", "1"]
     out = json.loads(CliRunner().invoke(_app(), [*args, "--json"]).stdout)
     assert out["fell"] is True and out["recoveries"] == 0 and out["recovery_simulations"] == 8
