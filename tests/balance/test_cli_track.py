@@ -11,7 +11,7 @@ from typer.testing import CliRunner
 
 from eigengait.cli.track import register
 from eigengait.motion.bvh import read_bvh, write_bvh
-from shared_data import MOCAP
+from shared_data import MOCAP, clip_start
 
 WALK = str(MOCAP / "cmu_02_01_walk.bvh")
 DAZ_WALK = str(MOCAP / "cmu_07_06_walk_daz.bvh")
@@ -26,12 +26,7 @@ MAIN = (
 
 def _walk_start(tmp_path, frames: int) -> Path:
     """The 02_01 walk's first `frames` frames as a clip of its own."""
-    lines = Path(WALK).read_text().splitlines()
-    header = lines.index("MOTION")
-    short = tmp_path / "short.bvh"
-    kept = [f"Frames: {frames}", "Frame Time: .0083333"] + lines[header + 3 : header + 3 + frames]
-    short.write_text("\n".join(lines[: header + 1] + kept) + "\n")
-    return short
+    return clip_start(Path(WALK), frames, tmp_path / "short.bvh")
 
 
 def _app():

@@ -99,5 +99,10 @@ class TrackPanel:
             f"error {result.com_error_m:.3f} m, mean artificial torque "
             f"{result.artificial_torque:.1f} N·m ({self.controller.value} controller)."
         )
+        if result.recovery_simulations:
+            self.report.content += (
+                f" Recovery: {result.recoveries} fall(s) searched past in "
+                f"{result.recovery_simulations} simulations of sampled balance targets."
+            )
         self.messages.info(f"Tracking `{self.sandbox.relative(path)}` in physics.", client)
         return result
