@@ -188,13 +188,11 @@ class _Run:
     next_record: float
     offsets: list
 
-    def offset(self, t: float) -> np.ndarray:
-        """The targets' offset (6,) at time t (s): COM (m), root rotation vector (rad, world)."""
-        total = np.zeros(6)
-        for start, end, offset in self.offsets:
-            if start <= t < end:
-                total += offset
-        return total
+    def offset(self, t: float) -> np.ndarray | None:
+        """The targets' offset (6,) at time t (s): COM (m), root rotation vector (rad, world);
+        None while no offset is in force."""
+        active = [offset for start, end, offset in self.offsets if start <= t < end]
+        return np.sum(active, axis=0) if active else None
 
 
 class Tracker:
@@ -358,10 +356,12 @@ class Tracker:
             target = self._reference_at(t)
             mujoco.mj_forward(model, data)
             reference_com = target["com"]
+            target["com"] = run.landing.shifted(reference_com)
             offset = run.offset(t)
-            target["com"] = run.landing.shifted(reference_com) + offset[:3]
-            root = slice(self.rig.root_qpos + 3, self.rig.root_qpos + 7)
-            target["qpos"][root] = quat_mul(quat_exp(offset[3:]), target["qpos"][root])
+            if offset is not None:  # a recovery's sample (module doc)
+                target["com"] = target["com"] + offset[:3]
+                root = slice(self.rig.root_qpos + 3, self.rig.root_qpos + 7)
+                target["qpos"][root] = quat_mul(quat_exp(offset[3:]), target["qpos"][root])
             contacts = run.memory.bridged(foot_contacts(model, data, self.rig))
             if self.qp is None:
                 command = balance_torque(model, data, self.rig, target, contacts)
