@@ -54,7 +54,9 @@ def test_cleaned_skate_is_a_fraction_of_the_raw_one(cleaned):
         raw.foot_skate_m > SKATE_BOUND_M and clean.foot_skate_m < SKATE_FRACTION * raw.foot_skate_m
     )
     assert clean.foot_skate_m < CONTACT_M  # under the skate measure's own contact band
-    assert clean.stances >= 4 and clean.floor_penetration_m < 0.005
+    # 5.2 mm: the leg pulled toward its retargeted pose leaves a held foot a few mm off its target
+    # (leg_ik); 0.1 mm when each frame's IK met its target exactly, with joint-speed spikes
+    assert clean.stances >= 4 and clean.floor_penetration_m < 0.01
     assert result.ik_error_m < 0.06
 
 
@@ -70,6 +72,25 @@ def test_only_the_legs_move(cleaned):
     others = np.setdiff1d(np.arange(model.nq), legs)
     np.testing.assert_array_equal(result.qpos[:, others], poses.qpos[:, others])
     assert np.abs(result.qpos[:, legs] - poses.qpos[:, legs]).max() > 0.01
+
+
+def _leg_speeds(model, qpos: np.ndarray, frame_time: float) -> np.ndarray:
+    """Rotation speed (deg/s) of each leg joint (ball) between consecutive poses (F - 1, joints)."""
+    legs = [j for j in range(model.njnt) if model.joint(j).name.endswith(("thigh", "shin", "foot"))]
+    turns = []
+    for joint in legs:
+        quat = qpos[:, model.jnt_qposadr[joint] : model.jnt_qposadr[joint] + 4]
+        cosine = np.abs(np.sum(quat[1:] * quat[:-1], axis=1)).clip(0.0, 1.0)
+        turns.append(np.degrees(2 * np.arccos(cosine)) / frame_time)
+    return np.stack(turns, axis=1)
+
+
+def test_the_cleaned_legs_turn_about_as_fast_as_the_retargeted_ones(cleaned):
+    # Measured: retargeted 721 deg/s at most, cleaned 985 (2 316 while each frame's IK started
+    # from the retargeted pose and its damped steps landed in different leg poses frame to frame).
+    world, poses, result = cleaned
+    raw = _leg_speeds(world.model, poses.qpos, poses.frame_time).max()
+    assert _leg_speeds(world.model, result.qpos, poses.frame_time).max() < 1.5 * raw
 
 
 def _stand_move_stand(lift_m: float, frame_time: float = 0.01, n: int = 200) -> np.ndarray:
@@ -230,3 +251,21 @@ def test_the_only_foot_near_the_floor_is_a_stance_while_it_slides():
     np.testing.assert_allclose(held, np.broadcast_to(held[n // 2], held.shape), atol=1e-9)
     _, none = foot_corrections(points, frame_time, pace, np.zeros(n))
     assert none == []
+
+
+def test_a_hovering_stance_is_brought_down_no_faster_than_the_correction_bound():
+    # A swing 12 cm up at 2 m/s, then the foot hovering still 6.5 cm up (a stance, held on the
+    # floor): the foot is brought down at most MAX_CORRECTION_SPEED, before the hold, not in one
+    # frame (a Bandai Namco walk's foot was dropped 7.9 cm between two frames).
+    frame_time, height = 1 / 120, 0.065
+    swing, hover = 60, 60
+    x = np.concatenate(
+        [2.0 * frame_time * np.arange(swing), np.full(hover, 2.0 * frame_time * swing)]
+    )
+    z = np.concatenate([np.full(swing, 0.12), np.full(hover, height)])
+    correction, holds = foot_corrections(_soles(x, z), frame_time)
+    start = holds[0][0]
+    assert swing <= start < swing + hover // 4
+    assert np.abs(np.diff(correction[:, 2])).max() <= MAX_CORRECTION_SPEED * frame_time + 1e-9
+    assert correction[swing + hover // 2, 2] == pytest.approx(-height)
+    assert correction[start - 1, 2] < -0.03  # already coming down before the hold

@@ -233,6 +233,12 @@ def foot_corrections(
         if start - end < 2 * blend:
             junctions[max(end - blend, 0) : start + blend] = True
     correction[:, :2] = _limit_rate(correction[:, :2], MAX_CORRECTION_SPEED * frame_time, junctions)
+    outside_cores = np.ones(n, bool)
+    for _, a, b, _ in holds:
+        outside_cores[a:b] = False
+    correction[:, 2:] = _limit_rate(
+        correction[:, 2:], MAX_CORRECTION_SPEED * frame_time, outside_cores
+    )
     return correction, [(start, end) for start, _, _, end in holds]
 
 
@@ -250,6 +256,20 @@ def _limit_rate(values: np.ndarray, largest_step: float, free: np.ndarray) -> np
             if size > largest_step:
                 out[i] = prev + change * (largest_step / size)
     return out
+
+
+def _qpos_of_dofs(model: mujoco.MjModel, dofs: np.ndarray) -> np.ndarray:
+    """The qpos indices of the joints that own `dofs`."""
+    joints = sorted({int(model.dof_jntid[d]) for d in dofs})
+    sizes = {int(mujoco.mjtJoint.mjJNT_BALL): 4, int(mujoco.mjtJoint.mjJNT_FREE): 7}
+    return np.concatenate(
+        [
+            np.arange(
+                model.jnt_qposadr[j], model.jnt_qposadr[j] + sizes.get(int(model.jnt_type[j]), 1)
+            )
+            for j in joints
+        ]
+    )
 
 
 def clean_feet(world: World, qpos: np.ndarray, frame_time: float) -> CleanedFeet:
@@ -271,6 +291,7 @@ def clean_feet(world: World, qpos: np.ndarray, frame_time: float) -> CleanedFeet
     }
     out, worst = qpos.copy(), 0.0
     chains = {f: leg_dofs(model, body, world.root_body) for f, body in feet.items()}
+    leg_qpos = {f: _qpos_of_dofs(model, chain) for f, chain in chains.items()}
     for i in range(len(qpos)):
         moving = [f for f in feet if np.any(plan[f][0][i])]
         if not moving:
@@ -282,6 +303,9 @@ def clean_feet(world: World, qpos: np.ndarray, frame_time: float) -> CleanedFeet
             for f in moving
         }
         for f in moving:
-            worst = max(worst, solve_leg(model, data, feet[f], chains[f], *targets[f]))
+            if i > 0 and np.any(plan[f][0][i - 1]):  # from the previous frame's solution
+                data.qpos[leg_qpos[f]] = out[i - 1, leg_qpos[f]]
+            error = solve_leg(model, data, feet[f], chains[f], *targets[f], preferred=qpos[i])
+            worst = max(worst, error)
         out[i] = data.qpos
     return CleanedFeet(qpos=out, stances={f: plan[f][1] for f in feet}, ik_error_m=worst)
