@@ -16,9 +16,9 @@ from eigengait.motion.tracking import reference_poses
 from shared_data import MOCAP
 
 DURATION_S = 2.2
-# 1 400 N sideways for 0.1 s (2 N·s/kg on the 70 kg walker) at 1 s: measured, the walk at
-# robustness 0.5 falls at 2.13 s; 1 300 N it survives
-PUSH = BodyPush((0.0, 1400.0, 0.0), 1.0)
+# 1 800 N sideways for 0.1 s (2.6 N·s/kg on the 70 kg walker) at 1 s: measured, the walk at
+# robustness 0.5 falls at 2.04 s; 1 500 N it survives (1 400 N falls at 2.55 s: past DURATION_S)
+PUSH = BodyPush((0.0, 1800.0, 0.0), 1.0)
 
 
 @pytest.fixture(scope="module")
@@ -60,11 +60,11 @@ def test_the_motion_before_the_rewind_is_the_controllers_own(pushed_walk):
 
 
 def test_a_fall_early_in_the_clip_rewinds_to_its_start_once_then_plays_as_without():
-    # 3 000 N at 0.1 s: the walk falls at about 0.4 s, before any rewind of REWINDS_S fits; every
+    # 5 000 N at 0.1 s: the walk falls at 0.36 s, before any rewind of REWINDS_S fits; every
     # rewind reaches the first mark, which is tried once (one sample each here).
     ref = reference_poses(MOCAP / "cmu_02_01_walk.bvh", "walker", None, 1)
     reference = kinematic_replay(ref["world"], ref["qpos"], ref["frame_time"])
-    shove = (BodyPush((0.0, 3000.0, 0.0), 0.1),)
+    shove = (BodyPush((0.0, 5000.0, 0.0), 0.1),)
     settings = TrackerSettings(recoveries=1, recovery_samples=1)
     result = track(ref["world"], reference, 0.5, settings, 1.5, shove)
     assert result.fell and result.fall_time_s < REWINDS_S[0] + MARK_S

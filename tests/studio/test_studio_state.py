@@ -100,8 +100,8 @@ def test_tracking_panel_tracks_a_clip_inside_the_folder_only(tmp_path):
 
 
 def test_tracking_panel_reports_a_fall_it_searched_past(tmp_path):
-    # The walk's first 100 frames shoved with 3 000 N at 0.1 s: it falls at about 0.4 s, the
-    # default recovery searches 8 samples from the clip's start, and the report says so.
+    # The walk's first 100 frames shoved with 5 000 N at 0.1 s: it falls at 0.28 s, the default
+    # recovery searches 8 samples from the clip's start, and the report says so.
     from conftest import MOCAP_WALK, free_port
     from eigengait.studio.app import Studio
     from shared_data import clip_start
@@ -109,7 +109,7 @@ def test_tracking_panel_reports_a_fall_it_searched_past(tmp_path):
     clip_start(MOCAP_WALK, 100, tmp_path / "walk.bvh")
     studio = Studio(tmp_path, "humanoid", port=free_port())
     try:
-        studio.track_panel.push.value = "3000@0.1"
+        studio.track_panel.push.value = "5000@0.1"
         result = studio.track_panel.track_file("walk.bvh")
         assert result.fell and result.recovery_simulations == 8
         assert "Recovery: 0 fall(s) searched past in 8 simulations" in (
