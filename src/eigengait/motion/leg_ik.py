@@ -48,21 +48,6 @@ def leg_dofs(model: mujoco.MjModel, foot_body: int, root_body: int) -> np.ndarra
     return np.array(sorted(dofs), int)
 
 
-def _pose_error(model, data, foot_body, dofs, target_pos, target_rot, weight, jacp, jacr):
-    """The weighted 6D error (6,) of the foot body's pose and its Jacobian (6, len(dofs)) over the
-    leg's dofs, with the damped pseudo-inverse (len(dofs), 6) of the latter."""
-    mujoco.mj_kinematics(model, data)
-    mujoco.mj_comPos(model, data)
-    rot = data.xmat[foot_body].reshape(3, 3)
-    error = np.concatenate(
-        [target_pos - data.xpos[foot_body], quat_log(mat_to_quat(target_rot @ rot.T))]
-    )
-    mujoco.mj_jacBody(model, data, jacp, jacr, foot_body)
-    jac = np.concatenate([jacp[:, dofs], jacr[:, dofs]]) * weight[:, None]
-    pseudo_inverse = jac.T @ np.linalg.inv(jac @ jac.T + DAMPING**2 * np.eye(6))
-    return error * weight, jac, pseudo_inverse
-
-
 def solve_leg(
     model: mujoco.MjModel,
     data: mujoco.MjData,
@@ -77,9 +62,17 @@ def solve_leg(
     jacp, jacr = np.zeros((3, model.nv)), np.zeros((3, model.nv))
     step, toward = np.zeros(model.nv), np.zeros(model.nv)
     weight = np.array([1.0, 1.0, 1.0] + [ORIENTATION_WEIGHT] * 3)
-    args = (model, data, foot_body, dofs, target_pos, target_rot, weight, jacp, jacr)
     for _ in range(MAX_ITERATIONS):
-        error, jac, pseudo_inverse = _pose_error(*args)
+        mujoco.mj_kinematics(model, data)
+        mujoco.mj_comPos(model, data)
+        rot = data.xmat[foot_body].reshape(3, 3)
+        error = np.concatenate(
+            [target_pos - data.xpos[foot_body], quat_log(mat_to_quat(target_rot @ rot.T))]
+        )
+        error *= weight
+        mujoco.mj_jacBody(model, data, jacp, jacr, foot_body)
+        jac = np.concatenate([jacp[:, dofs], jacr[:, dofs]]) * weight[:, None]
+        pseudo_inverse = jac.T @ np.linalg.inv(jac @ jac.T + DAMPING**2 * np.eye(6))
         step[:] = 0.0
         if preferred is not None:
             mujoco.mj_differentiatePos(model, toward, 1.0, data.qpos, preferred)
