@@ -5,16 +5,20 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 import typer
+from scipy.spatial.transform import Rotation
 from typer.testing import CliRunner
 
 from eigengait.cli.track import register
-from eigengait.motion.bvh import read_bvh, write_bvh
+from eigengait.motion.bvh import local_transforms, read_bvh, write_bvh
+from eigengait.motion.flat_feet import FLAT_TILT_WARN_DEG
 from shared_data import MOCAP, clip_start
 
 WALK = str(MOCAP / "cmu_02_01_walk.bvh")
 DAZ_WALK = str(MOCAP / "cmu_07_06_walk_daz.bvh")
+RUN = str(MOCAP / "cmu_16_36_run_daz.bvh")
 MAIN = (
     "import sys, typer; from eigengait.cli.track import register; from eigengait.errors import "
     "UserInputError\n"
@@ -149,3 +153,35 @@ def test_a_fall_searched_past_is_reported(tmp_path):
     assert out["fell"] is True and out["recoveries"] == 0 and out["recovery_simulations"] == 8
     text = CliRunner().invoke(_app(), args).output
     assert "recovery: 0 fall(s) searched past, 8 simulations" in text
+
+
+def test_kinematic_warns_of_a_foot_standing_off_level_where_the_clip_is_flat(tmp_path):
+    # The CMU run's left foot twisted 40° about its own ankle-to-toe bone in every frame: its toe
+    # stays where it was, and so do the frames in which the clip's foot stands flat, but the foot
+    # rolls, and a run has no still stance for the levelling to correct it on.
+    clip = read_bvh(RUN)
+    foot = clip.joint_index("lFoot")
+    bone = clip.joints[foot].end_site / np.linalg.norm(clip.joints[foot].end_site)
+    twisted = (
+        local_transforms(clip)[0][:, foot] @ Rotation.from_rotvec(np.radians(40) * bone).as_matrix()
+    )
+    channels = clip.joints[foot].channels
+    order = "".join(c[0] for c in channels if c.endswith("rotation"))
+    cols = clip.channel_slices()[foot]
+    clip.frames[:, cols] = Rotation.from_matrix(twisted).as_euler(order, degrees=True)
+    rolled = tmp_path / "rolled.bvh"
+    write_bvh(clip, rolled)
+    before = json.loads(CliRunner().invoke(_app(), ["track", RUN, "--kinematic", "--json"]).output)
+    after = json.loads(
+        CliRunner().invoke(_app(), ["track", str(rolled), "--kinematic", "--json"]).output
+    )
+    # measured 7.5° before; the twist about a bone pointing down at the toes tilts the foot by less
+    # than 40°
+    assert before["flat_foot_tilt_deg"]["left"] < FLAT_TILT_WARN_DEG
+    assert after["flat_foot_tilt_deg"]["left"] > FLAT_TILT_WARN_DEG + 5.0
+    assert after["flat_foot_tilt_deg"]["right"] == pytest.approx(
+        before["flat_foot_tilt_deg"]["right"], abs=0.5
+    )
+    text = CliRunner().invoke(_app(), ["track", str(rolled), "--kinematic"]).output
+    assert "warning: the left foot stands" in text and "warning: the right foot" not in text
+    assert "warning" not in CliRunner().invoke(_app(), ["track", RUN, "--kinematic"]).output

@@ -25,6 +25,7 @@ from eigengait.cli.media import (
     write_media,
 )
 from eigengait import json_text
+from eigengait.motion.flat_feet import FLAT_TILT_WARN_DEG
 from eigengait.outputs import refuse_existing
 
 PUSH_HELP = (
@@ -73,7 +74,8 @@ def register(app: typer.Typer) -> None:
             False,
             "--kinematic",
             help="No physics: play the retargeted reference and report its foot skate, "
-            "floor penetration and ground clearance (--video/--bvh show it).",
+            "floor penetration, ground clearance and its feet's tilt where the clip's feet stand "
+            "flat (--video/--bvh show it).",
         ),
         clean_feet: bool = typer.Option(
             True,
@@ -169,6 +171,13 @@ def _print_kinematic(report: dict, as_json: bool) -> None:
         f"cleanup), floor penetration {report['floor_penetration_m']:.3f} m, ground clearance "
         f"{'n/a' if clearance is None else f'{clearance:.3f} m'}."
     )
+    for foot, tilt in report["flat_foot_tilt_deg"].items():
+        if tilt > FLAT_TILT_WARN_DEG:
+            typer.echo(
+                f"warning: the {foot} foot stands {tilt:.0f}° off level where the clip's foot is "
+                "flat, so the reference stands on its heel or toe there (docs/balance.md, "
+                "'Levelling on the clip's own flat feet')."
+            )
     for glitch in report["capture_glitches"]:
         typer.echo(
             f"capture glitch repaired: {glitch['joint']} turned faster than a human joint can, "

@@ -41,6 +41,7 @@ from eigengait.errors import UserInputError
 from eigengait.files import load_model
 from eigengait.motion.bvh import BvhClip, end_site_positions, frame_points, global_transforms
 from eigengait.motion.conventions import detect_conventions, rest_stands
+from eigengait.motion.flat_feet import clip_flat_frames
 from eigengait.motion.foot_level import level_feet
 from eigengait.motion.grounding import floor_offset, lowest_foot_points
 from eigengait.motion.rest_offsets import planted_frames, rest_offsets
@@ -165,14 +166,16 @@ def clip_axes(mapping: Mapping, clip: BvhClip, start_frame: int = 1) -> np.ndarr
 @dataclass
 class RetargetedClip:
     """Character poses (F, nq) at the clip's frame times, the root translation's scale (m per file
-    unit), the factor by which it differs from the hip-height scale (`root_scale`) and each foot's
-    levelling (degrees, `foot_level`)."""
+    unit), the factor by which it differs from the hip-height scale (`root_scale`), each foot's
+    levelling (degrees, `foot_level`) and, per foot whose clip joint has a toe, the frames (F,)
+    bool in which the clip's foot stands flat (`flat_feet`)."""
 
     qpos: np.ndarray
     frame_time: float
     scale: float
     root_factor: float = 1.0
     foot_level_deg: dict[str, float] = field(default_factory=dict)
+    flat_frames: dict[str, np.ndarray] = field(default_factory=dict)
 
     @property
     def duration(self) -> float:
@@ -435,7 +438,10 @@ def retarget(clip: BvhClip, world: World, mapping: Mapping, start_frame: int = 1
     qpos, levelled = level_feet(world, qpos, clip.frame_time)
     _clamp_to_joint_ranges(model, qpos)
     _place_root(world, qpos, root_adr, factor * root_path, clip.frame_time)
-    return RetargetedClip(qpos, clip.frame_time, hip_scale * factor, factor, levelled)
+    foot_names = {int(model.geom_bodyid[g[0]]): name for name, g in world.foot_spheres.items()}
+    flat = clip_flat_frames(clip, rot, pos, axes, [b for b in body_of if body_of[b] in foot_names])
+    flat_by_foot = {foot_names[body_of[b]]: frames for b, frames in flat.items()}
+    return RetargetedClip(qpos, clip.frame_time, hip_scale * factor, factor, levelled, flat_by_foot)
 
 
 def _clamp_to_joint_ranges(model: mujoco.MjModel, qpos: np.ndarray) -> None:

@@ -1,6 +1,6 @@
 """Track a motion-capture clip in physics: load, retarget, clean the feet, replay as reference, run
 the balance controller; or check the retargeted reference without physics (foot skate, floor
-penetration, ground clearance).
+penetration, ground clearance, the feet's tilt where the clip's feet stand flat).
 
 Shared by `eigengait track` and the studio's tracking panel.
 """
@@ -22,12 +22,17 @@ def reference_poses(
 
     Returns world, poses (F, nq), first_frame (the clip frame they start at), frame_time (s, of the
     poses), scale (m per file unit), root_factor (`root_scale`), foot_level_deg (`foot_level`),
+    flat_foot_tilt_deg (per foot, the final poses' tilt where the clip's foot stands flat,
+    `flat_feet`),
     conventions (or None when the skeleton's legs are not found by name), raw and final foot
     reports (`foot_metrics`), glitches (`capture_glitches.Glitch` list)."""
+    import numpy as np
+
     from eigengait.character import load_character
     from eigengait.motion.bvh import read_bvh
     from eigengait.motion.capture_glitches import repair_glitches
     from eigengait.motion.conventions import detect_conventions
+    from eigengait.motion.flat_feet import flat_tilt_deg
     from eigengait.motion.foot_cleanup import clean_feet
     from eigengait.motion.foot_metrics import foot_report
     from eigengait.motion.lead_in import first_frame_after_lead_in, first_supported_pose
@@ -53,6 +58,9 @@ def reference_poses(
     first += int(round(start * frame_time / clip.frame_time))
     raw_qpos, qpos = raw_qpos[start:], qpos[start:]
     final = foot_report({foot: points[start:] for foot, points in soles.items()}, frame_time)
+    clip_frame = np.rint((start + np.arange(len(qpos))) * frame_time / retargeted.frame_time)
+    clip_frame = np.minimum(clip_frame.astype(int), len(retargeted.qpos) - 1)
+    flat = {foot: frames[clip_frame] for foot, frames in retargeted.flat_frames.items()}
     raw = foot_report(sole_points(world, raw_qpos), frame_time) if clean else final
     return {
         "world": world,
@@ -62,6 +70,7 @@ def reference_poses(
         "scale": retargeted.scale,
         "root_factor": retargeted.root_factor,
         "foot_level_deg": retargeted.foot_level_deg,
+        "flat_foot_tilt_deg": flat_tilt_deg(world, qpos, flat),
         "conventions": conventions,
         "raw": raw,
         "final": final,
@@ -82,6 +91,9 @@ def kinematic_summary(ref: dict, clean: bool) -> dict:
         "retarget_scale_m_per_unit": round(ref["scale"], 6),
         "root_scale_factor": round(ref["root_factor"], 4),
         "foot_level_deg": {foot: round(angle, 2) for foot, angle in ref["foot_level_deg"].items()},
+        "flat_foot_tilt_deg": {
+            foot: round(angle, 1) for foot, angle in ref["flat_foot_tilt_deg"].items()
+        },
         "source": conventions.summary() if conventions else None,
         "feet_cleaned": clean,
         **ref["final"].summary(),
