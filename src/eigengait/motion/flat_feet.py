@@ -22,7 +22,7 @@ from eigengait.sim.world import World
 FLAT_BAND_SHARE = 0.12  # of the foot bone's length (ankle to toe)
 FLAT_WINDOW_S = 2.0  # lowest heights read over this window: a capture floor may drift
 # A tilt worth a warning: the CMU corpus's references stand 2-13° off level where their clips'
-# feet are flat, the Bandai Namco references that stand on their heels or toes 23-36°.
+# feet are flat; 15 of the 44 Bandai Namco references stand 16-44° off, on their heels or toes.
 FLAT_TILT_WARN_DEG = 15.0
 
 
