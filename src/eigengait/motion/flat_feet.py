@@ -65,12 +65,12 @@ def flat_tilt_deg(world: World, qpos: np.ndarray, flat: dict[str, np.ndarray]) -
         data.qpos[:] = model.qpos0
         mujoco.mj_kinematics(model, data)
         rest_up = data.xmat[body].reshape(3, 3)[2].copy()  # world up seen in the foot's frame
-        heights = []
+        cosines = []
         for q in qpos[frames]:
             data.qpos[:] = q
             mujoco.mj_kinematics(model, data)
-            heights.append(data.xmat[body].reshape(3, 3)[2] @ rest_up)
-        out[foot] = float(np.degrees(np.median(np.arccos(np.clip(heights, -1.0, 1.0)))))
+            cosines.append(data.xmat[body].reshape(3, 3)[2] @ rest_up)
+        out[foot] = float(np.degrees(np.median(np.arccos(np.clip(cosines, -1.0, 1.0)))))
     return out
 
 
