@@ -141,6 +141,8 @@ def test_bad_inputs_exit_with_status_2(tmp_path):
     assert proc.returncode == 2 and "controller" in proc.stderr and "qp" in proc.stderr
     proc = _run(WALK, "--recoveries", "-1")
     assert proc.returncode == 2 and "recoveries" in proc.stderr
+    proc = _run(WALK, "--kinematic", "--levelling", "sideways")
+    assert proc.returncode == 2 and "levelling" in proc.stderr and "flat" in proc.stderr
 
 
 def test_a_fall_searched_past_is_reported(tmp_path):
@@ -185,3 +187,10 @@ def test_kinematic_warns_of_a_foot_standing_off_level_where_the_clip_is_flat(tmp
     text = CliRunner().invoke(_app(), ["track", str(rolled), "--kinematic"]).output
     assert "warning: the left foot stands" in text and "warning: the right foot" not in text
     assert "warning" not in CliRunner().invoke(_app(), ["track", RUN, "--kinematic"]).output
+    # levelled on the clip's flat frames instead, the twisted foot stands as level as the other
+    flat = CliRunner().invoke(
+        _app(), ["track", str(rolled), "--kinematic", "--levelling", "flat", "--json"]
+    )
+    levelled = json.loads(flat.output)
+    assert levelled["levelling"] == "flat" and after["levelling"] == "still"
+    assert levelled["flat_foot_tilt_deg"]["left"] < 5.0

@@ -80,6 +80,6 @@ def test_the_tilt_sees_a_foot_the_levelling_did_not_correct(world, monkeypatch):
     assert all(f.sum() * clip.frame_time >= 0.1 for f in levelled.flat_frames.values())
     tilt = flat_tilt_deg(world, levelled.qpos, levelled.flat_frames)
     assert max(tilt.values()) < 8.0
-    monkeypatch.setattr(retarget_module, "level_feet", lambda w, qpos, ft: (qpos, {}))
+    monkeypatch.setattr(retarget_module, "level_feet", lambda w, qpos, ft, frames: (qpos, {}))
     raw = retarget(clip, world, builtin_mapping("walker", clip))
     assert min(flat_tilt_deg(world, raw.qpos, raw.flat_frames).values()) > 15.0

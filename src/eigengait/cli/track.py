@@ -77,6 +77,13 @@ def register(app: typer.Typer) -> None:
             "floor penetration, ground clearance and its feet's tilt where the clip's feet stand "
             "flat (--video/--bvh show it).",
         ),
+        levelling: str = typer.Option(
+            "still",
+            "--levelling",
+            help="The frames each foot is levelled on: 'still' (where the character's foot stands "
+            "still) or 'flat' (where the clip's own ankle and toe are both down; better for walks "
+            "that --kinematic warns of, worse for most runs).",
+        ),
         clean_feet: bool = typer.Option(
             True,
             "--clean-feet/--raw-feet",
@@ -112,7 +119,7 @@ def register(app: typer.Typer) -> None:
         refuse_existing([video, bvh], force)
         units = {"bvh_units": bvh_units} if bvh else {}
         if kinematic:
-            ref = reference_poses(clip, character, mapping, start_frame, clean_feet)
+            ref = reference_poses(clip, character, mapping, start_frame, clean_feet, levelling)
             write_media(
                 ref["world"], ref["qpos"], 1.0 / ref["frame_time"], media, status_console(as_json)
             )
@@ -130,10 +137,12 @@ def register(app: typer.Typer) -> None:
             foot,
             controller,
             recoveries,
+            levelling,
         )
         write_media(world, result.qpos, 1.0 / result.frame_time, media, status_console(as_json))
         if as_json:
-            typer.echo(json_text.dumps({**result.summary(), "controller": controller, **units}))
+            summary = {**result.summary(), "controller": controller, "levelling": levelling}
+            typer.echo(json_text.dumps({**summary, **units}))
             return
         state = f"fell at {result.fall_time_s:.2f} s" if result.fell else "did not fall"
         typer.echo(
@@ -175,8 +184,8 @@ def _print_kinematic(report: dict, as_json: bool) -> None:
         if tilt > FLAT_TILT_WARN_DEG:
             typer.echo(
                 f"warning: the {foot} foot stands {tilt:.0f}° off level where the clip's foot is "
-                "flat, so the reference stands on its heel or toe there (docs/balance.md, "
-                "'Levelling on the clip's own flat feet')."
+                "flat, so the reference stands on its heel or toe there; --levelling flat levels "
+                "it on those frames (docs/balance.md, 'Levelling on the clip's own flat feet')."
             )
     for glitch in report["capture_glitches"]:
         typer.echo(

@@ -12,7 +12,10 @@ the foot's own frame is averaged over them (v̄) and compared with the rest pose
 in the character's relax pose). The foot's orientation gets the constant correction C = min_arc(v⁰,
 v̄) in its own frame in every frame (W ← W C: then W C v⁰ = W v̄ ≈ up when still), i.e. its ball
 joint's rotation q ← q C. Heel-off and toe-off keep their motion relative to the levelled stance.
-Feet on hinge joints, or with fewer than MIN_STILL_S of still frames, are left as they are.
+Feet on hinge joints, or with fewer than MIN_STILL_S of still frames, are left as they are. On
+request (`track --levelling flat`) a foot is levelled on the clip's own flat frames instead
+(`flat_feet`): right for walks, whose references then stand flat where the clip's feet do, but the
+tracker holds most runs better from the still-frame levelling (docs/balance.md).
 """
 
 from __future__ import annotations
@@ -53,16 +56,21 @@ def _foot_up(model: mujoco.MjModel, data: mujoco.MjData, qpos: np.ndarray, body:
 
 
 def level_feet(
-    world: World, qpos: np.ndarray, frame_time: float
+    world: World, qpos: np.ndarray, frame_time: float, frames: dict[str, np.ndarray] | None = None
 ) -> tuple[np.ndarray, dict[str, float]]:
-    """Poses (F, nq) with levelled feet, and each levelled foot's correction angle (degrees)."""
+    """Poses (F, nq) with levelled feet, and each levelled foot's correction angle (degrees).
+
+    frames: per foot name, the frames (F,) bool to level it on instead of its still frames (the
+    clip's own flat frames, `flat_feet`), used when they last MIN_STILL_S."""
     model, data = world.model, mujoco.MjData(world.model)
     soles = sole_points(world, qpos)
     out, angles = qpos.copy(), {}
     for foot, geoms in world.foot_spheres.items():
         body = int(model.geom_bodyid[geoms[0]])
         joint = _foot_ball_joint(model, body)
-        still = still_frames(soles[foot], frame_time)
+        given = (frames or {}).get(foot)
+        enough = given is not None and given.sum() * frame_time >= MIN_STILL_S
+        still = given if enough else still_frames(soles[foot], frame_time)
         if joint is None or still.sum() * frame_time < MIN_STILL_S:
             continue
         rest_up = _foot_up(model, data, model.qpos0, body)

@@ -359,9 +359,21 @@ def _body_rest_bones(
     return bones
 
 
-def retarget(clip: BvhClip, world: World, mapping: Mapping, start_frame: int = 1) -> RetargetedClip:
+LEVELLINGS = ("still", "flat")  # the frames a foot is levelled on (`foot_level`, `flat_feet`)
+
+
+def retarget(
+    clip: BvhClip, world: World, mapping: Mapping, start_frame: int = 1, levelling: str = "still"
+) -> RetargetedClip:
     """Character poses for frames ``start_frame..end`` of the clip (frame 0 of CMU files is a
-    synthetic T-pose)."""
+    synthetic T-pose); `levelling`: the frames each foot is levelled on, its still frames or the
+    clip's own flat frames (LEVELLINGS)."""
+    if levelling not in LEVELLINGS:
+        raise UserInputError(
+            f"unknown levelling '{levelling}'.",
+            field="levelling",
+            fix=f"use one of: {', '.join(LEVELLINGS)}.",
+        )
     if not 0 <= start_frame < clip.n_frames - 1:
         raise UserInputError(
             f"start frame {start_frame} is outside the clip's frames 0..{clip.n_frames - 2} (two "
@@ -435,12 +447,14 @@ def retarget(clip: BvhClip, world: World, mapping: Mapping, start_frame: int = 1
         qpos[:, root_adr : root_adr + 3], sole_points(world, qpos), clip.frame_time
     )
     _place_root(world, qpos, root_adr, factor * root_path, clip.frame_time)
-    qpos, levelled = level_feet(world, qpos, clip.frame_time)
-    _clamp_to_joint_ranges(model, qpos)
-    _place_root(world, qpos, root_adr, factor * root_path, clip.frame_time)
     foot_names = {int(model.geom_bodyid[g[0]]): name for name, g in world.foot_spheres.items()}
     flat = clip_flat_frames(clip, rot, pos, axes, [b for b in body_of if body_of[b] in foot_names])
     flat_by_foot = {foot_names[body_of[b]]: frames for b, frames in flat.items()}
+    qpos, levelled = level_feet(
+        world, qpos, clip.frame_time, flat_by_foot if levelling == "flat" else None
+    )
+    _clamp_to_joint_ranges(model, qpos)
+    _place_root(world, qpos, root_adr, factor * root_path, clip.frame_time)
     return RetargetedClip(qpos, clip.frame_time, hip_scale * factor, factor, levelled, flat_by_foot)
 
 

@@ -13,12 +13,18 @@ from eigengait.inputs import check_range
 
 
 def reference_poses(
-    clip_path: Path, character: str, mapping: Path | None, start_frame: int, clean: bool = True
+    clip_path: Path,
+    character: str,
+    mapping: Path | None,
+    start_frame: int,
+    clean: bool = True,
+    levelling: str = "still",
 ) -> dict:
     """Load and retarget a clip from `start_frame`, its lead-in skipped (`lead_in.py`) and its
     capture glitches repaired (`capture_glitches.py`), bring it
     to 120 frames/s if it is slower (`upsample.py`), clean its feet (unless `clean` is False) and
-    start it at its first supported pose (`lead_in.first_supported_pose`).
+    start it at its first supported pose (`lead_in.first_supported_pose`); `levelling`: the frames
+    the feet are levelled on (`retarget.LEVELLINGS`).
 
     Returns world, poses (F, nq), first_frame (the clip frame they start at), frame_time (s, of the
     poses), scale (m per file unit), root_factor (`root_scale`), foot_level_deg (`foot_level`),
@@ -48,7 +54,7 @@ def reference_poses(
     chosen = load_mapping(mapping) if mapping else builtin_mapping(char.name, clip)
     first = first_frame_after_lead_in(clip, start_frame)
     clip, glitches = repair_glitches(clip, first)
-    retargeted = retarget(clip, world, chosen, start_frame=first)
+    retargeted = retarget(clip, world, chosen, start_frame=first, levelling=levelling)
     roles = find_roles(clip)
     conventions = detect_conventions(clip, roles, first) if set(LEG_ROLES) <= set(roles) else None
     raw_qpos, frame_time = upsampled(world.model, retargeted.qpos, retargeted.frame_time)
@@ -69,6 +75,7 @@ def reference_poses(
         "frame_time": frame_time,
         "scale": retargeted.scale,
         "root_factor": retargeted.root_factor,
+        "levelling": levelling,
         "foot_level_deg": retargeted.foot_level_deg,
         "flat_foot_tilt_deg": flat_tilt_deg(world, qpos, flat),
         "conventions": conventions,
@@ -90,6 +97,7 @@ def kinematic_summary(ref: dict, clean: bool) -> dict:
         "frame_time_s": ref["frame_time"],
         "retarget_scale_m_per_unit": round(ref["scale"], 6),
         "root_scale_factor": round(ref["root_factor"], 4),
+        "levelling": ref["levelling"],
         "foot_level_deg": {foot: round(angle, 2) for foot, angle in ref["foot_level_deg"].items()},
         "flat_foot_tilt_deg": {
             foot: round(angle, 1) for foot, angle in ref["flat_foot_tilt_deg"].items()
@@ -116,6 +124,7 @@ def run_track(
     foot: dict | None = None,
     controller: str = "qp",
     recoveries: int | None = None,
+    levelling: str = "still",
 ) -> tuple[object, object, object]:
     """Load, retarget, clean the feet (unless `clean` is False), replay and track; returns (world,
     reference, result); result.foot_skate_m is the simulated motion's skate (m, mean per stance,
@@ -125,7 +134,7 @@ def run_track(
     sideways (+y) on the torso; `foot`: the foot model as `TrackerSettings` keyword arguments
     (foot_radius_m, foot_com_height_m, foot_friction), default the settings'; `controller`:
     `TrackerSettings.controller`; `recoveries`: falls searched past (`tracker` module doc,
-    "Recovery"; None: TRACK_RECOVERIES)."""
+    "Recovery"; None: TRACK_RECOVERIES); `levelling`: as for `reference_poses`."""
     from eigengait.control.balance.pushes import sideways_pushes
     from eigengait.control.balance.reference import kinematic_replay
     from eigengait.control.balance.tracker import (
@@ -151,7 +160,7 @@ def run_track(
     if recoveries is not None:
         check_range(recoveries, "recoveries", 0, 1000, fix="use 0 (none) or a small count.")
     pushes = sideways_pushes([push], "torso") if push else ()
-    ref = reference_poses(clip_path, character, mapping, start_frame, clean)
+    ref = reference_poses(clip_path, character, mapping, start_frame, clean, levelling)
     world = ref["world"]
     reference = kinematic_replay(world, ref["qpos"], ref["frame_time"])
     result = track(
