@@ -23,8 +23,9 @@ standing root height to the BVH root height above its lowest point in the first 
 scale) times the factor that keeps the stance feet still under the character's legs (`root_scale`),
 moved to start at x = y = 0 and shifted vertically so that the feet touch the floor (`grounding`:
 the capture floor's drift and hovering supporting feet removed). The feet are then levelled
-(`foot_level`: a constant correction per foot so that a foot standing still is flat), every joint is
-brought into its range and the path is grounded again.
+(`foot_level`: a constant correction per foot so that a foot standing still is flat, or with
+`levelling="flat"` where the clip's own foot is flat, `flat_feet`), every joint is brought into its
+range and the path is grounded again.
 """
 
 from __future__ import annotations
