@@ -17,6 +17,7 @@ import numpy as np
 from scipy.ndimage import minimum_filter1d
 
 from eigengait.motion.bvh import BvhClip, end_site_positions
+from eigengait.motion.foot_level import foot_up
 from eigengait.sim.world import World
 
 FLAT_BAND_SHARE = 0.12  # of the foot bone's length (ankle to toe)
@@ -62,14 +63,8 @@ def flat_tilt_deg(world: World, qpos: np.ndarray, flat: dict[str, np.ndarray]) -
         if not frames.any():
             continue
         body = int(model.geom_bodyid[world.foot_spheres[foot][0]])
-        data.qpos[:] = model.qpos0
-        mujoco.mj_kinematics(model, data)
-        rest_up = data.xmat[body].reshape(3, 3)[2].copy()  # world up seen in the foot's frame
-        cosines = []
-        for q in qpos[frames]:
-            data.qpos[:] = q
-            mujoco.mj_kinematics(model, data)
-            cosines.append(data.xmat[body].reshape(3, 3)[2] @ rest_up)
+        rest_up = foot_up(model, data, model.qpos0, body)
+        cosines = [foot_up(model, data, q, body) @ rest_up for q in qpos[frames]]
         out[foot] = float(np.degrees(np.median(np.arccos(np.clip(cosines, -1.0, 1.0)))))
     return out
 

@@ -48,7 +48,7 @@ def still_frames(soles: np.ndarray, frame_time: float) -> np.ndarray:
     return (low <= STILL_HEIGHT_M) & (speed <= STILL_SPEED)
 
 
-def _foot_up(model: mujoco.MjModel, data: mujoco.MjData, qpos: np.ndarray, body: int) -> np.ndarray:
+def foot_up(model: mujoco.MjModel, data: mujoco.MjData, qpos: np.ndarray, body: int) -> np.ndarray:
     """World up seen in the frame of `body` (3,) for pose qpos (nq,)."""
     data.qpos[:] = qpos
     mujoco.mj_kinematics(model, data)
@@ -73,9 +73,9 @@ def level_feet(
         still = given if enough else still_frames(soles[foot], frame_time)
         if joint is None or still.sum() * frame_time < MIN_STILL_S:
             continue
-        rest_up = _foot_up(model, data, model.qpos0, body)
+        rest_up = foot_up(model, data, model.qpos0, body)
         mean_up = np.mean(
-            [_foot_up(model, data, qpos[i], body) for i in np.flatnonzero(still)], axis=0
+            [foot_up(model, data, qpos[i], body) for i in np.flatnonzero(still)], axis=0
         )
         mean_up /= np.linalg.norm(mean_up)
         correction = mat_to_quat(min_arc(rest_up, mean_up))
@@ -85,4 +85,4 @@ def level_feet(
     return out, angles
 
 
-__all__ = ["level_feet", "still_frames"]
+__all__ = ["foot_up", "level_feet", "still_frames"]
