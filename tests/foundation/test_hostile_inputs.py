@@ -62,6 +62,8 @@ OPTION_VALUES = {
     "harden-copies-zero": ["harden", "kangaroo-hop", "-o", "{tmp}/run", "--copies", "0"],
     "harden-impulse-nan": ["harden", "kangaroo-hop", "-o", "{tmp}/run", "--push-impulse", "nan"],
     "harden-horizon-two": ["harden", "kangaroo-hop", "-o", "{tmp}/run", "--horizon", "2"],
+    "harden-event-no-sketch": ["harden", "kangaroo-hop", "-o", "{tmp}/run", "--event"],
+    "harden-tilt-negative": ["harden", "kangaroo-hop", "-o", "{tmp}/run", "--max-tilt", "-5"],
     "port-out-of-range": ["studio", "--port", "99999"],
     "port-zero": ["studio", "--port", "0"],
     "host-unknown": ["studio", "--host", "nosuch.invalid"],

@@ -253,3 +253,49 @@ def test_the_slip_term_reads_the_slip_that_playback_reports(kangaroo):
     assert costs[0.001] - costs[None] == pytest.approx(
         SLIP_WEIGHT * (measured / 0.001 - 1), rel=1e-6
     )
+
+
+def test_harden_event_searches_the_sketch_modes_and_plays_without_lookahead(tmp_path):
+    import subprocess
+    import sys
+
+    run = tmp_path / "run"
+    command = [sys.executable, "-m", "eigengait"]
+    done = subprocess.run(
+        [
+            *command,
+            "harden",
+            "kangaroo-hop",
+            "-o",
+            str(run),
+            "--popsize",
+            "4",
+            "--max-minutes",
+            "0.05",
+            "--sketch",
+            "kangaroo",
+            "--event",
+            "--max-tilt",
+            "30",
+        ],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    assert done.returncode == 0, done.stderr
+    saved = json.loads((run / "best_controller.json").read_text())
+    sketch = load_sketch(resolve("sketch", "kangaroo"))
+    event = saved["feedback"]["event"]
+    assert event["speed"] == sketch.targets.mean_speed
+    for phase in ("air", "ground"):
+        part = getattr(sketch, phase)
+        assert sorted(int(m) for m in event[phase]) == sorted({*part.priority, *part.allowed})
+    assert saved["lookahead"] is None
+    played = subprocess.run(
+        [*command, "play", str(run / "best_controller.json"), "--cycles", "1", "--json"],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    assert played.returncode == 0, played.stderr
+    assert json.loads(played.stdout)["lookahead"] is False

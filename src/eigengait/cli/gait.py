@@ -370,13 +370,23 @@ def harden_command(
         None,
         "--sketch",
         help="Sketch file or preset the gait was made from: its timing stays within the bounds "
-        "`optimize` kept it in.",
+        "`optimize` kept it in, and its paired feet (targets.paired_feet) are asked to land "
+        "together.",
+    ),
+    max_tilt: float = typer.Option(
+        0.0, "--max-tilt", help="Root pitch or roll penalized beyond this (degrees; 0: not)."
+    ),
+    event: bool = typer.Option(
+        False,
+        "--event",
+        help="Also search event-based feedback on the sketch's priority and allowed modes, "
+        "read against its mean speed (needs --sketch); the gait then plays without lookahead.",
     ),
     resume: bool = RESUME_OPTION,
     force: bool = START_OVER_OPTION,
 ):
     """Optimize a gait's survival with no reset under sampled sideways pushes (pulses, timing, hip
-    feedback, foot slip)."""
+    feedback, optionally event feedback; foot slip, tilt and footfall pattern)."""
     from eigengait.control.binding import gait_system
     from eigengait.control.controller import load_controller, to_parameters
     from eigengait.control.library import resolve
@@ -390,13 +400,20 @@ def harden_command(
         (impulse, "--push-impulse", 0.0, 10.0),
         (horizon, "--horizon", 4, 100),
         (max_slip, "--max-slip", 0.0, 10.0),
+        (max_tilt, "--max-tilt", 0.0, 180.0),
         (workers, "--workers", 1, 1024),
     ):
         check_range(value, option, low, high)
     _refuse_force_with_resume(force, resume)
+    if event and not sketch:
+        raise UserInputError(
+            "--event searches the feedback on the sketch's modes",
+            field="--event",
+            fix="pass --sketch with the sketch the gait was made from",
+        )
     path = resolve("gait", controller)
     c = load_controller(path)
-    timing = _sketch_timing(sketch, c.character) if sketch else None
+    made_from = _gait_sketch(sketch, c.character) if sketch else None
     system = gait_system(c, source=path)
     start = to_parameters(c, system, path)
     check_folder(output)
@@ -416,10 +433,13 @@ def harden_command(
         max_horizon=max(24, horizon),
         max_slip=max_slip or None,
         threads=workers,
+        max_tilt_deg=max_tilt or None,
+        paired_feet=tuple(made_from.targets.paired_feet) if made_from else (),
+        **(_event_settings(made_from) if event else {}),
     )
     before = play(system, start, cycles=20, source=path)
     figures = StartingFigures.of(before)
-    planner = c.planner()
+    planner = None if event else c.planner()
     result = harden(
         system,
         start,
@@ -431,7 +451,7 @@ def harden_command(
         console.print,
         lookahead=planner,
         sketch=c.sketch,
-        timing=timing,
+        timing=made_from.timing if made_from else None,
     )
     after = play(system, result, cycles=20)
     console.print(
@@ -444,8 +464,18 @@ def harden_command(
     console.print(f"run folder: {output} (best_controller.json, log.csv, {CHECKPOINT})")
 
 
-def _sketch_timing(sketch: str, character: str):
-    """The timing of `sketch` (a preset or file), refused unless it is a sketch of `character`."""
+def _event_settings(sketch) -> dict:
+    """SurvivalSettings fields of `harden --event`: the sketch's priority and allowed modes per
+    phase, and its mean speed as the feedback's and the speed term's target."""
+    modes = {
+        phase: tuple(dict.fromkeys([*part.priority, *(part.allowed or [])]))
+        for phase, part in (("air", sketch.air), ("ground", sketch.ground))
+    }
+    return {"event_modes": modes, "target_speed": sketch.targets.mean_speed}
+
+
+def _gait_sketch(sketch: str, character: str):
+    """`sketch` (a preset or file), refused unless it is a sketch of `character`."""
     from eigengait.control.library import resolve
     from eigengait.control.sketch import load_sketch
 
@@ -458,7 +488,7 @@ def _sketch_timing(sketch: str, character: str):
             field="--sketch",
             fix=f"pass the sketch the gait was made from (a sketch of '{character}')",
         )
-    return loaded.timing
+    return loaded
 
 
 def _slip_cm(played) -> str:

@@ -21,6 +21,7 @@ from mujoco import rollout
 
 from eigengait.control.activations import mode_indices
 from eigengait.control.feedback import (
+    EVENT_MIRROR_SIGNS,
     MIRROR_SIGNS,
     FeatureReader,
     FeedbackGains,
@@ -105,7 +106,7 @@ def cycle_errors(
 
 class FeedbackPlan:
     """One candidate's per-state feedback matrices G (n_states × n_motor × 8) and its reference
-    recorder."""
+    recorder, and its ``event`` matrices E (n_states × n_motor × 10, or None)."""
 
     def __init__(self, system: GaitSystem, p: GaitParameters, motors: dict[str, tuple[int, int]]):
         self.states = system.states(p)
@@ -126,6 +127,10 @@ class FeedbackPlan:
                 G[k] = system.mirror.dofs(G[k].T).T * MIRROR_SIGNS
         self.G = G
         self.enabled = gains.enabled
+        self.event = gains.event
+        self.E = _event_matrices(system, self.states, gains.event) if gains.event else None
+        self.event_held: tuple[int, int] | None = None  # (cycle, state) of the held correction
+        self.event_tau: np.ndarray | float = 0.0
         self.ref_phase: list[float] = []  # first-cycle readings: phase (s) and features
         self.ref_value: list[np.ndarray] = []
 
@@ -137,13 +142,35 @@ class FeedbackPlan:
         state: np.ndarray,
         sensors: np.ndarray,
     ) -> np.ndarray | float:
-        """Feedback torque (n_motor,) at a cycle's `phase` (s) from the current state and sensors; 0
-        while the first cycle is recorded as the reference, or with no mechanism enabled."""
+        """Feedback torque (n_motor,) at a cycle's `phase` (s) from the current state and sensors:
+        the ``event`` correction while a pulse lasts, plus, once the first cycle is recorded as the
+        reference, the ``hip`` and ``modal`` mechanisms' response; 0 with no mechanism enabled."""
         k = self.state_index(phase)
+        tau = self.event_torque(reader, cycle, k, phase, state, sensors)
         features = reader.read(state, sensors, self.roles[k].support)
         if self.record(cycle, phase, features) or not self.enabled:
+            return tau
+        return tau + self.response(k, features, phase)
+
+    def event_torque(
+        self,
+        reader: FeatureReader,
+        cycle: int,
+        k: int,
+        phase: float,
+        state: np.ndarray,
+        sensors: np.ndarray,
+    ) -> np.ndarray | float:
+        """The ``event`` pulse correction (n_motor,) of state k, read at its first reading in
+        `cycle` and held while its pulse lasts; 0 outside the pulse or without the mechanism."""
+        s = self.states[k]
+        if self.E is None or phase - s.start >= s.pulse:
             return 0.0
-        return self.response(k, features, phase)
+        if self.event_held != (cycle, k):
+            f = reader.read_event(state, sensors, self.roles[k].support, self.event.speed)
+            self.event_tau = self.E[k] @ f
+            self.event_held = (cycle, k)
+        return self.event_tau
 
     def response(self, k: int, features: np.ndarray, phase: float) -> np.ndarray:
         """Torque (…×n_motor) of state k's gains for features (…×8) read at a cycle's `phase` (s),
@@ -173,6 +200,23 @@ class FeedbackPlan:
             return self.ref_value[-1]
         w = (phase - ph[k - 1]) / (ph[k] - ph[k - 1])
         return (1 - w) * self.ref_value[k - 1] + w * self.ref_value[k]
+
+
+def _event_matrices(system: GaitSystem, states, event) -> np.ndarray:
+    """Per state, the ``event`` torque per unit feature (n_motor × 10): the phase's mode columns
+    times its gains; a symmetric gait's second foot gets the first foot's, mirrored."""
+    n_motor, first = system.world.nmotor, states[0].foot
+    E = np.zeros((len(states), n_motor, len(EVENT_MIRROR_SIGNS)))
+    for k, s in enumerate(states):
+        mirrored = system.mirror is not None and s.foot != first
+        canon = states[k - len(states) // 2] if mirrored else s
+        if canon.phase not in event.phases:
+            continue
+        modes, K = event.phases[canon.phase]
+        E[k] = system.basis_matrix(canon.foot, canon.phase)[:, mode_indices(modes)] @ K
+        if mirrored:
+            E[k] = system.mirror.dofs(E[k].T).T * EVENT_MIRROR_SIGNS
+    return E
 
 
 def _canonical_matrix(

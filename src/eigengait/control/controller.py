@@ -15,7 +15,13 @@ import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 
 from eigengait.control.activations import dense_to_sparse
-from eigengait.control.feedback import FEATURES, HIP_GAINS, FeedbackGains
+from eigengait.control.feedback import (
+    EVENT_FEATURES,
+    FEATURES,
+    HIP_GAINS,
+    EventGains,
+    FeedbackGains,
+)
 from eigengait.control.lookahead import (
     EFFORT_WEIGHT,
     LIGHT_LIMB_SHARE,
@@ -40,6 +46,42 @@ FINGERPRINT_MODES = 6
 MODES_AT_MOST = 10_000
 
 
+class EventFile(BaseModel):
+    """The ``event`` mechanism: target forward speed (m/s) and, per phase, mode number -> its ten
+    gains (N·m per normalized unit, in EVENT_FEATURES order)."""
+
+    model_config = ConfigDict(extra="forbid", allow_inf_nan=False)
+    speed: float = Field(ge=-MAX_SPEED, le=MAX_SPEED)
+    air: dict[int, list[float]] = Field(default_factory=dict)
+    ground: dict[int, list[float]] = Field(default_factory=dict)
+
+    @field_validator("air", "ground")
+    @classmethod
+    def _ten_features(cls, v):
+        for m, row in v.items():
+            if len(row) != len(EVENT_FEATURES):
+                raise ValueError(
+                    f"mode {m} needs {len(EVENT_FEATURES)} gains ({', '.join(EVENT_FEATURES)})"
+                )
+        return v
+
+    def gains(self) -> EventGains:
+        phases = {
+            ph: (sorted(rows), np.array([rows[m] for m in sorted(rows)]))
+            for ph, rows in (("air", self.air), ("ground", self.ground))
+            if rows
+        }
+        return EventGains(speed=self.speed, phases=phases)
+
+    @classmethod
+    def of(cls, gains: EventGains) -> "EventFile":
+        rows = {
+            ph: {int(m): [float(x) for x in row] for m, row in zip(modes, K)}
+            for ph, (modes, K) in gains.phases.items()
+        }
+        return cls(speed=float(gains.speed), **rows)
+
+
 class FeedbackFile(BaseModel):
     """Balance-feedback gains (N·m per normalized feature unit, see control/feedback.py); empty:
     open loop."""
@@ -47,6 +89,7 @@ class FeedbackFile(BaseModel):
     model_config = ConfigDict(extra="forbid", allow_inf_nan=False)
     hip: dict[Literal[HIP_GAINS], float] | None = None
     modal: dict[Literal["air", "ground"], dict[int, list[float]]] = Field(default_factory=dict)
+    event: EventFile | None = None
 
     @field_validator("hip")
     @classmethod
@@ -72,7 +115,8 @@ class FeedbackFile(BaseModel):
             for ph, rows in self.modal.items()
         }
         hip = np.array([self.hip[g] for g in HIP_GAINS]) if self.hip is not None else None
-        return FeedbackGains(hip=hip, modal=modal)
+        event = self.event.gains() if self.event is not None else None
+        return FeedbackGains(hip=hip, modal=modal, event=event)
 
     @classmethod
     def of(cls, gains: FeedbackGains) -> "FeedbackFile":
@@ -81,7 +125,8 @@ class FeedbackFile(BaseModel):
             ph: {int(m): [float(x) for x in row] for m, row in zip(modes, K)}
             for ph, (modes, K) in gains.modal.items()
         }
-        return cls(hip=hip, modal=modal)
+        event = EventFile.of(gains.event) if gains.event is not None else None
+        return cls(hip=hip, modal=modal, event=event)
 
 
 class LookaheadFile(BaseModel):
@@ -176,6 +221,15 @@ class ControllerFile(BaseModel):
         if self.lookahead is not None and self.lookahead.in_sketch and self.sketch is None:
             raise ValueError(
                 "lookahead.in_sketch needs the sketch's modes: add 'sketch' or set in_sketch: false"
+            )
+        return self
+
+    @model_validator(mode="after")
+    def _event_feedback_without_plans(self):
+        if self.lookahead is not None and self.feedback.event is not None:
+            raise ValueError(
+                "feedback.event corrects the pulses the plans would replace: remove 'lookahead' "
+                "or 'feedback.event'"
             )
         return self
 

@@ -26,6 +26,12 @@ is added to the pulses and held until the next reading. Two families of output d
   event-based linear feedback, in the mode basis); K is (priority modes × 8) per phase, in N·m per
   normalized unit.
 
+* ``event`` (Ding, Liu & Yin 2015's event-based feedback, with absolute targets): once per state,
+  at its first reading, the state's pulse gets Δψ = K f on chosen modes of its phase, held for the
+  pulse's duration. f is the eight features above with the target forward speed taken off vx, plus
+  two of the COM's vertical motion: dz = (z − h) / h and vz / √(g h). It needs no reference cycle,
+  so it acts from the first cycle on; K is (modes × 10) per phase, in N·m per normalized unit.
+
 For symmetric gaits the second foot's states use the first foot's gains on mirrored features
 (dy, vy, roll, ω_roll change sign) and mirrored torques.
 """
@@ -44,6 +50,8 @@ from eigengait.sim.world import GRAVITY, World
 FEEDBACK_DT = 0.01  # s between feature readings (feedback torques are held in between)
 FEATURES = ("dx", "dy", "vx", "vy", "pitch", "roll", "pitch_rate", "roll_rate")
 MIRROR_SIGNS = np.array([1.0, -1.0, 1.0, -1.0, 1.0, -1.0, 1.0, -1.0])
+EVENT_FEATURES = FEATURES + ("dz", "vz")
+EVENT_MIRROR_SIGNS = np.r_[MIRROR_SIGNS, 1.0, 1.0]
 HIP_GAINS = (
     "swing_pitch_dx",
     "swing_pitch_vx",
@@ -57,6 +65,16 @@ HIP_GAINS = (
 
 
 @dataclass
+class EventGains:
+    """The ``event`` mechanism: the target forward speed and, per phase, the modes it moves and
+    their gains."""
+
+    speed: float  # m/s, the forward COM speed vx is read against
+    # phase -> (1-based modes, K m×10 in EVENT_FEATURES order, N·m per normalized unit)
+    phases: dict[str, tuple[list[int], np.ndarray]] = field(default_factory=dict)
+
+
+@dataclass
 class FeedbackGains:
     """Gains of the enabled mechanisms (empty: open loop). Units: N·m per normalized feature
     unit."""
@@ -64,9 +82,11 @@ class FeedbackGains:
     hip: np.ndarray | None = None  # (8,) in HIP_GAINS order
     # phase -> (modes, K m×8)
     modal: dict[str, tuple[list[int], np.ndarray]] = field(default_factory=dict)
+    event: EventGains | None = None
 
     @property
     def enabled(self) -> bool:
+        """Whether a mechanism read against the first cycle (``hip``, ``modal``) is on."""
         return self.hip is not None or bool(self.modal)
 
 
@@ -118,6 +138,19 @@ class FeatureReader:
         tilt = self._tilt(state)
         raw = np.concatenate([com[..., :2] - toe[..., :2], vel[..., :2], tilt], axis=-1)
         return raw / self.scale
+
+    def read_event(
+        self, state: np.ndarray, sensors: np.ndarray, support: str, speed: float
+    ) -> np.ndarray:
+        """The ``event`` mechanism's ten features (…×10): `read`'s with `speed` (m/s) taken off
+        vx, then the COM's height above the standing one over h and its vertical speed over
+        √(g h)."""
+        h, root_gh = self.scale[0], self.scale[2]
+        base = self.read(state, sensors, support)
+        base[..., 2] -= speed / root_gh
+        com, vel = self.view.com(sensors), self.view.com_velocity(sensors)
+        vertical = np.stack([com[..., 2] / h - 1.0, vel[..., 2] / root_gh], axis=-1)
+        return np.concatenate([base, vertical], axis=-1)
 
 
 def planar_tilt(root, qpos: np.ndarray, qvel: np.ndarray) -> np.ndarray:

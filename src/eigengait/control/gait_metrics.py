@@ -116,6 +116,35 @@ def rollout_stance_slips(
     return stance_slips(points, view.foot_radius, PLAYBACK_FPS)
 
 
+def rollout_footfalls(
+    view: RolloutView,
+    first: np.ndarray,
+    sensors: np.ndarray,
+    timestep: float,
+    period: float,
+    after_s: float = 0.0,
+) -> dict:
+    """foot -> `footfall` (touchdown phase in a cycle of `period` s, 0-1; None without touchdown)
+    of a rollout as playback records it (`rollout_stance_slips`), counting the touchdowns from
+    `after_s` s on."""
+    rows = np.vstack([first, sensors])[frame_rows(len(sensors), timestep, PLAYBACK_FPS)]
+    footfall = {}
+    for foot, radius in view.foot_radius.items():
+        touchdowns = touchdown_frames(
+            _foot_contact(view.foot_points(rows, foot), radius, PLAYBACK_FPS)
+        )
+        footfall[foot] = _footfall(
+            touchdowns[touchdowns >= after_s * PLAYBACK_FPS], PLAYBACK_FPS, period
+        )
+    return footfall
+
+
+def phase_distance(a: float, b: float) -> float:
+    """Distance (in cycles, 0-0.5) between two cycle phases in [0, 1)."""
+    d = abs(a - b) % 1.0
+    return min(d, 1.0 - d)
+
+
 def _swing_clearances(points: np.ndarray, radius: float, contact: np.ndarray) -> np.ndarray:
     """Per swing (a run off the ground that both begins and ends inside the recording): the highest
     the foot's lowest contact sphere bottom rises above the floor, in m. points F × k × 3."""

@@ -11,19 +11,29 @@ compares controllers, not luck. The cost of one candidate is
     mean over copies of (1 − cycles survived / H)  +  SPEED_WEIGHT · max(0, v* − v) / v*
                                                  +  EFFORT_WEIGHT · max(0, E / E* − 1)
                                                  +  SLIP_WEIGHT · max(0, s / s* − 1)
+                                                 +  TILT_WEIGHT · max(0, θ / θ* − 1)
+                                                 +  PAIR_WEIGHT · P
 
 with v the mean forward COM speed of the copies, v* = `speed_share` × the starting gait's speed, E
 the mean squared motor torque (the thesis's E_energia) and E* = `effort_share` × the starting
 gait's: a gait cannot buy survival by standing still or by flailing. s is the copies' mean
 stance-foot slip (`stance_slip_max_m` of the gait metrics, the feet sampled at 60 frames/s) and s*
-= `max_slip` (the last term only when `max_slip` is set): a gait cannot keep its feet by sliding
-them either. The horizon H starts at `horizon` cycles and grows by `HORIZON_STEP` (up to
-`max_horizon`) whenever the generation's median candidate survives it: the optimizer always sees the
-fall it has to prevent.
+= `max_slip` (that term only when `max_slip` is set): a gait cannot keep its feet by sliding
+them either. θ is the undisturbed copy's largest root pitch or roll and θ* = `max_tilt_deg` (only
+when set). P (only with `paired_feet`) charges a footfall pattern the gait does not keep, read on
+the undisturbed copy from its third cycle on: per pair of feet that should land together, how far
+(in cycles) their mean touchdown phases lie apart beyond `PAIR_TOLERANCE`, and with two pairs, how
+far the pairs lie from half a cycle apart beyond it; a foot that never lands again costs
+`PAIR_MISSING`. `target_speed` (m/s), when given, replaces `speed_share` × the starting speed as
+v*. The horizon H starts at `horizon` cycles and grows by `HORIZON_STEP` (up to `max_horizon`)
+whenever the generation's median candidate survives it: the optimizer always sees the fall it has
+to prevent.
 
 Searched (normalized, 0 = the starting gait): the period (±20 %), the air ratio (±0.1), both pulse
-durations (±30 %), every non-zero activation ψ (± half its size, at least ±5 N·m) and the eight
-`hip` feedback gains (± 0.3 m g h per normalized unit, added when the gait had none). Given the
+durations (±30 %), every non-zero activation ψ (± half its size, at least ±5 N·m), the eight
+`hip` feedback gains (± 0.3 m g h per normalized unit, added when the gait had none) and, with
+`event_modes`, the ``event`` feedback's gains on those modes (phase -> 1-based modes; the same
+scale, added to the gait's own, its target speed `target_speed`). Given the
 sketch's timing, the period, air ratio and pulse durations also stay within the bounds `optimize`
 keeps them in (`optimize/parameters.py`), so that hardening a gait again and again cannot walk its
 timing away from the sketch. The initial state and the trigger are kept.
@@ -45,19 +55,24 @@ import numpy as np
 
 from eigengait.control.closed_loop import PUSH_SECONDS, ClosedLoopRunner, Push
 from eigengait.control.controller import save_controller, to_file
-from eigengait.control.feedback import FeedbackGains
-from eigengait.control.gait_metrics import rollout_stance_slips
+from eigengait.control.feedback import EVENT_FEATURES, EventGains, FeedbackGains
+from eigengait.control.gait_metrics import phase_distance, rollout_footfalls, rollout_stance_slips
 from eigengait.control.gait import GaitParameters, GaitSystem
 from eigengait.control.lookahead import LookaheadSettings
 from eigengait.control.sketch import Timing
 from eigengait.errors import UserInputError
 from eigengait.optimize.parameters import timing_bounds
 from eigengait.outputs import write_atomically
+from eigengait.sim.root import root_layout
 from eigengait.sim.world import GRAVITY
 
 SPEED_WEIGHT = 0.5
 EFFORT_WEIGHT = 0.5
 SLIP_WEIGHT = 0.5
+TILT_WEIGHT = 0.5
+PAIR_WEIGHT = 2.0
+PAIR_TOLERANCE = 0.1  # cycles
+PAIR_MISSING = 3.0  # the pattern term of a gait with a foot that stops landing
 HORIZON_STEP = 4  # cycles added when the median candidate survives the horizon
 CHECKPOINT = "survival.json"
 VALIDATION_GENERATION = -1  # the pushes of the final choice: a stream no generation uses
@@ -93,6 +108,10 @@ class SurvivalSettings:
     max_slip: float | None = 0.03
     sigma0: float = 0.3
     threads: int = 1
+    max_tilt_deg: float | None = None  # root pitch or roll beyond this is penalized
+    target_speed: float | None = None  # m/s: v* of the speed term (None: speed_share × start)
+    paired_feet: tuple[tuple[str, str], ...] = ()  # feet that should land together
+    event_modes: dict[str, tuple[int, ...]] | None = None  # phase -> modes of searched event gains
     # name -> (low, high) of the period (s), air ratio and pulse durations (s) from the sketch's
     # timing (`optimize.parameters.timing_bounds`; None: not bounded); `harden` sets it
     sketch_timing_bounds: dict[str, tuple[float, float]] | None = None
@@ -100,13 +119,17 @@ class SurvivalSettings:
 
 class SurvivalSpace:
     """Normalized offsets z from a starting gait, and back (`decode`); the decoded timing is
-    clipped to `bounds` (name -> (low, high), `timing_bounds` of the sketch's timing) when given."""
+    clipped to `bounds` (name -> (low, high), `timing_bounds` of the sketch's timing) when given.
+    With `event_modes` (phase -> 1-based modes) the ``event`` gains on those modes are searched too,
+    read against `target_speed` (m/s)."""
 
     def __init__(
         self,
         system: GaitSystem,
         start: GaitParameters,
         bounds: dict[str, tuple[float, float]] | None = None,
+        event_modes: dict[str, tuple[int, ...]] | None = None,
+        target_speed: float | None = None,
     ):
         self.start, self.bounds = start, bounds
         self.slots = [
@@ -118,7 +141,11 @@ class SurvivalSpace:
         world = system.world
         self.gain_scale = 0.3 * world.mass() * GRAVITY * world.standing_com_height
         self.hip0 = start.feedback.hip if start.feedback.hip is not None else np.zeros(8)
-        self.size = 4 + len(self.slots) + 8
+        self.event_modes = {ph: list(m) for ph, m in (event_modes or {}).items() if m}
+        self.event0 = _starting_event_gains(start.feedback.event, self.event_modes)
+        own = start.feedback.event
+        self.event_speed = target_speed if target_speed is not None else (own.speed if own else 0)
+        self.size = 4 + len(self.slots) + 8 + sum(k.size for k in self.event0.values())
 
     def decode(self, z: np.ndarray) -> GaitParameters:
         s, n = self.start, len(self.slots)
@@ -133,14 +160,41 @@ class SurvivalSpace:
         }
         if self.bounds is not None:
             timing = {key: float(np.clip(v, *self.bounds[key])) for key, v in timing.items()}
+        at = 4 + n + 8
+        event = s.feedback.event
+        if self.event_modes:
+            phases = {}
+            for phase, K0 in self.event0.items():
+                K = K0 + self.gain_scale * z[at : at + K0.size].reshape(K0.shape)
+                phases[phase] = (self.event_modes[phase], K)
+                at += K0.size
+            event = EventGains(speed=self.event_speed, phases=phases)
         return replace(
             s,
             **timing,
             activations=activations,
             feedback=FeedbackGains(
-                hip=self.hip0 + self.gain_scale * z[4 + n :], modal=s.feedback.modal
+                hip=self.hip0 + self.gain_scale * z[4 + n : 4 + n + 8],
+                modal=s.feedback.modal,
+                event=event,
             ),
         )
+
+
+def _starting_event_gains(
+    own: EventGains | None, modes: dict[str, list[int]]
+) -> dict[str, np.ndarray]:
+    """phase -> (modes × 10) starting event gains: the gait's own on the modes it has, else 0."""
+    start = {}
+    for phase, numbers in modes.items():
+        K = np.zeros((len(numbers), len(EVENT_FEATURES)))
+        if own is not None and phase in own.phases:
+            rows = dict(zip(own.phases[phase][0], own.phases[phase][1]))
+            for r, m in enumerate(numbers):
+                if m in rows:
+                    K[r] = rows[m]
+        start[phase] = K
+    return start
 
 
 def generation_pushes(
@@ -170,9 +224,14 @@ class SurvivalScorer:
         self.system, self.settings = system, settings
         self.runner = ClosedLoopRunner(system, settings.threads)
         self.mass = system.world.mass()
-        self.target_speed = max(settings.speed_share * figures.speed, 0.05)
+        own = settings.speed_share * figures.speed
+        self.target_speed = max(
+            own if settings.target_speed is None else settings.target_speed, 0.05
+        )
         self.target_effort = max(settings.effort_share * figures.effort, 1e-9)
         self.period = start.period
+        model = system.world.model
+        self.tilt = root_layout(model, int(model.jnt_bodyid[0]))
 
     def close(self) -> None:
         self.runner.close()
@@ -184,6 +243,7 @@ class SurvivalScorer:
         dt, view = self.runner.model.opt.timestep, self.system.world.view
         cycles = np.zeros((len(params), self.settings.copies))
         speed, effort, slip = np.zeros_like(cycles), np.zeros_like(cycles), np.zeros_like(cycles)
+        shape = np.zeros(len(params))  # the undisturbed copy's tilt and footfall terms
         for c, push in enumerate(
             generation_pushes(self.settings, generation, self.period, horizon, self.mass)
         ):
@@ -198,12 +258,27 @@ class SurvivalScorer:
                 effort[i, c] = np.mean(np.sum(run.torques[i, :end] ** 2, axis=1))
                 if self.settings.max_slip is not None:
                     slip[i, c] = self._slip(p, run.sensors[i, : int(run.ended[i])])
+                if push is None:
+                    shape[i] = self._shape(p, run.states[i, :end], run.sensors[i, :end])
         lag = np.clip(self.target_speed - speed.mean(axis=1), 0, None) / self.target_speed
         excess = np.clip(effort.mean(axis=1) / self.target_effort - 1, 0, None)
         cost = (1 - cycles.mean(axis=1) / horizon) + SPEED_WEIGHT * lag + EFFORT_WEIGHT * excess
         if self.settings.max_slip is not None:
             cost += SLIP_WEIGHT * np.clip(slip.mean(axis=1) / self.settings.max_slip - 1, 0, None)
-        return cost, cycles.mean(axis=1)
+        return cost + shape, cycles.mean(axis=1)
+
+    def _shape(self, p: GaitParameters, states: np.ndarray, sensors: np.ndarray) -> float:
+        """TILT_WEIGHT and PAIR_WEIGHT terms of one undisturbed rollout (0 when not asked)."""
+        cost, settings, world = 0.0, self.settings, self.system.world
+        if settings.max_tilt_deg is not None:
+            pitch, roll = self.tilt.tilt_deg(world.view.qpos(states))
+            tilt = float(np.max(np.abs(np.r_[pitch, roll])))
+            cost += TILT_WEIGHT * max(0.0, tilt / settings.max_tilt_deg - 1)
+        if settings.paired_feet:
+            first, dt = self.system.initial_sensors(p), self.runner.model.opt.timestep
+            footfall = rollout_footfalls(world.view, first, sensors, dt, p.period, 2 * p.period)
+            cost += PAIR_WEIGHT * footfall_pattern_cost(footfall, settings.paired_feet)
+        return cost
 
     def _slip(self, p: GaitParameters, sensors: np.ndarray) -> float:
         """`stance_slip_max_m` (m; 0 without a stance) of a rollout's sensor rows, as playback
@@ -212,6 +287,25 @@ class SurvivalScorer:
         per_foot = rollout_stance_slips(self.system.world.view, first, sensors, dt).values()
         slips = [float(v.mean()) for v in per_foot if v.size]
         return max(slips, default=0.0)
+
+
+def footfall_pattern_cost(
+    footfall: dict[str, float | None], pairs: tuple[tuple[str, str], ...]
+) -> float:
+    """How far (cycles) a footfall (foot -> touchdown phase) is from `pairs` landing together,
+    beyond PAIR_TOLERANCE per pair, plus, for two pairs, how far the pairs are from half a cycle
+    apart beyond it; PAIR_MISSING when a paired foot has no touchdown."""
+    if any(footfall.get(foot) is None for pair in pairs for foot in pair):
+        return PAIR_MISSING
+    cost, centres = 0.0, []
+    for a, b in pairs:
+        cost += max(0.0, phase_distance(footfall[a], footfall[b]) - PAIR_TOLERANCE)
+        turn = np.exp(2j * np.pi * np.array([footfall[a], footfall[b]])).sum()
+        centres.append(float(np.angle(turn)) / (2 * np.pi) % 1.0)
+    if len(pairs) == 2:
+        apart = phase_distance(*centres)
+        cost += max(0.0, abs(0.5 - apart) - PAIR_TOLERANCE)
+    return cost
 
 
 def harden(
@@ -235,7 +329,7 @@ def harden(
     bounds = timing_bounds(timing) if timing is not None else None
     settings = replace(settings, sketch_timing_bounds=bounds)
     history = _load_history(checkpoint, settings) if resume else []
-    space = SurvivalSpace(system, start, bounds)
+    space = SurvivalSpace(system, start, bounds, settings.event_modes, settings.target_speed)
     scorer = SurvivalScorer(system, start, settings, figures)
     es = cma.CMAEvolutionStrategy(
         np.zeros(space.size),
