@@ -63,6 +63,7 @@ OPTION_VALUES = {
     "harden-impulse-nan": ["harden", "kangaroo-hop", "-o", "{tmp}/run", "--push-impulse", "nan"],
     "harden-horizon-two": ["harden", "kangaroo-hop", "-o", "{tmp}/run", "--horizon", "2"],
     "harden-event-no-sketch": ["harden", "kangaroo-hop", "-o", "{tmp}/run", "--event"],
+    "harden-pairs-no-sketch": ["harden", "kangaroo-hop", "-o", "{tmp}/run", "--paired-feet"],
     "harden-tilt-negative": ["harden", "kangaroo-hop", "-o", "{tmp}/run", "--max-tilt", "-5"],
     "port-out-of-range": ["studio", "--port", "99999"],
     "port-zero": ["studio", "--port", "0"],

@@ -370,8 +370,13 @@ def harden_command(
         None,
         "--sketch",
         help="Sketch file or preset the gait was made from: its timing stays within the bounds "
-        "`optimize` kept it in, and its paired feet (targets.paired_feet) are asked to land "
-        "together.",
+        "`optimize` kept it in.",
+    ),
+    paired_feet: bool = typer.Option(
+        False,
+        "--paired-feet",
+        help="Ask the sketch's paired feet (targets.paired_feet) to land together "
+        "(needs --sketch).",
     ),
     max_tilt: float = typer.Option(
         0.0, "--max-tilt", help="Root pitch or roll penalized beyond this (degrees; 0: not)."
@@ -380,7 +385,8 @@ def harden_command(
         False,
         "--event",
         help="Also search event-based feedback on the sketch's priority and allowed modes, "
-        "read against its mean speed (needs --sketch); the gait then plays without lookahead.",
+        "read against its mean speed (needs --sketch; no effort term); the gait then plays "
+        "without lookahead.",
     ),
     resume: bool = RESUME_OPTION,
     force: bool = START_OVER_OPTION,
@@ -405,12 +411,16 @@ def harden_command(
     ):
         check_range(value, option, low, high)
     _refuse_force_with_resume(force, resume)
-    if event and not sketch:
-        raise UserInputError(
-            "--event searches the feedback on the sketch's modes",
-            field="--event",
-            fix="pass --sketch with the sketch the gait was made from",
-        )
+    for wanted, option, why in (
+        (event, "--event", "searches the feedback on the sketch's modes"),
+        (paired_feet, "--paired-feet", "reads the feet from the sketch's targets"),
+    ):
+        if wanted and not sketch:
+            raise UserInputError(
+                f"{option} {why}",
+                field=option,
+                fix="pass --sketch with the sketch the gait was made from",
+            )
     path = resolve("gait", controller)
     c = load_controller(path)
     made_from = _gait_sketch(sketch, c.character) if sketch else None
@@ -434,7 +444,7 @@ def harden_command(
         max_slip=max_slip or None,
         threads=workers,
         max_tilt_deg=max_tilt or None,
-        paired_feet=tuple(made_from.targets.paired_feet) if made_from else (),
+        paired_feet=tuple(made_from.targets.paired_feet) if paired_feet else (),
         **(_event_settings(made_from) if event else {}),
     )
     before = play(system, start, cycles=20, source=path)
@@ -466,12 +476,13 @@ def harden_command(
 
 def _event_settings(sketch) -> dict:
     """SurvivalSettings fields of `harden --event`: the sketch's priority and allowed modes per
-    phase, and its mean speed as the feedback's and the speed term's target."""
+    phase, its mean speed as the feedback's and the speed term's target, and no effort term (the
+    starting gait's torque is no reference for one that is to reach another speed)."""
     modes = {
         phase: tuple(dict.fromkeys([*part.priority, *(part.allowed or [])]))
         for phase, part in (("air", sketch.air), ("ground", sketch.ground))
     }
-    return {"event_modes": modes, "target_speed": sketch.targets.mean_speed}
+    return {"event_modes": modes, "target_speed": sketch.targets.mean_speed, "effort_share": None}
 
 
 def _gait_sketch(sketch: str, character: str):

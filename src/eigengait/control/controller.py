@@ -46,6 +46,24 @@ FINGERPRINT_MODES = 6
 MODES_AT_MOST = 10_000
 
 
+def _check_gain_rows(rows: dict[int, list[float]], features: tuple[str, ...], where: str) -> None:
+    """Each mode's row of gains has one gain per feature (the message names `where`)."""
+    for m, row in rows.items():
+        if len(row) != len(features):
+            raise ValueError(f"{where}mode {m} needs {len(features)} gains ({', '.join(features)})")
+
+
+def _gain_matrix(rows: dict[int, list[float]]) -> tuple[list[int], np.ndarray]:
+    """(sorted mode numbers, their gains as rows) of a file's mode -> gains mapping."""
+    modes = sorted(rows)
+    return modes, np.array([rows[m] for m in modes])
+
+
+def _gain_rows(modes: list[int], K: np.ndarray) -> dict[int, list[float]]:
+    """A file's mode -> gains mapping of modes and their gain rows."""
+    return {int(m): [float(x) for x in row] for m, row in zip(modes, K)}
+
+
 class EventFile(BaseModel):
     """The ``event`` mechanism: target forward speed (m/s) and, per phase, mode number -> its ten
     gains (N·m per normalized unit, in EVENT_FEATURES order)."""
@@ -58,16 +76,12 @@ class EventFile(BaseModel):
     @field_validator("air", "ground")
     @classmethod
     def _ten_features(cls, v):
-        for m, row in v.items():
-            if len(row) != len(EVENT_FEATURES):
-                raise ValueError(
-                    f"mode {m} needs {len(EVENT_FEATURES)} gains ({', '.join(EVENT_FEATURES)})"
-                )
+        _check_gain_rows(v, EVENT_FEATURES, "")
         return v
 
     def gains(self) -> EventGains:
         phases = {
-            ph: (sorted(rows), np.array([rows[m] for m in sorted(rows)]))
+            ph: _gain_matrix(rows)
             for ph, rows in (("air", self.air), ("ground", self.ground))
             if rows
         }
@@ -75,10 +89,7 @@ class EventFile(BaseModel):
 
     @classmethod
     def of(cls, gains: EventGains) -> "EventFile":
-        rows = {
-            ph: {int(m): [float(x) for x in row] for m, row in zip(modes, K)}
-            for ph, (modes, K) in gains.phases.items()
-        }
+        rows = {ph: _gain_rows(modes, K) for ph, (modes, K) in gains.phases.items()}
         return cls(speed=float(gains.speed), **rows)
 
 
@@ -102,18 +113,11 @@ class FeedbackFile(BaseModel):
     @classmethod
     def _eight_features(cls, v):
         for phase, rows in v.items():
-            for m, row in rows.items():
-                if len(row) != len(FEATURES):
-                    raise ValueError(
-                        f"{phase} mode {m} needs {len(FEATURES)} gains ({', '.join(FEATURES)})"
-                    )
+            _check_gain_rows(rows, FEATURES, f"{phase} ")
         return v
 
     def gains(self) -> FeedbackGains:
-        modal = {
-            ph: (sorted(rows), np.array([rows[m] for m in sorted(rows)]))
-            for ph, rows in self.modal.items()
-        }
+        modal = {ph: _gain_matrix(rows) for ph, rows in self.modal.items()}
         hip = np.array([self.hip[g] for g in HIP_GAINS]) if self.hip is not None else None
         event = self.event.gains() if self.event is not None else None
         return FeedbackGains(hip=hip, modal=modal, event=event)
@@ -121,10 +125,7 @@ class FeedbackFile(BaseModel):
     @classmethod
     def of(cls, gains: FeedbackGains) -> "FeedbackFile":
         hip = {g: float(x) for g, x in zip(HIP_GAINS, gains.hip)} if gains.hip is not None else None
-        modal = {
-            ph: {int(m): [float(x) for x in row] for m, row in zip(modes, K)}
-            for ph, (modes, K) in gains.modal.items()
-        }
+        modal = {ph: _gain_rows(modes, K) for ph, (modes, K) in gains.modal.items()}
         event = EventFile.of(gains.event) if gains.event is not None else None
         return cls(hip=hip, modal=modal, event=event)
 

@@ -16,7 +16,8 @@ compares controllers, not luck. The cost of one candidate is
 
 with v the mean forward COM speed of the copies, v* = `speed_share` × the starting gait's speed, E
 the mean squared motor torque (the thesis's E_energia) and E* = `effort_share` × the starting
-gait's: a gait cannot buy survival by standing still or by flailing. s is the copies' mean
+gait's (that term only when `effort_share` is set): a gait cannot buy survival by standing still
+or by flailing. s is the copies' mean
 stance-foot slip (`stance_slip_max_m` of the gait metrics, the feet sampled at 60 frames/s) and s*
 = `max_slip` (that term only when `max_slip` is set): a gait cannot keep its feet by sliding
 them either. θ is the undisturbed copy's largest root pitch or roll and θ* = `max_tilt_deg` (only
@@ -31,9 +32,10 @@ to prevent.
 
 Searched (normalized, 0 = the starting gait): the period (±20 %), the air ratio (±0.1), both pulse
 durations (±30 %), every non-zero activation ψ (± half its size, at least ±5 N·m), the eight
-`hip` feedback gains (± 0.3 m g h per normalized unit, added when the gait had none) and, with
-`event_modes`, the ``event`` feedback's gains on those modes (phase -> 1-based modes; the same
-scale, added to the gait's own, its target speed `target_speed`). Given the
+`hip` feedback gains (± 0.3 m g h per normalized unit, added when the gait had none). With
+`event_modes` (phase -> 1-based modes) the search is the activations and the ``event`` feedback's
+gains on those modes instead (the same scale, added to the gait's own; its target speed
+`target_speed`), the timing and the hip gains kept as they are. Given the
 sketch's timing, the period, air ratio and pulse durations also stay within the bounds `optimize`
 keeps them in (`optimize/parameters.py`), so that hardening a gait again and again cannot walk its
 timing away from the sketch. The initial state and the trigger are kept.
@@ -103,7 +105,8 @@ class SurvivalSettings:
     horizon: int = 8  # cycles, at the start
     max_horizon: int = 24
     speed_share: float = 0.9  # the gait must keep this share of its starting speed
-    effort_share: float = 1.2  # and use at most this share of its starting mean squared torque
+    # and use at most this share of its starting mean squared torque (None: no effort term)
+    effort_share: float | None = 1.2
     # m: stance-foot slip above this is penalized (None: not measured)
     max_slip: float | None = 0.03
     sigma0: float = 0.3
@@ -149,6 +152,9 @@ class SurvivalSpace:
 
     def decode(self, z: np.ndarray) -> GaitParameters:
         s, n = self.start, len(self.slots)
+        if self.event_modes:  # the event search keeps the gait's timing and hip gains
+            z = np.array(z, dtype=float)
+            z[:4] = z[4 + n : 4 + n + 8] = 0.0
         activations = {k: v.copy() for k, v in s.activations.items()}
         for (key, i), scale, dz in zip(self.slots, self.psi_scale, z[4 : 4 + n]):
             activations[key][i] += scale * dz
@@ -228,7 +234,8 @@ class SurvivalScorer:
         self.target_speed = max(
             own if settings.target_speed is None else settings.target_speed, 0.05
         )
-        self.target_effort = max(settings.effort_share * figures.effort, 1e-9)
+        share = settings.effort_share
+        self.target_effort = None if share is None else max(share * figures.effort, 1e-9)
         self.period = start.period
         model = system.world.model
         self.tilt = root_layout(model, int(model.jnt_bodyid[0]))
@@ -261,7 +268,11 @@ class SurvivalScorer:
                 if push is None:
                     shape[i] = self._shape(p, run.states[i, :end], run.sensors[i, :end])
         lag = np.clip(self.target_speed - speed.mean(axis=1), 0, None) / self.target_speed
-        excess = np.clip(effort.mean(axis=1) / self.target_effort - 1, 0, None)
+        excess = (
+            0.0
+            if self.target_effort is None
+            else np.clip(effort.mean(axis=1) / self.target_effort - 1, 0, None)
+        )
         cost = (1 - cycles.mean(axis=1) / horizon) + SPEED_WEIGHT * lag + EFFORT_WEIGHT * excess
         if self.settings.max_slip is not None:
             cost += SLIP_WEIGHT * np.clip(slip.mean(axis=1) / self.settings.max_slip - 1, 0, None)
