@@ -7,12 +7,9 @@ flight and cadence or footfall pattern; the run and the trot survive 4 of 5 side
 
 from __future__ import annotations
 
+from eigengait.control.gait_metrics import phase_distance
+
 PUSHED = ("humanoid-basic-run", "dog-trot")  # the gaits with a push target
-
-
-def _phase_gap(a: float, b: float) -> float:
-    d = abs(a - b) % 1.0
-    return min(d, 1.0 - d)
 
 
 def targets(name: str, m: dict, pushes: list[bool] | None) -> dict[str, bool]:
@@ -46,10 +43,10 @@ def targets(name: str, m: dict, pushes: list[bool] | None) -> dict[str, bool]:
             {
                 "speed ≥ 0.5": speed >= 0.5,
                 "diagonal pairs together": known
-                and _phase_gap(f["front_left"], f["rear_right"]) <= 0.1
-                and _phase_gap(f["front_right"], f["rear_left"]) <= 0.1,
+                and phase_distance(f["front_left"], f["rear_right"]) <= 0.1
+                and phase_distance(f["front_right"], f["rear_left"]) <= 0.1,
                 "pairs half a cycle apart": known
-                and abs(_phase_gap(f["front_left"], f["front_right"]) - 0.5) <= 0.15,
+                and abs(phase_distance(f["front_left"], f["front_right"]) - 0.5) <= 0.15,
             }
         )
     if name in PUSHED:
