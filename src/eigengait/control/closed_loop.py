@@ -114,21 +114,27 @@ class FeedbackPlan:
         self.period = p.period
         self.starts = np.array([s.start for s in self.states])
         n_motor = system.world.nmotor
-        first = self.states[0].foot
         gains = p.feedback
-        G = np.zeros((len(self.states), n_motor, 8))
-        for k, s in enumerate(self.states):
-            mirrored = system.mirror is not None and s.foot != first
-            canon = k - len(self.states) // 2 if mirrored else k
-            G[k] = _canonical_matrix(
-                system, gains, self.states[canon], self.roles[canon], motors, n_motor
-            )
-            if mirrored:
-                G[k] = system.mirror.dofs(G[k].T).T * MIRROR_SIGNS
-        self.G = G
+        self.G = _per_state(
+            system,
+            self.states,
+            lambda c: _canonical_matrix(
+                system, gains, self.states[c], self.roles[c], motors, n_motor
+            ),
+            MIRROR_SIGNS,
+        )
         self.enabled = gains.enabled
         self.event = gains.event
-        self.E = _event_matrices(system, self.states, gains.event) if gains.event else None
+        self.E = (
+            _per_state(
+                system,
+                self.states,
+                lambda c: _event_matrix(system, self.states[c], gains.event),
+                EVENT_MIRROR_SIGNS,
+            )
+            if gains.event
+            else None
+        )
         self.event_held: tuple[int, int] | None = None  # (cycle, state) of the held correction
         self.event_tau: np.ndarray | float = 0.0
         self.ref_phase: list[float] = []  # first-cycle readings: phase (s) and features
@@ -202,21 +208,25 @@ class FeedbackPlan:
         return (1 - w) * self.ref_value[k - 1] + w * self.ref_value[k]
 
 
-def _event_matrices(system: GaitSystem, states, event) -> np.ndarray:
-    """Per state, the ``event`` torque per unit feature (n_motor × 10): the phase's mode columns
-    times its gains; a symmetric gait's second foot gets the first foot's, mirrored."""
-    n_motor, first = system.world.nmotor, states[0].foot
-    E = np.zeros((len(states), n_motor, len(EVENT_MIRROR_SIGNS)))
+def _per_state(system: GaitSystem, states, matrix, signs: np.ndarray) -> np.ndarray:
+    """Per state, `matrix(c)` (n_motor × features) of its canonical state c: itself, or for a
+    symmetric gait's second foot its first-foot twin half a cycle earlier, whose matrix is then
+    mirrored (rows as dofs, feature columns times `signs`)."""
+    first, out = states[0].foot, []
     for k, s in enumerate(states):
         mirrored = system.mirror is not None and s.foot != first
-        canon = states[k - len(states) // 2] if mirrored else s
-        if canon.phase not in event.phases:
-            continue
-        modes, K = event.phases[canon.phase]
-        E[k] = system.basis_matrix(canon.foot, canon.phase)[:, mode_indices(modes)] @ K
-        if mirrored:
-            E[k] = system.mirror.dofs(E[k].T).T * EVENT_MIRROR_SIGNS
-    return E
+        M = matrix(k - len(states) // 2 if mirrored else k)
+        out.append(system.mirror.dofs(M.T).T * signs if mirrored else M)
+    return np.stack(out)
+
+
+def _event_matrix(system: GaitSystem, state, event) -> np.ndarray:
+    """The ``event`` torque per unit feature (n_motor × 10) of a state: its phase's mode columns
+    times their gains (zero when the phase has none)."""
+    if state.phase not in event.phases:
+        return np.zeros((system.world.nmotor, len(EVENT_MIRROR_SIGNS)))
+    modes, K = event.phases[state.phase]
+    return system.basis_matrix(state.foot, state.phase)[:, mode_indices(modes)] @ K
 
 
 def _canonical_matrix(

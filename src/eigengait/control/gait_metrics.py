@@ -111,9 +111,15 @@ def rollout_stance_slips(
     """`stance_slips` of a rollout as playback records it: `first` the sensor row before its first
     step, `sensors` one row per physics step of `timestep` s, sampled at `PLAYBACK_FPS`
     (`sim.recording.frame_rows`)."""
-    rows = np.vstack([first, sensors])[frame_rows(len(sensors), timestep, PLAYBACK_FPS)]
+    rows = _playback_rows(first, sensors, timestep)
     points = {f: view.foot_points(rows, f) for f in view.foot_radius}
     return stance_slips(points, view.foot_radius, PLAYBACK_FPS)
+
+
+def _playback_rows(first: np.ndarray, sensors: np.ndarray, timestep: float) -> np.ndarray:
+    """A rollout's sensor rows (`first` before its first step, then one per physics step of
+    `timestep` s) at the frames playback records, `PLAYBACK_FPS` (`sim.recording.frame_rows`)."""
+    return np.vstack([first, sensors])[frame_rows(len(sensors), timestep, PLAYBACK_FPS)]
 
 
 def rollout_footfalls(
@@ -127,7 +133,7 @@ def rollout_footfalls(
     """foot -> `footfall` (touchdown phase in a cycle of `period` s, 0-1; None without touchdown)
     of a rollout as playback records it (`rollout_stance_slips`), counting the touchdowns from
     `after_s` s on."""
-    rows = np.vstack([first, sensors])[frame_rows(len(sensors), timestep, PLAYBACK_FPS)]
+    rows = _playback_rows(first, sensors, timestep)
     footfall = {}
     for foot, radius in view.foot_radius.items():
         touchdowns = touchdown_frames(
@@ -177,7 +183,12 @@ def _footfall(touchdowns: np.ndarray, fps: float, period: float) -> float | None
     if not touchdowns.size:
         return None
     phases = np.mod(touchdowns / fps, period) / period
-    return round(float(np.angle(np.mean(np.exp(2j * np.pi * phases)))) / (2 * np.pi), 4) % 1.0
+    return round(circular_mean_turn(phases), 4) % 1.0
+
+
+def circular_mean_turn(phases) -> float:
+    """Circular mean of cycle phases (fractions of a turn), in (−0.5, 0.5]."""
+    return float(np.angle(np.mean(np.exp(2j * np.pi * np.asarray(phases))))) / (2 * np.pi)
 
 
 def _root_tilt_series(model: mujoco.MjModel, qpos: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -58,7 +58,12 @@ import numpy as np
 from eigengait.control.closed_loop import PUSH_SECONDS, ClosedLoopRunner, Push
 from eigengait.control.controller import save_controller, to_file
 from eigengait.control.feedback import EVENT_FEATURES, EventGains, FeedbackGains
-from eigengait.control.gait_metrics import phase_distance, rollout_footfalls, rollout_stance_slips
+from eigengait.control.gait_metrics import (
+    circular_mean_turn,
+    phase_distance,
+    rollout_footfalls,
+    rollout_stance_slips,
+)
 from eigengait.control.gait import GaitParameters, GaitSystem
 from eigengait.control.lookahead import LookaheadSettings
 from eigengait.control.sketch import Timing
@@ -311,8 +316,7 @@ def footfall_pattern_cost(
     cost, centres = 0.0, []
     for a, b in pairs:
         cost += max(0.0, phase_distance(footfall[a], footfall[b]) - PAIR_TOLERANCE)
-        turn = np.exp(2j * np.pi * np.array([footfall[a], footfall[b]])).sum()
-        centres.append(float(np.angle(turn)) / (2 * np.pi) % 1.0)
+        centres.append(circular_mean_turn([footfall[a], footfall[b]]) % 1.0)
     if len(pairs) == 2:
         apart = phase_distance(*centres)
         cost += max(0.0, abs(0.5 - apart) - PAIR_TOLERANCE)
