@@ -14,13 +14,14 @@ compares controllers, not luck. The cost of one candidate is
                                                  +  TILT_WEIGHT · max(0, θ / θ* − 1)
                                                  +  PAIR_WEIGHT · P
 
-with v the mean forward COM speed of the copies, v* = `speed_share` × the starting gait's speed, E
-the mean squared motor torque (the thesis's E_energia) and E* = `effort_share` × the starting
-gait's (that term only when `effort_share` is set): a gait cannot buy survival by standing still
-or by flailing. s is the copies' mean
-stance-foot slip (`stance_slip_max_m` of the gait metrics, the feet sampled at 60 frames/s) and s*
-= `max_slip` (that term only when `max_slip` is set): a gait cannot keep its feet by sliding
-them either. θ is the undisturbed copy's largest root pitch or roll and θ* = `max_tilt_deg` (only
+with v the undisturbed copy's mean forward COM speed from the end of its first cycle (a push
+speeds or slows a play, and the launch from the initial state is not the gait), v* = `speed_share`
+× the starting gait's speed, E the mean squared motor torque (the thesis's E_energia) and E* =
+`effort_share` × the starting gait's (that term only when `effort_share` is set): a gait cannot buy
+survival by standing still or by flailing. s is the copies' mean stance-foot slip
+(`stance_slip_max_m` of the gait metrics, the feet sampled at 60 frames/s) and s* = `max_slip`
+(that term only when `max_slip` is set): a gait cannot keep its feet by sliding them either. θ is
+the undisturbed copy's largest root pitch or roll and θ* = `max_tilt_deg` (only
 when set). P (only with `paired_feet`) charges a footfall pattern the gait does not keep, read on
 the undisturbed copy from its third cycle on: per pair of feet that should land together, how far
 (in cycles) their mean touchdown phases lie apart beyond `PAIR_TOLERANCE`, and with two pairs, how
@@ -34,8 +35,8 @@ Searched (normalized, 0 = the starting gait): the period (±20 %), the air ratio
 durations (±30 %), every non-zero activation ψ (± half its size, at least ±5 N·m), the eight
 `hip` feedback gains (± 0.3 m g h per normalized unit, added when the gait had none). With
 `event_modes` (phase -> 1-based modes) the search is the activations and the ``event`` feedback's
-gains on those modes instead (the same scale, added to the gait's own; its target speed
-`target_speed`), the timing and the hip gains kept as they are. Given the
+gains on those modes instead (± 0.6 m g h per normalized unit, added to the gait's own; its target
+speed `target_speed`), the timing and the hip gains kept as they are. Given the
 sketch's timing, the period, air ratio and pulse durations also stay within the bounds `optimize`
 keeps them in (`optimize/parameters.py`), so that hardening a gait again and again cannot walk its
 timing away from the sketch. The initial state and the trigger are kept.
@@ -78,6 +79,10 @@ EFFORT_WEIGHT = 0.5
 SLIP_WEIGHT = 0.5
 TILT_WEIGHT = 0.5
 PAIR_WEIGHT = 2.0
+# normalized gain units, in m g h (N·m per normalized feature): hip feedback, event feedback (the
+# event gains start from zero; the dog's trot has them at 0.2-1.4 m g h, docs/locomotion.md)
+HIP_GAIN_SCALE = 0.3
+EVENT_GAIN_SCALE = 0.6
 PAIR_TOLERANCE = 0.1  # cycles
 PAIR_MISSING = 3.0  # the pattern term of a gait with a foot that stops landing
 HORIZON_STEP = 4  # cycles added when the median candidate survives the horizon
@@ -128,8 +133,10 @@ class SurvivalSettings:
 class SurvivalSpace:
     """Normalized offsets z from a starting gait, and back (`decode`); the decoded timing is
     clipped to `bounds` (name -> (low, high), `timing_bounds` of the sketch's timing) when given.
-    With `event_modes` (phase -> 1-based modes) the ``event`` gains on those modes are searched too,
-    read against `target_speed` (m/s)."""
+    With `event_modes` (phase -> 1-based modes) z is the activations and the ``event`` gains on
+    those modes, read against `target_speed` (m/s); the timing and the hip gains are then kept
+    and have no coordinates. Otherwise z is the timing (4), the activations and the hip gains (8).
+    """
 
     def __init__(
         self,
@@ -147,48 +154,55 @@ class SurvivalSpace:
             [max(0.5 * abs(start.activations[k][i]), 5.0) for k, i in self.slots]
         )
         world = system.world
-        self.gain_scale = 0.3 * world.mass() * GRAVITY * world.standing_com_height
+        self.gain_scale = HIP_GAIN_SCALE * world.mass() * GRAVITY * world.standing_com_height
+        self.event_scale = EVENT_GAIN_SCALE * world.mass() * GRAVITY * world.standing_com_height
         self.hip0 = start.feedback.hip if start.feedback.hip is not None else np.zeros(8)
         self.event_modes = {ph: list(m) for ph, m in (event_modes or {}).items() if m}
         self.event0 = _starting_event_gains(start.feedback.event, self.event_modes)
         own = start.feedback.event
         self.event_speed = target_speed if target_speed is not None else (own.speed if own else 0)
-        self.size = 4 + len(self.slots) + 8 + sum(k.size for k in self.event0.values())
+        searched = not self.event_modes
+        self.sizes = {
+            "timing": 4 if searched else 0,
+            "activations": len(self.slots),
+            "hip": 8 if searched else 0,
+            "event": sum(k.size for k in self.event0.values()),
+        }
+        self.size = sum(self.sizes.values())
 
     def decode(self, z: np.ndarray) -> GaitParameters:
-        s, n = self.start, len(self.slots)
-        if self.event_modes:  # the event search keeps the gait's timing and hip gains
-            z = np.array(z, dtype=float)
-            z[:4] = z[4 + n : 4 + n + 8] = 0.0
+        parts, at = {}, 0
+        for name, n in self.sizes.items():
+            parts[name] = np.asarray(z[at : at + n], dtype=float)
+            at += n
+        s = self.start
         activations = {k: v.copy() for k, v in s.activations.items()}
-        for (key, i), scale, dz in zip(self.slots, self.psi_scale, z[4 : 4 + n]):
+        for (key, i), scale, dz in zip(self.slots, self.psi_scale, parts["activations"]):
             activations[key][i] += scale * dz
-        timing = {
-            "period": s.period * (1 + 0.2 * np.tanh(z[0])),
-            "air_ratio": float(np.clip(s.air_ratio + 0.1 * np.tanh(z[1]), 0.02, 0.98)),
-            "pulse_air": s.pulse_air * (1 + 0.3 * np.tanh(z[2])),
-            "pulse_ground": s.pulse_ground * (1 + 0.3 * np.tanh(z[3])),
-        }
-        if self.bounds is not None:
-            timing = {key: float(np.clip(v, *self.bounds[key])) for key, v in timing.items()}
-        at = 4 + n + 8
-        event = s.feedback.event
+        timing, hip, event = {}, self.hip0, s.feedback.event
+        if self.sizes["timing"]:
+            t = parts["timing"]
+            timing = {
+                "period": s.period * (1 + 0.2 * np.tanh(t[0])),
+                "air_ratio": float(np.clip(s.air_ratio + 0.1 * np.tanh(t[1]), 0.02, 0.98)),
+                "pulse_air": s.pulse_air * (1 + 0.3 * np.tanh(t[2])),
+                "pulse_ground": s.pulse_ground * (1 + 0.3 * np.tanh(t[3])),
+            }
+            if self.bounds is not None:
+                timing = {key: float(np.clip(v, *self.bounds[key])) for key, v in timing.items()}
+            hip = self.hip0 + self.gain_scale * parts["hip"]
         if self.event_modes:
-            phases = {}
+            phases, at = {}, 0
             for phase, K0 in self.event0.items():
-                K = K0 + self.gain_scale * z[at : at + K0.size].reshape(K0.shape)
-                phases[phase] = (self.event_modes[phase], K)
+                dK = parts["event"][at : at + K0.size].reshape(K0.shape)
+                phases[phase] = (self.event_modes[phase], K0 + self.event_scale * dK)
                 at += K0.size
             event = EventGains(speed=self.event_speed, phases=phases)
         return replace(
             s,
             **timing,
             activations=activations,
-            feedback=FeedbackGains(
-                hip=self.hip0 + self.gain_scale * z[4 + n : 4 + n + 8],
-                modal=s.feedback.modal,
-                event=event,
-            ),
+            feedback=FeedbackGains(hip=hip, modal=s.feedback.modal, event=event),
         )
 
 
@@ -252,10 +266,11 @@ class SurvivalScorer:
         self, params: list[GaitParameters], generation: int, horizon: int
     ) -> tuple[np.ndarray, np.ndarray]:
         """(cost, mean cycles survived) per candidate."""
-        dt, view = self.runner.model.opt.timestep, self.system.world.view
+        dt = self.runner.model.opt.timestep
         cycles = np.zeros((len(params), self.settings.copies))
-        speed, effort, slip = np.zeros_like(cycles), np.zeros_like(cycles), np.zeros_like(cycles)
-        shape = np.zeros(len(params))  # the undisturbed copy's tilt and footfall terms
+        effort, slip = np.zeros_like(cycles), np.zeros_like(cycles)
+        # the undisturbed copy's speed and its tilt and footfall terms
+        speed, shape = np.zeros(len(params)), np.zeros(len(params))
         for c, push in enumerate(
             generation_pushes(self.settings, generation, self.period, horizon, self.mass)
         ):
@@ -265,14 +280,13 @@ class SurvivalScorer:
                 cycles[i, c] = min(
                     len(run.cycle_ends[i]) + (end * dt % p.period) / p.period, horizon
                 )
-                com_x = view.com(run.sensors[i, :end])[:, 0]
-                speed[i, c] = (com_x[-1] - com_x[0]) / (end * dt)
                 effort[i, c] = np.mean(np.sum(run.torques[i, :end] ** 2, axis=1))
                 if self.settings.max_slip is not None:
                     slip[i, c] = self._slip(p, run.sensors[i, : int(run.ended[i])])
                 if push is None:
+                    speed[i] = self._speed(p, run.sensors[i, :end])
                     shape[i] = self._shape(p, run.states[i, :end], run.sensors[i, :end])
-        lag = np.clip(self.target_speed - speed.mean(axis=1), 0, None) / self.target_speed
+        lag = np.clip(self.target_speed - speed, 0, None) / self.target_speed
         excess = (
             0.0
             if self.target_effort is None
@@ -282,6 +296,16 @@ class SurvivalScorer:
         if self.settings.max_slip is not None:
             cost += SLIP_WEIGHT * np.clip(slip.mean(axis=1) / self.settings.max_slip - 1, 0, None)
         return cost + shape, cycles.mean(axis=1)
+
+    def _speed(self, p: GaitParameters, sensors: np.ndarray) -> float:
+        """Mean forward COM speed (m/s) of a rollout from the end of its first cycle (the launch
+        from the initial state left out); 0 if it ends within that cycle."""
+        dt = self.runner.model.opt.timestep
+        first = int(round(p.period / dt))
+        if len(sensors) <= first + 1:
+            return 0.0
+        com_x = self.system.world.view.com(sensors[[first, -1]])[:, 0]
+        return float(com_x[1] - com_x[0]) / ((len(sensors) - 1 - first) * dt)
 
     def _shape(self, p: GaitParameters, states: np.ndarray, sensors: np.ndarray) -> float:
         """TILT_WEIGHT and PAIR_WEIGHT terms of one undisturbed rollout (0 when not asked)."""
