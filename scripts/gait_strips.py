@@ -1,10 +1,10 @@
 """Picture strips and footfall diagrams of the shipped gaits for the README and the gallery: each gait played as
-shipped (with its lookahead, if it has one) for two cycles; the strip shows the second cycle from a
+shipped (with its lookahead, if it has one) for two cycles (or N); the strip shows the last cycle from a
 fixed side camera (so travel shows), each tile stamped with its time, its phase in the cycle and the
 feet on the ground; below it, the contact diagram of both cycles, with the strip's frames marked.
 
-Usage: python scripts/gait_strips.py [--output FOLDER] [GAIT ...] -> FOLDER/gait_<name>.png (default
-docs/images)
+Usage: python scripts/gait_strips.py [--output FOLDER] [--cycle N] [GAIT ...] ->
+FOLDER/gait_<name>.png (default docs/images; N: the cycle shown, default 2)
 """  # noqa: E501
 
 from __future__ import annotations
@@ -30,17 +30,21 @@ FRAMES = 8
 TILE = (240, 260)  # width, height in pixels
 VIEW = CameraView(azimuth_deg=100.0, elevation_deg=-27.0, fill=0.85, follow=False)
 OUT = Path(__file__).resolve().parents[1] / "docs" / "images"
+ORDINALS = {1: "first", 2: "second", 3: "third"}
 
 
-def strip(name: str, folder: Path) -> Path:
+def strip(name: str, folder: Path, cycle: int = 2) -> Path:
+    """Draw gait `name`'s strip of its cycle `cycle` (1-based) and the contacts of that cycle and
+    the one before it into `folder`."""
     controller = load_controller(resolve("gait", name))
     system = gait_system(controller)
     result = play(
-        system, to_parameters(controller, system), cycles=2, lookahead=controller.planner()
+        system, to_parameters(controller, system), cycles=cycle, lookahead=controller.planner()
     )
     world, period = system.world, controller.period
     times = np.arange(len(result.qpos)) / result.fps
-    picks = period + np.arange(FRAMES) * period / FRAMES  # the second cycle
+    picks = (cycle - 1 + np.arange(FRAMES) / FRAMES) * period
+    shown = times >= (cycle - 2) * period - 1e-9  # the contacts of the last two cycles
     poses = resample(world.model, result.qpos, times, picks)
     tiles = list(iter_frames(world, poses, *TILE, VIEW, times=picks))
 
@@ -55,8 +59,9 @@ def strip(name: str, folder: Path) -> Path:
     fig.text(
         0.005,
         1 - 17 / height,
-        f"{name}: its second cycle ({period:.3f} s) from a fixed side camera, "
-        f"and the feet on the ground over two cycles{fell}",
+        f"{name}: its {ORDINALS.get(cycle, f'{cycle}th')} cycle ({period:.3f} s) from a fixed "
+        f"side camera, and the feet on the ground over {'two cycles' if cycle > 1 else 'it'}"
+        f"{fell}",
         fontsize=13,
         weight="bold",
         va="center",
@@ -79,7 +84,12 @@ def strip(name: str, folder: Path) -> Path:
             top.axvline(k * TILE[0] - 0.5, color="white", lw=2)
     diagram = fig.add_axes((0.07, 45 / height, 0.91, (chart - 120) / height))
     contact_diagram(
-        diagram, times, foot_contacts(world, result.qpos), list(world.foot_spheres), period, picks
+        diagram,
+        times[shown],
+        foot_contacts(world, result.qpos[shown]),
+        list(world.foot_spheres),
+        period,
+        picks,
     )
     path = folder / f"gait_{name}.png"
     fig.savefig(path)
@@ -93,7 +103,13 @@ if __name__ == "__main__":
     parser.add_argument(
         "--output", type=Path, default=OUT, help="folder for the images (default: docs/images)"
     )
+    parser.add_argument(
+        "--cycle",
+        type=int,
+        default=2,
+        help="the cycle shown (1-based; default 2: a later one for a gait that settles slowly)",
+    )
     args = parser.parse_args()
     args.output.mkdir(parents=True, exist_ok=True)
     for gait in args.gaits or gait_names():
-        print(strip(gait, args.output))
+        print(strip(gait, args.output, args.cycle))

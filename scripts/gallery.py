@@ -1,10 +1,11 @@
 """Write docs/gallery.md: every shipped gait with its sketch, a strip of one cycle, its quality and
 how much of it is still its sketch.
 
-Usage: python scripts/gallery.py [--recorded DIR]
+Usage: python scripts/gallery.py [--recorded DIR] [--gaits NAME ...]
 Reads what `scripts/make_gaits.py --measure-only` recorded in DIR (default out/gait-measures: the
 20-cycle plays with and without lookahead) and the strips `scripts/gait_strips.py` drew in
-docs/images; plays nothing itself.
+docs/images; plays nothing itself. With --gaits only those gaits' sections and table rows of the
+existing page are rewritten (the others keep what was recorded when they were measured).
 """
 
 from __future__ import annotations
@@ -77,6 +78,8 @@ def section(name: str, record: dict, reference: dict | None) -> str:
     planner = (
         f"with its lookahead ({planning(controller.lookahead)})"
         if m.get("lookahead")
+        else "without lookahead (its event feedback in charge)"
+        if controller.feedback.event is not None
         else "without lookahead (it lasts longer so)"
     )
     if record.get("activation_time"):
@@ -137,20 +140,44 @@ def summary_table(records: dict) -> str:
     return "\n".join(rows)
 
 
+def updated(page: str, records: dict) -> str:
+    """`page` with the table row and the section of each gait in `records` rewritten (the
+    signatures' basic-run figure is kept as the page states it, so the basic run itself is
+    rewritten only with the whole page)."""
+    if REFERENCE in records:
+        raise SystemExit(f"{REFERENCE} is every signature's reference: rewrite the whole page")
+    parts = page.rstrip("\n").split("\n\n## ")
+    rows = summary_table(records).splitlines()[2:]
+    for name, record in records.items():
+        row = next(r for r in rows if r.startswith(f"| `{name}` |"))
+        old_row = next(line for line in page.splitlines() if line.startswith(f"| `{name}` |"))
+        parts = [part.replace(old_row, row) for part in parts]
+        k = next(i for i, part in enumerate(parts) if part.startswith(f"`{name}`"))
+        parts[k] = section(name, record, None).removeprefix("## ")
+    return "\n\n## ".join(parts) + "\n"
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(
         description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
     )
     parser.add_argument("--recorded", type=Path, default=MEASURES)
+    parser.add_argument("--gaits", nargs="+", help="rewrite only these gaits' parts of the page")
     args = parser.parse_args()
+    if args.gaits:
+        records = {n: json.loads((args.recorded / f"{n}.json").read_text()) for n in args.gaits}
+        PAGE.write_text(updated(PAGE.read_text(), records))
+        print(f"rewrote {', '.join(args.gaits)} in {PAGE}")
+        return
     records = {n: json.loads((args.recorded / f"{n}.json").read_text()) for n in gait_names()}
     reference = records.get(REFERENCE, {}).get("played")
     head = [
         "# Gallery of the shipped gaits",
         "",
         "Written by `python scripts/gallery.py` from the figures `scripts/make_gaits.py "
-        "--measure-only` recorded; the strips are `scripts/gait_strips.py`'s (the second of two "
-        "cycles played as shipped, from a fixed side camera, with the feet on the ground below). "
+        "--measure-only` recorded; the strips are `scripts/gait_strips.py`'s (one cycle played as "
+        "shipped, the second unless its title names a later one for a gait that settles slowly, "
+        "from a fixed side camera, with the feet on the ground below). "
         "The figures are defined in the README (Playback); the energy split is "
         "`control/sketch_character.py`'s.",
         "",

@@ -2,9 +2,10 @@
 optimizer.
 
 Usage: python scripts/make_gaits.py [GAIT ...] [--evaluations N] [--max-outer N] [--runs DIR]
-[--harden-minutes M] [--harden-only | --measure-only] [--as-is] [--servo]. Each gait is a sketch
-preset optimized from a fixed seed, then (with --harden-minutes) hardened against falls under
-sampled pushes (`eigengait harden`, optimize/survival.py); the best controller is copied into the
+[--harden-minutes M [--event]] [--harden-only | --measure-only] [--as-is] [--servo]. Each gait is a
+sketch preset optimized from a fixed seed, then (with --harden-minutes) hardened against falls under
+sampled pushes (`eigengait harden`, optimize/survival.py; with --event by searching event feedback,
+`harden --event`, in two stages); the best controller is copied into the
 package with its playback metrics. `--harden-only` hardens the shipped gaits as they are,
 `--measure-only` re-measures them (`--as-is`: only with their own motor activation time;
 `--servo`: each also with the swing-foot servo). Runs are kept in DIR (default out/gait-runs) and
@@ -15,6 +16,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 from pathlib import Path
 
 from eigengait.control.binding import gait_system
@@ -25,7 +27,7 @@ from eigengait.control.controller import (
     sketch_modes,
     to_parameters,
 )
-from eigengait.control.gait_targets import PUSHED, targets
+from eigengait.control.gait_targets import MAX_SLIP_M, MAX_TILT_DEG, PUSHED, targets
 from eigengait.control.library import resolve
 from eigengait.control.playback import play, push_robustness
 from eigengait.control.sketch import load_sketch
@@ -33,7 +35,13 @@ from eigengait.control.sketch_character import sketch_character
 from eigengait.control.swing_servo import ServoSettings
 from eigengait.optimize.mom import MomSettings
 from eigengait.optimize.staged import optimize_gait
-from eigengait.optimize.survival import CHECKPOINT, StartingFigures, SurvivalSettings, harden
+from eigengait.optimize.survival import (
+    CHECKPOINT,
+    StartingFigures,
+    SurvivalSettings,
+    event_settings,
+    harden,
+)
 from eigengait.sim.build import build_fingerprint
 
 GAITS = {
@@ -68,6 +76,8 @@ LONG_HORIZON = 4.0
 # "Holding the target speed harder")
 STRONG_SPEED_WEIGHT = 10.0
 CYCLES = 20  # cycles each gait is played for its figures
+EVENT_FIRST_SHARE = 1 / 6  # of an event search's minutes, spent before slip and paired feet count
+EVENT_POPSIZE = 16  # candidates per generation of an event search
 
 
 def make(
@@ -139,6 +149,50 @@ def hardened(controller, folder: Path, minutes: float, seed: int):
     return out
 
 
+def event_hardened(controller, folder: Path, minutes: float, seed: int):
+    """The controller after `minutes` of event-feedback search (`harden --event`) in `folder`, in
+    two stages: for `EVENT_FIRST_SHARE` of the time survival, speed and tilt alone (a gait must
+    move before its feet can be placed), then, from its result, also the stance slip and the
+    sketch's paired feet. Each stage resumes if interrupted; the result plays without lookahead."""
+    sketch = load_sketch(resolve("sketch", GAITS[controller.name]))
+    system = gait_system(controller)
+    common = {
+        "seed": seed,
+        "popsize": EVENT_POPSIZE,
+        "threads": os.cpu_count() or 1,
+        "max_tilt_deg": MAX_TILT_DEG,
+        **event_settings(sketch),
+    }
+    stages = (
+        SurvivalSettings(minutes=EVENT_FIRST_SHARE * minutes, max_slip=None, **common),
+        SurvivalSettings(
+            minutes=(1 - EVENT_FIRST_SHARE) * minutes,
+            max_slip=MAX_SLIP_M,
+            paired_feet=tuple(map(tuple, sketch.targets.paired_feet)),
+            **common,
+        ),
+    )
+    start = to_parameters(controller, system)
+    for number, settings in enumerate(stages, 1):
+        stage = folder / f"stage{number}"
+        figures = StartingFigures.of(play(system, start, cycles=CYCLES))
+        start = harden(
+            system,
+            start,
+            figures,
+            stage,
+            settings,
+            (stage / CHECKPOINT).exists(),
+            controller.name,
+            sketch=controller.sketch,
+            timing=sketch.timing,
+        )
+    out = load_controller(folder / f"stage{len(stages)}" / "best_controller.json")
+    spent = controller.metrics.get("hardening_minutes", 0.0) + minutes
+    out.name, out.metrics = controller.name, {**controller.metrics, "hardening_minutes": spent}
+    return out
+
+
 def played(controller) -> dict:
     """The controller played `CYCLES` cycles with physics only, without and with its lookahead (if
     that falls, once more with plans `LONG_HORIZON` cycles long, kept if it survives longer; if it
@@ -160,6 +214,14 @@ def played(controller) -> dict:
 
     alone = figures(None)
     lookahead = controller.lookahead
+    if lookahead is None:  # event feedback: its pulses are what plays
+        return {
+            "system": system,
+            "params": params,
+            "alone": alone,
+            "free": alone,
+            "lookahead": None,
+        }
     free = figures(lookahead)
     if free["cycles_completed"] < CYCLES and lookahead.horizon_cycles < LONG_HORIZON:
         longer = lookahead.model_copy(update={"horizon_cycles": LONG_HORIZON})
@@ -215,7 +277,7 @@ def measure(controller, as_is: bool = False, servo: bool = False) -> None:
     the figures."""
     sketch = load_sketch(resolve("sketch", GAITS[controller.name]))
     controller.sketch = sketch_modes(sketch)
-    if controller.lookahead is None:
+    if controller.lookahead is None and controller.feedback.event is None:
         controller.lookahead = LookaheadFile(speed=sketch.targets.mean_speed)
     switched = None if controller.activation_time is not None else ACTIVATION_TIME
     taus = (controller.activation_time,) if as_is else (controller.activation_time, switched)
@@ -312,6 +374,11 @@ def main() -> None:
         "--harden-minutes", type=float, default=0.0, help="survival optimization after (min)"
     )
     parser.add_argument(
+        "--event",
+        action="store_true",
+        help="harden by searching event feedback (two stages; the gait then has no lookahead)",
+    )
+    parser.add_argument(
         "--harden-only", action="store_true", help="harden the shipped gaits (no optimization)"
     )
     parser.add_argument(
@@ -344,7 +411,11 @@ def main() -> None:
                 args.minutes,
                 args.horizon,
             )
-        if args.harden_minutes:
+        if args.harden_minutes and args.event:
+            controller = event_hardened(
+                controller, args.runs / gait / "event", args.harden_minutes, args.seed
+            )
+        elif args.harden_minutes:
             controller = hardened(
                 controller, args.runs / gait / "hardened", args.harden_minutes, args.seed
             )

@@ -292,7 +292,7 @@ def test_plans_can_keep_to_the_sketchs_modes():
 
     # instant motors: a lag carries each state's torque into the next state's basis for a few tens
     # of ms
-    controller = load_controller(resolve("gait", "dog-trot")).model_copy(
+    controller = load_controller(resolve("gait", "kangaroo-hop")).model_copy(
         update={"activation_time": None}
     )
     system = gait_system(controller)
@@ -302,7 +302,7 @@ def test_plans_can_keep_to_the_sketchs_modes():
         kept = controller.model_copy(
             update={
                 "lookahead": controller.lookahead.model_copy(
-                    update={"in_sketch": in_sketch, "samples": 16}
+                    update={"in_sketch": in_sketch, "samples": 16, "horizon_cycles": 2.0}
                 )
             }
         )

@@ -397,7 +397,13 @@ def harden_command(
     from eigengait.control.controller import load_controller, to_parameters
     from eigengait.control.library import resolve
     from eigengait.control.playback import play
-    from eigengait.optimize.survival import CHECKPOINT, StartingFigures, SurvivalSettings, harden
+    from eigengait.optimize.survival import (
+        CHECKPOINT,
+        StartingFigures,
+        SurvivalSettings,
+        event_settings,
+        harden,
+    )
 
     for value, option, low, high in (
         (minutes, "--max-minutes", 0.01, 1e6),
@@ -445,7 +451,7 @@ def harden_command(
         threads=workers,
         max_tilt_deg=max_tilt or None,
         paired_feet=tuple(made_from.targets.paired_feet) if paired_feet else (),
-        **(_event_settings(made_from) if event else {}),
+        **(event_settings(made_from) if event else {}),
     )
     before = play(system, start, cycles=20, source=path)
     figures = StartingFigures.of(before)
@@ -472,17 +478,6 @@ def harden_command(
         f"{_slip_cm(after)}"
     )
     console.print(f"run folder: {output} (best_controller.json, log.csv, {CHECKPOINT})")
-
-
-def _event_settings(sketch) -> dict:
-    """SurvivalSettings fields of `harden --event`: the sketch's priority and allowed modes per
-    phase, its mean speed as the feedback's and the speed term's target, and no effort term (the
-    starting gait's torque is no reference for one that is to reach another speed)."""
-    modes = {
-        phase: tuple(dict.fromkeys([*part.priority, *(part.allowed or [])]))
-        for phase, part in (("air", sketch.air), ("ground", sketch.ground))
-    }
-    return {"event_modes": modes, "target_speed": sketch.targets.mean_speed, "effort_share": None}
 
 
 def _gait_sketch(sketch: str, character: str):

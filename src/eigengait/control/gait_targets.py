@@ -10,6 +10,8 @@ from __future__ import annotations
 from eigengait.control.gait_metrics import phase_distance
 
 PUSHED = ("humanoid-basic-run", "dog-trot")  # the gaits with a push target
+MAX_TILT_DEG = 30.0  # root pitch and roll, every gait
+MAX_SLIP_M = 0.03  # mean stance-foot slip per stance, every gait
 
 
 def targets(name: str, m: dict, pushes: list[bool] | None) -> dict[str, bool]:
@@ -20,8 +22,8 @@ def targets(name: str, m: dict, pushes: list[bool] | None) -> dict[str, bool]:
         "20 cycles": m["cycles_completed"] == 20 and not m["fell"],
         "jump ≤ 15°": (m["max_frame_jump_deg"] or 0) <= 15,
         "root jump ≤ 6 cm": (m["max_root_jump_m"] or 0) <= 0.06,
-        "slip ≤ 3 cm": m["stance_slip_max_m"] is not None and m["stance_slip_max_m"] <= 0.03,
-        "tilt ≤ 30°": tilt <= 30,
+        "slip ≤ 3 cm": m["stance_slip_max_m"] is not None and m["stance_slip_max_m"] <= MAX_SLIP_M,
+        "tilt ≤ 30°": tilt <= MAX_TILT_DEG,
     }
     speed, flight = m["mean_speed_mps"], m["flight_fraction"]
     if name == "humanoid-basic-run":

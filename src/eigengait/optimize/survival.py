@@ -67,7 +67,7 @@ from eigengait.control.gait_metrics import (
 )
 from eigengait.control.gait import GaitParameters, GaitSystem
 from eigengait.control.lookahead import LookaheadSettings
-from eigengait.control.sketch import Timing
+from eigengait.control.sketch import Sketch, Timing
 from eigengait.errors import UserInputError
 from eigengait.optimize.parameters import timing_bounds
 from eigengait.outputs import write_atomically
@@ -220,6 +220,18 @@ def _starting_event_gains(
                     K[r] = rows[m]
         start[phase] = K
     return start
+
+
+def event_settings(sketch: Sketch) -> dict:
+    """`SurvivalSettings` fields of an event search (`harden --event`): the sketch's priority and
+    allowed modes per phase, its mean speed as the feedback's and the speed term's target, and no
+    effort term (the starting gait's torque is no reference for one that is to reach another
+    speed)."""
+    modes = {
+        phase: tuple(dict.fromkeys([*part.priority, *(part.allowed or [])]))
+        for phase, part in (("air", sketch.air), ("ground", sketch.ground))
+    }
+    return {"event_modes": modes, "target_speed": sketch.targets.mean_speed, "effort_share": None}
 
 
 def generation_pushes(
