@@ -1,10 +1,11 @@
 """Play every shipped gait 20 cycles with physics only and print its quality against the locomotion
 targets.
 
-Usage: python scripts/gait_table.py [--recorded DIR] (prints a Markdown table and, below it, each
-failed target; the swing clearance column is the lowest of the feet's mean swing clearances, "none"
-when a foot never lifts). Each gait is played with its lookahead and pushed, or, with --recorded,
-read from what `scripts/make_gaits.py --measure-only` recorded in DIR (out/gait-measures).
+Usage: python scripts/gait_table.py [--recorded DIR] [GAIT ...] (prints a Markdown table and,
+below it, each failed target; the swing clearance column is the lowest of the feet's mean swing
+clearances, "none" when a foot never lifts). Each gait is played with its lookahead and pushed, or,
+with --recorded, read from what `scripts/make_gaits.py --measure-only` recorded in DIR
+(out/gait-measures).
 The targets are `control/gait_targets.py`'s (docs/locomotion.md).
 """
 
@@ -36,6 +37,7 @@ def lookahead_label(lookahead: LookaheadFile) -> str:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__)
+    parser.add_argument("gaits", nargs="*", help="shipped gait names (default: all)")
     parser.add_argument("--recorded", type=Path, default=None)
     args = parser.parse_args()
     print(
@@ -45,7 +47,7 @@ def main() -> None:
     )
     print("|---|---|---:|---:|---:|---:|---:|---:|---|---|---:|---:|---:|---|")
     failures = []
-    for name in gait_names():
+    for name in args.gaits or gait_names():
         controller = load_controller(resolve("gait", name))
         if args.recorded is not None:
             record = json.loads((args.recorded / f"{name}.json").read_text(encoding="utf-8"))
@@ -63,7 +65,8 @@ def main() -> None:
         roll = "{:.0f} … {:.0f}".format(*m["torso_roll_deg"])
         lifts = list(m["swing_clearance_m"].values())
         clearance = "none" if None in lifts else f"{min(lifts):.3f}"
-        control = (lookahead_label(controller.lookahead) if m["lookahead"] else "pulses") + (
+        alone = "pulses, event feedback" if controller.feedback.event else "pulses"
+        control = (lookahead_label(controller.lookahead) if m["lookahead"] else alone) + (
             f", {lag * 1000:.0f} ms lag" if lag else ""
         )
         print(
