@@ -27,7 +27,7 @@ from eigengait.control.controller import (
     sketch_modes,
     to_parameters,
 )
-from eigengait.control.gait_targets import MAX_SLIP_M, MAX_TILT_DEG, PUSHED, targets
+from eigengait.control.gait_targets import PUSHED, targets
 from eigengait.control.library import resolve
 from eigengait.control.playback import play, push_robustness
 from eigengait.control.sketch import load_sketch
@@ -39,8 +39,8 @@ from eigengait.optimize.survival import (
     CHECKPOINT,
     StartingFigures,
     SurvivalSettings,
-    event_settings,
     harden,
+    harden_event_in_stages,
 )
 from eigengait.sim.build import build_fingerprint
 
@@ -76,8 +76,6 @@ LONG_HORIZON = 4.0
 # "Holding the target speed harder")
 STRONG_SPEED_WEIGHT = 10.0
 CYCLES = 20  # cycles each gait is played for its figures
-EVENT_FIRST_SHARE = 1 / 6  # of an event search's minutes, spent before slip and paired feet count
-EVENT_POPSIZE = 16  # candidates per generation of an event search
 
 
 def make(
@@ -150,44 +148,23 @@ def hardened(controller, folder: Path, minutes: float, seed: int):
 
 
 def event_hardened(controller, folder: Path, minutes: float, seed: int):
-    """The controller after `minutes` of event-feedback search (`harden --event`) in `folder`, in
-    two stages: for `EVENT_FIRST_SHARE` of the time survival, speed and tilt alone (a gait must
-    move before its feet can be placed), then, from its result, also the stance slip and the
-    sketch's paired feet. Each stage resumes if interrupted; the result plays without lookahead."""
+    """The controller after `minutes` of event-feedback search in `folder`
+    (`survival.harden_event_in_stages`, on every core; resumed if interrupted); it plays without
+    lookahead."""
     sketch = load_sketch(resolve("sketch", GAITS[controller.name]))
     system = gait_system(controller)
-    common = {
-        "seed": seed,
-        "popsize": EVENT_POPSIZE,
-        "threads": os.cpu_count() or 1,
-        "max_tilt_deg": MAX_TILT_DEG,
-        **event_settings(sketch),
-    }
-    stages = (
-        SurvivalSettings(minutes=EVENT_FIRST_SHARE * minutes, max_slip=None, **common),
-        SurvivalSettings(
-            minutes=(1 - EVENT_FIRST_SHARE) * minutes,
-            max_slip=MAX_SLIP_M,
-            paired_feet=tuple(map(tuple, sketch.targets.paired_feet)),
-            **common,
-        ),
+    harden_event_in_stages(
+        system,
+        to_parameters(controller, system),
+        sketch,
+        folder,
+        minutes,
+        seed,
+        os.cpu_count() or 1,
+        controller.name,
+        controller.sketch,
     )
-    start = to_parameters(controller, system)
-    for number, settings in enumerate(stages, 1):
-        stage = folder / f"stage{number}"
-        figures = StartingFigures.of(play(system, start, cycles=CYCLES))
-        start = harden(
-            system,
-            start,
-            figures,
-            stage,
-            settings,
-            (stage / CHECKPOINT).exists(),
-            controller.name,
-            sketch=controller.sketch,
-            timing=sketch.timing,
-        )
-    out = load_controller(folder / f"stage{len(stages)}" / "best_controller.json")
+    out = load_controller(folder / "stage2" / "best_controller.json")
     spent = controller.metrics.get("hardening_minutes", 0.0) + minutes
     out.name, out.metrics = controller.name, {**controller.metrics, "hardening_minutes": spent}
     return out

@@ -213,3 +213,33 @@ def test_harden_event_searches_the_sketch_modes_and_plays_without_lookahead(tmp_
     played = eigengait("play", str(run / "best_controller.json"), "--cycles", "1", "--json")
     assert played.returncode == 0, played.stderr
     assert json.loads(played.stdout)["lookahead"] is False
+
+
+def test_the_staged_event_search_adds_slip_and_paired_feet_in_its_second_stage(tmp_path):
+    """Stage 1 charges survival, speed and tilt; stage 2 adds the slip and the sketch's paired feet;
+    both search the sketch's modes and the result carries event feedback and no lookahead."""
+    from eigengait.control.gait_targets import MAX_SLIP_M, MAX_TILT_DEG
+    from eigengait.optimize.survival import EVENT_POPSIZE, harden_event_in_stages
+
+    path = resolve("gait", "dog-trot")
+    c = load_controller(path)
+    system = gait_system(c, source=path)
+    sketch = load_sketch(resolve("sketch", "dog-trot"))
+    result = harden_event_in_stages(
+        system, to_parameters(c, system, path), sketch, tmp_path, 0.05, progress=lambda _: None
+    )
+    first, second = (
+        json.loads((tmp_path / stage / CHECKPOINT).read_text()) for stage in ("stage1", "stage2")
+    )
+    for run in (first, second):
+        settings = run["settings"]
+        assert settings["popsize"] == EVENT_POPSIZE and settings["max_tilt_deg"] == MAX_TILT_DEG
+        assert settings["event_modes"] and settings["effort_share"] is None
+    assert first["settings"]["max_slip"] is None and first["settings"]["paired_feet"] == []
+    assert second["settings"]["max_slip"] == MAX_SLIP_M
+    assert second["settings"]["paired_feet"] == [list(p) for p in sketch.targets.paired_feet]
+    stage1 = load_controller(tmp_path / "stage1" / "best_controller.json")
+    stage2 = load_controller(tmp_path / "stage2" / "best_controller.json")
+    assert stage2.lookahead is None and result.feedback.event is not None
+    assert stage2.feedback.event.speed == sketch.targets.mean_speed
+    assert stage1.feedback.event.air.keys() == stage2.feedback.event.air.keys()

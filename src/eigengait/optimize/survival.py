@@ -59,6 +59,7 @@ import numpy as np
 from eigengait.control.closed_loop import PUSH_SECONDS, ClosedLoopRunner, Push
 from eigengait.control.controller import save_controller, to_file
 from eigengait.control.feedback import EVENT_FEATURES, EventGains, FeedbackGains
+from eigengait.control.gait_targets import MAX_SLIP_M, MAX_TILT_DEG
 from eigengait.control.gait_metrics import (
     circular_mean_turn,
     phase_distance,
@@ -67,6 +68,7 @@ from eigengait.control.gait_metrics import (
 )
 from eigengait.control.gait import GaitParameters, GaitSystem
 from eigengait.control.lookahead import LookaheadSettings
+from eigengait.control.playback import play
 from eigengait.control.sketch import Sketch, Timing
 from eigengait.errors import UserInputError
 from eigengait.optimize.parameters import timing_bounds
@@ -85,6 +87,8 @@ HIP_GAIN_SCALE = 0.3
 EVENT_GAIN_SCALE = 0.6
 PAIR_TOLERANCE = 0.1  # cycles
 PAIR_MISSING = 3.0  # the pattern term of a gait with a foot that stops landing
+EVENT_FIRST_SHARE = 1 / 6  # of a staged event search's minutes, before slip and pairs count
+EVENT_POPSIZE = 16  # candidates per generation of a staged event search
 HORIZON_STEP = 4  # cycles added when the median candidate survives the horizon
 CHECKPOINT = "survival.json"
 VALIDATION_GENERATION = -1  # the pushes of the final choice: a stream no generation uses
@@ -432,6 +436,58 @@ def harden(
         folder / "best_controller.json",
     )
     return result
+
+
+def harden_event_in_stages(
+    system: GaitSystem,
+    start: GaitParameters,
+    sketch: Sketch,
+    folder: Path,
+    minutes: float,
+    seed: int = 1,
+    threads: int = 1,
+    name: str = "",
+    sketch_modes: dict | None = None,
+    progress=print,
+) -> GaitParameters:
+    """Search a gait's event feedback (`event_settings` of its `sketch`) in two stages, each a
+    `harden` run in `folder`/stage1, stage2 (resumed if interrupted): for `EVENT_FIRST_SHARE` of
+    `minutes` survival, speed and tilt (`MAX_TILT_DEG`) alone (a gait must move before its feet can
+    be placed), then, from its result, also the stance slip (`MAX_SLIP_M`) and the sketch's paired
+    feet. Returns the second stage's result, also saved as folder/stage2/best_controller.json
+    (without lookahead)."""
+    common = {
+        "seed": seed,
+        "popsize": EVENT_POPSIZE,
+        "threads": threads,
+        "max_tilt_deg": MAX_TILT_DEG,
+        **event_settings(sketch),
+    }
+    stages = (
+        SurvivalSettings(minutes=EVENT_FIRST_SHARE * minutes, max_slip=None, **common),
+        SurvivalSettings(
+            minutes=(1 - EVENT_FIRST_SHARE) * minutes,
+            max_slip=MAX_SLIP_M,
+            paired_feet=tuple(tuple(pair) for pair in sketch.targets.paired_feet),
+            **common,
+        ),
+    )
+    for number, settings in enumerate(stages, 1):
+        stage = folder / f"stage{number}"
+        figures = StartingFigures.of(play(system, start, cycles=20))
+        start = harden(
+            system,
+            start,
+            figures,
+            stage,
+            settings,
+            (stage / CHECKPOINT).exists(),
+            name,
+            progress,
+            sketch=sketch_modes,
+            timing=sketch.timing,
+        )
+    return start
 
 
 def _validated(
