@@ -30,7 +30,6 @@ FRAMES = 8
 TILE = (240, 260)  # width, height in pixels
 VIEW = CameraView(azimuth_deg=100.0, elevation_deg=-27.0, fill=0.85, follow=False)
 OUT = Path(__file__).resolve().parents[1] / "docs" / "images"
-ORDINALS = {1: "first", 2: "second", 3: "third"}
 
 
 def strip(name: str, folder: Path, cycle: int = 2) -> Path:
@@ -56,12 +55,12 @@ def strip(name: str, folder: Path, cycle: int = 2) -> Path:
         if result.fell
         else ""
     )
+    shown_cycle = "its second cycle" if cycle == 2 else f"cycle {cycle}"
     fig.text(
         0.005,
         1 - 17 / height,
-        f"{name}: its {ORDINALS.get(cycle, f'{cycle}th')} cycle ({period:.3f} s) from a fixed "
-        f"side camera, and the feet on the ground over {'two cycles' if cycle > 1 else 'it'}"
-        f"{fell}",
+        f"{name}: {shown_cycle} ({period:.3f} s) from a fixed side camera, and the feet on the "
+        f"ground over {'two cycles' if cycle > 1 else 'it'}{fell}",
         fontsize=13,
         weight="bold",
         va="center",

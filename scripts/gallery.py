@@ -140,10 +140,10 @@ def summary_table(records: dict) -> str:
     return "\n".join(rows)
 
 
-def updated(page: str, records: dict) -> str:
-    """`page` with the table row and the section of each gait in `records` rewritten (the
-    signatures' basic-run figure is kept as the page states it, so the basic run itself is
-    rewritten only with the whole page)."""
+def updated(page: str, records: dict, reference: dict | None) -> str:
+    """`page` with the table row and the section of each gait in `records` rewritten, signatures
+    against `reference` (the basic run's played figures; None: not compared). The basic run itself
+    is rewritten only with the whole page, since every signature is read against it."""
     if REFERENCE in records:
         raise SystemExit(f"{REFERENCE} is every signature's reference: rewrite the whole page")
     parts = page.rstrip("\n").split("\n\n## ")
@@ -153,7 +153,7 @@ def updated(page: str, records: dict) -> str:
         old_row = next(line for line in page.splitlines() if line.startswith(f"| `{name}` |"))
         parts = [part.replace(old_row, row) for part in parts]
         k = next(i for i, part in enumerate(parts) if part.startswith(f"`{name}`"))
-        parts[k] = section(name, record, None).removeprefix("## ")
+        parts[k] = section(name, record, reference).removeprefix("## ")
     return "\n\n## ".join(parts) + "\n"
 
 
@@ -166,7 +166,9 @@ def main() -> None:
     args = parser.parse_args()
     if args.gaits:
         records = {n: json.loads((args.recorded / f"{n}.json").read_text()) for n in args.gaits}
-        PAGE.write_text(updated(PAGE.read_text(), records))
+        basic = args.recorded / f"{REFERENCE}.json"
+        reference = json.loads(basic.read_text())["played"] if basic.is_file() else None
+        PAGE.write_text(updated(PAGE.read_text(), records, reference))
         print(f"rewrote {', '.join(args.gaits)} in {PAGE}")
         return
     records = {n: json.loads((args.recorded / f"{n}.json").read_text()) for n in gait_names()}
