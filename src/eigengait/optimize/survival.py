@@ -264,6 +264,7 @@ class SurvivalScorer:
     ):
         self.system, self.settings = system, settings
         self.runner = ClosedLoopRunner(system, settings.threads)
+        self.dt = self.runner.model.opt.timestep
         self.mass = system.world.mass()
         own = settings.speed_share * figures.speed
         self.target_speed = max(
@@ -282,7 +283,9 @@ class SurvivalScorer:
         self, params: list[GaitParameters], generation: int, horizon: int
     ) -> tuple[np.ndarray, np.ndarray]:
         """(cost, mean cycles survived) per candidate."""
-        dt = self.runner.model.opt.timestep
+        dt = self.dt
+        # each candidate's sensor row at (q₀, q̇₀), before its rollouts' first step
+        firsts = [self.system.initial_sensors(p) for p in params]
         cycles = np.zeros((len(params), self.settings.copies))
         effort, slip = np.zeros_like(cycles), np.zeros_like(cycles)
         # the undisturbed copy's speed and its tilt and footfall terms
@@ -298,10 +301,10 @@ class SurvivalScorer:
                 )
                 effort[i, c] = np.mean(np.sum(run.torques[i, :end] ** 2, axis=1))
                 if self.settings.max_slip is not None:
-                    slip[i, c] = self._slip(p, run.sensors[i, : int(run.ended[i])])
+                    slip[i, c] = self._slip(firsts[i], run.sensors[i, : int(run.ended[i])])
                 if push is None:
                     speed[i] = self._speed(p, run.sensors[i, :end])
-                    shape[i] = self._shape(p, run.states[i, :end], run.sensors[i, :end])
+                    shape[i] = self._shape(p, firsts[i], run.states[i, :end], run.sensors[i, :end])
         lag = np.clip(self.target_speed - speed, 0, None) / self.target_speed
         excess = (
             0.0
@@ -316,31 +319,33 @@ class SurvivalScorer:
     def _speed(self, p: GaitParameters, sensors: np.ndarray) -> float:
         """Mean forward COM speed (m/s) of a rollout from the end of its first cycle (the launch
         from the initial state left out); 0 if it ends within that cycle."""
-        dt = self.runner.model.opt.timestep
-        first = int(round(p.period / dt))
+        first = int(round(p.period / self.dt))
         if len(sensors) <= first + 1:
             return 0.0
         com_x = self.system.world.view.com(sensors[[first, -1]])[:, 0]
-        return float(com_x[1] - com_x[0]) / ((len(sensors) - 1 - first) * dt)
+        return float(com_x[1] - com_x[0]) / ((len(sensors) - 1 - first) * self.dt)
 
-    def _shape(self, p: GaitParameters, states: np.ndarray, sensors: np.ndarray) -> float:
-        """TILT_WEIGHT and PAIR_WEIGHT terms of one undisturbed rollout (0 when not asked)."""
+    def _shape(
+        self, p: GaitParameters, first: np.ndarray, states: np.ndarray, sensors: np.ndarray
+    ) -> float:
+        """TILT_WEIGHT and PAIR_WEIGHT terms of one undisturbed rollout (0 when not asked); `first`
+        its sensor row before its first step."""
         cost, settings, world = 0.0, self.settings, self.system.world
         if settings.max_tilt_deg is not None:
             pitch, roll = self.tilt.tilt_deg(world.view.qpos(states))
             tilt = float(np.max(np.abs(np.r_[pitch, roll])))
             cost += TILT_WEIGHT * max(0.0, tilt / settings.max_tilt_deg - 1)
         if settings.paired_feet:
-            first, dt = self.system.initial_sensors(p), self.runner.model.opt.timestep
-            footfall = rollout_footfalls(world.view, first, sensors, dt, p.period, 2 * p.period)
+            footfall = rollout_footfalls(
+                world.view, first, sensors, self.dt, p.period, 2 * p.period
+            )
             cost += PAIR_WEIGHT * footfall_pattern_cost(footfall, settings.paired_feet)
         return cost
 
-    def _slip(self, p: GaitParameters, sensors: np.ndarray) -> float:
+    def _slip(self, first: np.ndarray, sensors: np.ndarray) -> float:
         """`stance_slip_max_m` (m; 0 without a stance) of a rollout's sensor rows, as playback
-        measures it."""
-        first, dt = self.system.initial_sensors(p), self.runner.model.opt.timestep
-        per_foot = rollout_stance_slips(self.system.world.view, first, sensors, dt).values()
+        measures it; `first` the sensor row before its first step."""
+        per_foot = rollout_stance_slips(self.system.world.view, first, sensors, self.dt).values()
         slips = [float(v.mean()) for v in per_foot if v.size]
         return max(slips, default=0.0)
 
