@@ -140,11 +140,7 @@ def hardened(controller, folder: Path, minutes: float, seed: int):
         sketch=controller.sketch,
         timing=load_sketch(resolve("sketch", GAITS[controller.name])).timing,
     )
-    out = load_controller(folder / "best_controller.json")
-    # earlier hardening of the start included
-    spent = controller.metrics.get("hardening_minutes", 0.0) + minutes
-    out.name, out.metrics = controller.name, {**controller.metrics, "hardening_minutes": spent}
-    return out
+    return hardened_result(controller, folder / "best_controller.json", minutes)
 
 
 def event_hardened(controller, folder: Path, minutes: float, seed: int):
@@ -164,7 +160,13 @@ def event_hardened(controller, folder: Path, minutes: float, seed: int):
         controller.name,
         controller.sketch,
     )
-    out = load_controller(folder / "stage2" / "best_controller.json")
+    return hardened_result(controller, folder / "stage2" / "best_controller.json", minutes)
+
+
+def hardened_result(controller, path: Path, minutes: float):
+    """The hardened controller saved at `path`, named as `controller` and carrying its metrics, its
+    `hardening_minutes` grown by `minutes` (earlier hardening of the start included)."""
+    out = load_controller(path)
     spent = controller.metrics.get("hardening_minutes", 0.0) + minutes
     out.name, out.metrics = controller.name, {**controller.metrics, "hardening_minutes": spent}
     return out
