@@ -243,3 +243,20 @@ def test_the_staged_event_search_adds_slip_and_paired_feet_in_its_second_stage(t
     assert stage2.lookahead is None and result.feedback.event is not None
     assert stage2.feedback.event.speed == sketch.targets.mean_speed
     assert stage1.feedback.event.air.keys() == stage2.feedback.event.air.keys()
+
+
+def test_only_settings_relative_to_the_starting_gait_need_its_figures(kangaroo):
+    """A fixed target speed without an effort term reads nothing of the starting gait; a speed
+    share or an effort term does, and refuses to start without its figures."""
+    from eigengait.optimize.survival import SurvivalScorer
+
+    system, start = kangaroo
+    fixed = SurvivalSettings(minutes=1, target_speed=0.8, effort_share=None)
+    assert not fixed.reads_starting_figures
+    scorer = SurvivalScorer(system, start, fixed, None)
+    assert scorer.target_speed == 0.8 and scorer.target_effort is None
+    scorer.close()
+    for relative in (replace(fixed, target_speed=None), replace(fixed, effort_share=1.2)):
+        assert relative.reads_starting_figures
+        with pytest.raises(ValueError, match="StartingFigures"):
+            SurvivalScorer(system, start, relative, None)

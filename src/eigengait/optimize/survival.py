@@ -68,7 +68,6 @@ from eigengait.control.gait_metrics import (
 )
 from eigengait.control.gait import GaitParameters, GaitSystem
 from eigengait.control.lookahead import LookaheadSettings
-from eigengait.control.playback import play
 from eigengait.control.sketch import Sketch, Timing
 from eigengait.errors import UserInputError
 from eigengait.optimize.parameters import timing_bounds
@@ -132,6 +131,11 @@ class SurvivalSettings:
     # name -> (low, high) of the period (s), air ratio and pulse durations (s) from the sketch's
     # timing (`optimize.parameters.timing_bounds`; None: not bounded); `harden` sets it
     sketch_timing_bounds: dict[str, tuple[float, float]] | None = None
+
+    @property
+    def reads_starting_figures(self) -> bool:
+        """Whether the speed or effort term is relative to the starting gait's `StartingFigures`."""
+        return self.target_speed is None or self.effort_share is not None
 
 
 class SurvivalSpace:
@@ -260,15 +264,17 @@ class SurvivalScorer:
         system: GaitSystem,
         start: GaitParameters,
         settings: SurvivalSettings,
-        figures: StartingFigures,
+        figures: StartingFigures | None,
     ):
+        if figures is None and settings.reads_starting_figures:
+            raise ValueError("these settings need the starting gait's StartingFigures")
         self.system, self.settings = system, settings
         self.runner = ClosedLoopRunner(system, settings.threads)
         self.dt = self.runner.model.opt.timestep
         self.mass = system.world.mass()
-        own = settings.speed_share * figures.speed
+        target = settings.target_speed
         self.target_speed = max(
-            own if settings.target_speed is None else settings.target_speed, 0.05
+            settings.speed_share * figures.speed if target is None else target, 0.05
         )
         share = settings.effort_share
         self.target_effort = None if share is None else max(share * figures.effort, 1e-9)
@@ -371,7 +377,7 @@ def footfall_pattern_cost(
 def harden(
     system: GaitSystem,
     start: GaitParameters,
-    figures: StartingFigures,
+    figures: StartingFigures | None,
     folder: Path,
     settings: SurvivalSettings,
     resume: bool = False,
@@ -382,8 +388,9 @@ def harden(
     timing: Timing | None = None,
 ) -> GaitParameters:
     """Run (or resume) the survival optimization in `folder`; returns the best controller, also
-    saved there with the starting controller's `lookahead` settings and `sketch` modes. `timing`:
-    the sketch's, whose bounds the searched timing keeps."""
+    saved there with the starting controller's `lookahead` settings and `sketch` modes. `figures`:
+    the starting gait's, needed unless the settings fix the target speed and drop the effort term.
+    `timing`: the sketch's, whose bounds the searched timing keeps."""
     folder.mkdir(parents=True, exist_ok=True)
     checkpoint = folder / CHECKPOINT
     bounds = timing_bounds(timing) if timing is not None else None
@@ -479,11 +486,10 @@ def harden_event_in_stages(
     )
     for number, settings in enumerate(stages, 1):
         stage = folder / f"stage{number}"
-        figures = StartingFigures.of(play(system, start, cycles=20))
         start = harden(
             system,
             start,
-            figures,
+            None,  # the event settings fix the target speed and have no effort term
             stage,
             settings,
             (stage / CHECKPOINT).exists(),
