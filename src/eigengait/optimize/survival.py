@@ -121,7 +121,7 @@ class SurvivalSettings:
     # and use at most this share of its starting mean squared torque (None: no effort term)
     effort_share: float | None = 1.2
     # m: stance-foot slip above this is penalized (None: not measured)
-    max_slip: float | None = 0.03
+    max_slip: float | None = MAX_SLIP_M
     sigma0: float = 0.3
     threads: int = 1
     max_tilt_deg: float | None = None  # root pitch or roll beyond this is penalized
