@@ -34,6 +34,7 @@ def gait_system(
         source,
         spec.swing_servo,
         spec.stance_partners,
+        spec.simbicon,
     )
 
 

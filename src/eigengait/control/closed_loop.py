@@ -25,6 +25,7 @@ from eigengait.control.feedback import (
     MIRROR_SIGNS,
     FeatureReader,
     FeedbackGains,
+    StateRole,
     hip_motors_by_foot,
     steps_per_reading,
     hip_torque,
@@ -192,6 +193,10 @@ class FeedbackPlan:
             return True
         return False
 
+    def role_at(self, phase: float) -> StateRole:
+        """The roles of the feet in the state at a cycle's `phase` (s)."""
+        return self.roles[self.state_index(phase)]
+
     def state_index(self, phase: float) -> int:
         return int(np.searchsorted(self.starts, phase, side="right") - 1)
 
@@ -261,6 +266,7 @@ class ClosedLoopRunner:
         self.motor_dofs = np.asarray(world.internal_qvel)
         self.steps_simulated = 0
         self.servo = system.servo
+        self.layer = system.balance_layer
 
     def close(self) -> None:
         """Stop this runner's threads (other runners and MuJoCo's shared pool are not touched)."""
@@ -319,17 +325,18 @@ class ClosedLoopRunner:
                     continue
                 clock, period = clocks[i], params[i].period
                 if clock is None:
-                    tau_fb = plans[i].torque(
-                        self.reader, int(t // period), t % period, state[i], sensors_now[i]
-                    )
+                    cycle, phase = int(t // period), t % period
                     u = ff[i][a:upto].copy()
                 else:
-                    tau_fb = plans[i].torque(
-                        self.reader, clock.cycle, clock.phase_time, state[i], sensors_now[i]
-                    )
+                    cycle, phase = clock.cycle, clock.phase_time
                     u = clock.controls(upto - a)
+                tau_fb = plans[i].torque(self.reader, cycle, phase, state[i], sensors_now[i])
                 if servo is not None:
                     tau_fb = tau_fb + servo[k]
+                if self.layer is not None:
+                    tau_fb = tau_fb + self.layer.torque(
+                        state[i], sensors_now[i], plans[i].role_at(phase)
+                    )
                 u[:, :n_motor] = np.clip(u[:, :n_motor] + tau_fb, -limit, limit)
                 control[k, : upto - a, :nu] = u
                 bad_torque = first_bad_torque(u[:, :n_motor], self.motor_dofs)

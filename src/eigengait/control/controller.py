@@ -31,6 +31,7 @@ from eigengait.control.lookahead import (
     LookaheadSettings,
 )
 from eigengait.control.sketch import PhaseSketch, Sketch
+from eigengait.control.simbicon import SimbiconSettings
 from eigengait.control.swing_servo import ServoSettings
 
 from eigengait.files import dump, read_mapping, validate
@@ -203,6 +204,8 @@ class ControllerFile(BaseModel):
     feedback: FeedbackFile = Field(default_factory=lambda: FeedbackFile())
     # the swing-foot servo added to every simulation of the gait (none: pulses and feedback alone)
     swing_servo: ServoSettings | None = None
+    # SIMBICON's balance layer added to every simulation of the gait (control/simbicon.py)
+    simbicon: SimbiconSettings | None = None
     # foot -> feet pinned with it in its ground modes (control/gait.py)
     stance_partners: dict[str, list[str]] = Field(default_factory=dict)
     lookahead: LookaheadFile | None = None
@@ -231,6 +234,14 @@ class ControllerFile(BaseModel):
             raise ValueError(
                 "feedback.event corrects the pulses the plans would replace: remove 'lookahead' "
                 "or 'feedback.event'"
+            )
+        return self
+
+    @model_validator(mode="after")
+    def _balance_layer_without_plans(self):
+        if self.lookahead is not None and self.simbicon is not None:
+            raise ValueError(
+                "the plans are made without the SIMBICON layer: remove 'lookahead' or 'simbicon'"
             )
         return self
 
@@ -268,6 +279,7 @@ def to_file(
         torque_limit=system.torque_limit,
         activation_time=system.options.activation_time,
         swing_servo=system.swing_servo,
+        simbicon=system.simbicon,
         stance_partners=system.stance_partners,
         period=p.period,
         air_ratio=p.air_ratio,

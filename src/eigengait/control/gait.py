@@ -19,6 +19,7 @@ from eigengait.control.activations import sparse_to_dense
 from eigengait.control.feedback import FeedbackGains
 from eigengait.control.mirror import Mirror
 from eigengait.control.pulse import State, control_sequence, schedule, state_torques
+from eigengait.control.simbicon import SimbiconLayer, SimbiconSettings
 from eigengait.control.swing_servo import ServoSettings, SwingServo
 from eigengait.errors import UserInputError
 from eigengait.modal.analysis import compute_modes, partner_foot
@@ -63,6 +64,9 @@ class GaitSystem:
     # feet on the floor with each clocked foot in its ground state, pinned with it in its ground
     # modes (a trot's diagonal partner); none: the clocked foot's toe alone, as in the thesis
     stance_partners: dict[str, list[str]] = field(default_factory=dict)
+    # SIMBICON's balance layer added to every simulation of the gait (None: pulses and feedback
+    # alone)
+    simbicon: SimbiconSettings | None = None
 
     def __post_init__(self):
         blamed = self.source or self.character.path
@@ -97,6 +101,9 @@ class GaitSystem:
         }
         self.mirror = Mirror(self.world) if self.symmetric and len(self.feet) > 1 else None
         self.servo = None if self.swing_servo is None else SwingServo(self.world, self.swing_servo)
+        self.balance_layer = (
+            None if self.simbicon is None else SimbiconLayer(self.world, self.feet, self.simbicon)
+        )
         if self.mirror is not None and len(self.feet) != 2:
             raise UserInputError(
                 "a symmetric gait alternates exactly two feet",

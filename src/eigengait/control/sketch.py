@@ -26,6 +26,7 @@ from typing import Literal
 
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
+from eigengait.control.simbicon import SimbiconSettings
 from eigengait.control.swing_servo import ServoSettings
 from eigengait.files import read_mapping, validate
 from eigengait.errors import UserInputError
@@ -143,6 +144,10 @@ class Sketch(BaseModel):
     swing_servo: ServoSettings | None = Field(
         None,
         description="a swing-foot servo in every simulation of the gait (control/swing_servo.py)",
+    )
+    simbicon: SimbiconSettings | None = Field(
+        None,
+        description="SIMBICON's balance layer in every simulation (control/simbicon.py)",
     )
     stance_partners: dict[str, list[str]] = Field(
         default_factory=dict,

@@ -262,7 +262,12 @@ def write_best(folder: Path, problem: Problem, state: MomState) -> None:
         "mean_squared_torque": o.energy,
         "evaluations": state.evaluations,
     }
-    lookahead = LookaheadSettings(speed=problem.sketch.targets.mean_speed)
+    # a gait with the SIMBICON layer plays without plans, which are made without it
+    lookahead = (
+        LookaheadSettings(speed=problem.sketch.targets.mean_speed)
+        if problem.system.simbicon is None
+        else None
+    )
     best = problem.space.decode(state.best_x)
     controller = to_file(
         problem.system,
