@@ -17,6 +17,10 @@ from eigengait.control.library import resolve
 from eigengait.control.simbicon import SimbiconLayer, SimbiconSettings
 from eigengait.control.sketch import load_sketch
 from eigengait.errors import UserInputError
+from eigengait.optimize.evaluate import Outcome
+from eigengait.optimize.mom import MomState
+from eigengait.optimize.problem import Problem
+from eigengait.optimize.run import write_best
 from eigengait.sim.world import build_world
 
 RUNNING = StateRole(support="left", swing="right", stance=None)  # in the air, right leg forward
@@ -180,3 +184,24 @@ def test_files_switch_the_layer_on_and_refuse_it_beside_plans(tmp_path):
     assert sketched.balance_layer is not None
     written = to_file(sketched, to_parameters(load_controller(good), system))
     assert written.simbicon == SimbiconSettings(lean=0.2)
+
+
+def test_an_optimized_gait_with_the_layer_is_written_without_plans(tmp_path):
+    """`optimize` writes a lookahead section for the sketch's speed, but not for a gait with the
+    layer: plans made without it would replace the pulses it was optimized with."""
+    sketch_file = tmp_path / "layer.yaml"
+    sketch_file.write_text(resolve("sketch", "kangaroo").read_text() + "simbicon: {speed: 1.5}\n")
+    written = {}
+    for name, sketch in (("plain", resolve("sketch", "kangaroo")), ("layer", sketch_file)):
+        problem = Problem.from_sketch(load_sketch(sketch), sketch)
+        x = problem.space.initial()
+        outcome = Outcome(
+            cost=1.0, cycle=np.zeros(1), fell=False, mean_velocity=np.zeros(3), energy=0.0
+        )
+        folder = tmp_path / name
+        folder.mkdir()
+        write_best(folder, problem, MomState(x_start=x, best_x=x, best=outcome))
+        written[name] = load_controller(folder / "best_controller.json")
+    assert written["plain"].lookahead is not None and written["plain"].simbicon is None
+    assert written["layer"].lookahead is None
+    assert written["layer"].simbicon == SimbiconSettings(speed=1.5)
