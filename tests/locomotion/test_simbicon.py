@@ -205,3 +205,22 @@ def test_an_optimized_gait_with_the_layer_is_written_without_plans(tmp_path):
     assert written["plain"].lookahead is not None and written["plain"].simbicon is None
     assert written["layer"].lookahead is None
     assert written["layer"].simbicon == SimbiconSettings(speed=1.5)
+
+
+def test_play_says_the_layer_was_played_and_its_torques_are_in_the_motion(eigengait_cli, tmp_path):
+    data = json.loads(resolve("gait", "humanoid-basic-run").read_text())
+    data.pop("lookahead")
+    plain = tmp_path / "plain.json"
+    plain.write_text(json.dumps(data))
+    data["simbicon"] = {"speed": 1.5}
+    layer = tmp_path / "layer.json"
+    layer.write_text(json.dumps(data))
+    played = {}
+    for path in (plain, layer):
+        run = eigengait_cli("play", path, "--cycles", "1", "--json")
+        assert run.returncode == 0, run.stderr
+        played[path.stem] = json.loads(run.stdout)
+    assert played["layer"]["simbicon"] is True and played["plain"]["simbicon"] is False
+    assert played["layer"]["lookahead"] is False
+    torque = [played[k]["mean_squared_torque"] for k in ("layer", "plain")]
+    assert torque[0] != pytest.approx(torque[1], rel=1e-3)

@@ -323,6 +323,7 @@ def play_command(
         "character": c.character,
         "activation_time": c.activation_time,
         "swing_servo": c.swing_servo is not None,
+        "simbicon": c.simbicon is not None,
         **result.summary(),
         "lookahead_plans": None if planner is None else planner.samples,
         "lookahead_slip_weight": None if planner is None else planner.slip_weight,
