@@ -224,3 +224,17 @@ def test_play_says_the_layer_was_played_and_its_torques_are_in_the_motion(eigeng
     assert played["layer"]["lookahead"] is False
     torque = [played[k]["mean_squared_torque"] for k in ("layer", "plain")]
     assert torque[0] != pytest.approx(torque[1], rel=1e-3)
+
+
+def test_each_leg_is_read_along_its_own_foots_chain():
+    """The direction a leg is placed by runs from its first joint's body to that body's child on
+    the way to the foot: on the dog, whose front legs hang from the chest joint, the upper leg
+    and not the neck (the chest's first child)."""
+    world = build_world(load_character("dog"))
+    model = world.model
+    layer = SimbiconLayer(world, list(world.character.feet), SimbiconSettings())
+    names = {
+        foot: (model.body(t).name, model.body(k).name) for foot, (t, k, *_) in layer.legs.items()
+    }
+    assert names["front_left"] == ("chest", "front_left_upper")
+    assert names["rear_right"] == ("rear_right_upper", "rear_right_lower")

@@ -26,6 +26,7 @@ import mujoco
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
 
+from eigengait.body_tree import ancestors
 from eigengait.control.feedback import StateRole, leg_root_joint
 from eigengait.sim.world import GRAVITY, World
 
@@ -66,7 +67,9 @@ class SimbiconLayer:
         for foot in dict.fromkeys(feet):
             joint = model.joint(leg_root_joint(world, foot)).id
             thigh = int(model.jnt_bodyid[joint])
-            shin = next(b for b in range(model.nbody) if model.body_parentid[b] == thigh)
+            toe = int(model.site(world.character.feet[foot].toe).bodyid[0])
+            # the thigh's child on the way to this foot (its knee end)
+            shin = next(b for b in ancestors(model, toe) if model.body_parentid[b] == thigh)
             dofs = np.flatnonzero(model.dof_bodyid == thigh)
             self.legs[foot] = (thigh, shin, dofs, [motor_of_dof[int(k)] for k in dofs])
 
