@@ -17,7 +17,10 @@ root body's forward axis projected on the floor), read every 10 ms and held, as 
   the swing hip's reaction, τ_stance = −τ_torso − τ_swing.
 
 Gains are shares of m g h per radian (m the body's mass), the damping a time constant times the
-stiffness, so one setting fits any character. In an air state only the swing thigh is driven.
+stiffness, so one setting fits any character. In an air state only the swing thigh is driven. A leg
+is read from the body of its first joint (`feedback.leg_root_joint`) to that body's child on the way
+to the foot: a hip on a biped or a hopper, but on a quadruped whose front legs hang from a chest
+joint, the chest.
 """
 
 from __future__ import annotations
@@ -82,8 +85,9 @@ class SimbiconLayer:
         mujoco.mj_comVel(m, d)
         root = d.xmat[self.root].reshape(3, 3)
         yaw = np.arctan2(root[1, 0], root[0, 0])
-        c, n = np.cos(yaw), np.sin(yaw)
-        heading = np.array([[c, -n, 0.0], [n, c, 0.0], [0.0, 0.0, 1.0]])  # heading -> world
+        cos_yaw, sin_yaw = np.cos(yaw), np.sin(yaw)
+        # heading frame -> world
+        heading = np.array([[cos_yaw, -sin_yaw, 0.0], [sin_yaw, cos_yaw, 0.0], [0.0, 0.0, 1.0]])
         offset = self.view.com(sensors) - self.view.toe(sensors, role.support)
         d_h = heading.T @ np.r_[offset[:2], 0.0] / self.offset_scale
         v_h = heading.T @ np.r_[self.view.com_velocity(sensors)[:2], 0.0]
