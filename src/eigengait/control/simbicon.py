@@ -64,7 +64,7 @@ class SimbiconLayer:
         self.offset_scale, self.speed_scale = h, np.sqrt(GRAVITY * h)
         self.swing_kp, self.torso_kp = settings.swing * mgh, settings.torso * mgh
         motor_of_dof = {int(d): k for k, d in enumerate(world.internal_qvel)}
-        self.root = world.root_body
+        self.root, self.root_layout = world.root_body, world.root
         # foot -> thigh body, shin body, the hip's dofs and their motors
         self.legs: dict[str, tuple[int, int, np.ndarray, list[int]]] = {}
         for foot in dict.fromkeys(feet):
@@ -84,7 +84,7 @@ class SimbiconLayer:
         mujoco.mj_comPos(m, d)
         mujoco.mj_comVel(m, d)
         root = d.xmat[self.root].reshape(3, 3)
-        yaw = np.arctan2(root[1, 0], root[0, 0])
+        yaw = float(self.root_layout.heading(self.view.qpos(state)))
         cos_yaw, sin_yaw = np.cos(yaw), np.sin(yaw)
         # heading frame -> world
         heading = np.array([[cos_yaw, -sin_yaw, 0.0], [sin_yaw, cos_yaw, 0.0], [0.0, 0.0, 1.0]])
