@@ -49,8 +49,8 @@ def run_gait():
     event = EventGains(
         speed=SPEED,
         phases={
-            "air": ([2, 15], rng.normal(0, 20, (2, len(EVENT_FEATURES)))),
-            "ground": ([2, 1, 5], rng.normal(0, 20, (3, len(EVENT_FEATURES)))),
+            "air": ([2, 15], rng.normal(0, 20, (2, 10))),
+            "ground": ([2, 1, 5], rng.normal(0, 20, (3, 10))),
         },
     )
     # the hip feedback off, so that the plan's torque is the event correction alone
@@ -58,8 +58,7 @@ def run_gait():
 
 
 def features_by_hand(system, state, support):
-    """The twelve event features from MuJoCo's own COM, COM velocity, sites and root frame (not the
-    sensors)."""
+    """The ten event features from MuJoCo's own COM, COM velocity and sites (not the sensors)."""
     model, world = system.world.model, system.world
     data = mujoco.MjData(model)
     mujoco.mj_setState(model, data, state, mujoco.mjtState.mjSTATE_FULLPHYSICS)
@@ -71,9 +70,6 @@ def features_by_hand(system, state, support):
     h = world.standing_com_height
     gh = np.sqrt(GRAVITY * h)
     tilt = root_tilt(data.qpos[3:7], data.qvel[3:6])
-    x_axis = data.xmat[root].reshape(3, 3)[:, 0]
-    velocity = np.zeros(6)  # (angular, linear), world frame
-    mujoco.mj_objectVelocity(model, data, mujoco.mjtObj.mjOBJ_BODY, root, velocity, 0)
     return np.r_[
         (com[:2] - toe[:2]) / h,  # the support toe
         (vel[0] - SPEED) / gh,
@@ -82,8 +78,6 @@ def features_by_hand(system, state, support):
         tilt[2:] / np.sqrt(GRAVITY / h),
         com[2] / h - 1.0,
         vel[2] / gh,
-        np.arctan2(x_axis[1], x_axis[0]),  # heading against world +x
-        velocity[2] / np.sqrt(GRAVITY / h),
     ]
 
 
@@ -106,25 +100,6 @@ def test_the_correction_is_the_state_modes_times_the_gains_and_is_held_for_the_p
     np.testing.assert_allclose(held, expected, rtol=1e-12)
     # after the pulse (and with no other mechanism) nothing is added
     assert np.all(plan.torque(reader, 0, first.start + first.pulse + 1e-3, state, sensors) == 0)
-
-
-def test_the_heading_features_read_a_turned_root(run_gait):
-    system, p, _ = run_gait
-    reader = FeatureReader(system.world)
-    model = system.world.model
-    data = mujoco.MjData(model)
-    data.qpos[:], data.qvel[:] = p.qpos0, p.qvel0
-    turn = np.array([np.cos(0.3), 0.0, 0.0, np.sin(0.3)])  # 0.6 rad about world z
-    mujoco.mju_mulQuat(data.qpos[3:7], turn, p.qpos0[3:7].copy())
-    mujoco.mj_forward(model, data)
-    state = np.empty(mujoco.mj_stateSize(model, mujoco.mjtState.mjSTATE_FULLPHYSICS))
-    mujoco.mj_getState(model, data, state, mujoco.mjtState.mjSTATE_FULLPHYSICS)
-    support = system.feet[0]
-    turned = reader.read_event(state, data.sensordata.copy(), support, SPEED)
-    start = reader.read_event(system.initial_state(p), system.initial_sensors(p), support, SPEED)
-    yaw = EVENT_FEATURES.index("yaw")
-    assert np.angle(np.exp(1j * (turned[yaw] - start[yaw]))) == pytest.approx(0.6, abs=1e-9)
-    np.testing.assert_allclose(turned, features_by_hand(system, state, support), atol=1e-6)
 
 
 def test_the_second_foot_gets_the_first_foot_correction_mirrored(run_gait):
@@ -159,13 +134,9 @@ def test_event_gains_round_trip_through_the_controller_file_and_refuse_lookahead
     row = {"speed": 1.0, "air": {"2": [0.0] * 9}}
     with pytest.raises(ValidationError, match=f"needs {len(EVENT_FEATURES)} gains"):
         FeedbackFile.model_validate({"event": row})
-    # a file written before the heading features: ten gains a mode, read with no heading gains
-    before = {"speed": 1.0, "ground": {"3": [float(i) for i in range(10)]}}
-    _, K = FeedbackFile.model_validate({"event": before}).gains().event.phases["ground"]
-    np.testing.assert_array_equal(K, [list(range(10)) + [0.0, 0.0]])
 
 
-def test_the_search_space_adds_a_gain_per_feature_and_mode_at_the_mass_scale(run_gait):
+def test_the_search_space_adds_ten_gains_per_mode_at_the_mass_scale(run_gait):
     system, p, _ = run_gait
     start = replace(p, feedback=replace(p.feedback, event=None))
     plain = SurvivalSpace(system, start)

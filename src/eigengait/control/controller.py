@@ -17,7 +17,6 @@ from pydantic import BaseModel, ConfigDict, Field, field_validator, model_valida
 from eigengait.control.activations import dense_to_sparse
 from eigengait.control.feedback import (
     EVENT_FEATURES,
-    EVENT_FEATURES_BEFORE_HEADING,
     FEATURES,
     HIP_GAINS,
     EventGains,
@@ -67,9 +66,8 @@ def _gain_rows(modes: list[int], K: np.ndarray) -> dict[int, list[float]]:
 
 
 class EventFile(BaseModel):
-    """The ``event`` mechanism: target forward speed (m/s) and, per phase, mode number -> its
-    twelve gains (N·m per normalized unit, in EVENT_FEATURES order; a file's rows of ten, written
-    before the heading features, get zero heading gains)."""
+    """The ``event`` mechanism: target forward speed (m/s) and, per phase, mode number -> its ten
+    gains (N·m per normalized unit, in EVENT_FEATURES order)."""
 
     model_config = ConfigDict(extra="forbid", allow_inf_nan=False)
     speed: float = Field(ge=-MAX_SPEED, le=MAX_SPEED)
@@ -78,11 +76,7 @@ class EventFile(BaseModel):
 
     @field_validator("air", "ground")
     @classmethod
-    def _one_gain_per_feature(cls, v):
-        before = len(EVENT_FEATURES_BEFORE_HEADING)
-        if all(len(row) == before for row in v.values()):
-            pad = [0.0] * (len(EVENT_FEATURES) - before)
-            return {m: list(row) + pad for m, row in v.items()}
+    def _ten_features(cls, v):
         _check_gain_rows(v, EVENT_FEATURES, "")
         return v
 

@@ -29,11 +29,8 @@ is added to the pulses and held until the next reading. Two families of output d
 * ``event`` (Ding, Liu & Yin 2015's event-based feedback, with absolute targets): once per state,
   at its first reading, the state's pulse gets Δψ = K f on chosen modes of its phase, held for the
   pulse's duration. f is the eight features above with the target forward speed taken off vx, plus
-  two of the COM's vertical motion, dz = (z − h) / h and vz / √(g h), and two of its heading against
-  the travel direction (world +x): the root's yaw (rad) and its rate about world z over √(g/h). It
-  needs no reference cycle, so it acts from the first cycle on; K is (modes × 12) per phase, in N·m
-  per normalized unit. (Files written before the heading features carry ten gains per mode; they
-  read as twelve with no heading gains.)
+  two of the COM's vertical motion: dz = (z − h) / h and vz / √(g h). It needs no reference cycle,
+  so it acts from the first cycle on; K is (modes × 10) per phase, in N·m per normalized unit.
 
 For symmetric gaits the second foot's states use the first foot's gains on mirrored features
 (dy, vy, roll, ω_roll change sign) and mirrored torques.
@@ -53,10 +50,8 @@ from eigengait.sim.world import GRAVITY, World
 FEEDBACK_DT = 0.01  # s between feature readings (feedback torques are held in between)
 FEATURES = ("dx", "dy", "vx", "vy", "pitch", "roll", "pitch_rate", "roll_rate")
 MIRROR_SIGNS = np.array([1.0, -1.0, 1.0, -1.0, 1.0, -1.0, 1.0, -1.0])
-EVENT_FEATURES = FEATURES + ("dz", "vz", "yaw", "yaw_rate")
-EVENT_MIRROR_SIGNS = np.r_[MIRROR_SIGNS, 1.0, 1.0, -1.0, -1.0]
-# the event features of files written before the heading ones (yaw, yaw_rate)
-EVENT_FEATURES_BEFORE_HEADING = EVENT_FEATURES[:10]
+EVENT_FEATURES = FEATURES + ("dz", "vz")
+EVENT_MIRROR_SIGNS = np.r_[MIRROR_SIGNS, 1.0, 1.0]
 HIP_GAINS = (
     "swing_pitch_dx",
     "swing_pitch_vx",
@@ -100,17 +95,9 @@ def root_tilt(quat: np.ndarray, angvel_local: np.ndarray) -> np.ndarray:
     (…×3); pitch and roll as `sim.root.quat_pitch_roll` reads them (rad), ω about world y and x
     (rad/s)."""
     pitch, roll = quat_pitch_roll(quat)
-    wx, wy, _ = world_angular_velocity(quat, angvel_local)
+    rotation = quat_to_mat(quat)  # world angular velocity = R ω_local; its x and y rows
+    wx, wy = (sum(rotation[..., row, k] * angvel_local[..., k] for k in range(3)) for row in (0, 1))
     return np.stack([pitch, roll, wy, wx], axis=-1)
-
-
-def world_angular_velocity(quat: np.ndarray, angvel_local: np.ndarray) -> tuple[np.ndarray, ...]:
-    """(ωx, ωy, ωz) in the world frame (rad/s) of root quaternions (…×4, wxyz) and local angular
-    velocities (…×3): R ω_local."""
-    rotation = quat_to_mat(quat)
-    return tuple(
-        sum(rotation[..., row, k] * angvel_local[..., k] for k in range(3)) for row in range(3)
-    )
 
 
 class FeatureReader:
@@ -155,25 +142,15 @@ class FeatureReader:
     def read_event(
         self, state: np.ndarray, sensors: np.ndarray, support: str, speed: float
     ) -> np.ndarray:
-        """The ``event`` mechanism's twelve features (…×12): `read`'s with `speed` (m/s) taken off
+        """The ``event`` mechanism's ten features (…×10): `read`'s with `speed` (m/s) taken off
         vx, then the COM's height above the standing one over h and its vertical speed over
-        √(g h), then the root's heading (rad, world +x = 0) and its rate over √(g/h)."""
+        √(g h)."""
         h, root_gh = self.scale[0], self.scale[2]
         base = self.read(state, sensors, support)
         base[..., 2] -= speed / root_gh
         com, vel = self.view.com(sensors), self.view.com_velocity(sensors)
         vertical = np.stack([com[..., 2] / h - 1.0, vel[..., 2] / root_gh], axis=-1)
-        return np.concatenate([base, vertical, self._heading(state)], axis=-1)
-
-    def _heading(self, state: np.ndarray) -> np.ndarray:
-        """(yaw, yaw rate over √(g/h)) of the root (…×2); a planar root has neither (zeros)."""
-        qpos = self.view.qpos(state)
-        yaw = self.root.heading(qpos)
-        rate = np.zeros_like(yaw)
-        if self.root.quat_qpos is not None:
-            a = self.root.quat_qpos
-            rate = world_angular_velocity(qpos[..., a : a + 4], self.view.qvel(state)[..., 3:6])[2]
-        return np.stack([yaw, rate / self.scale[6]], axis=-1)
+        return np.concatenate([base, vertical], axis=-1)
 
 
 def planar_tilt(root, qpos: np.ndarray, qvel: np.ndarray) -> np.ndarray:
