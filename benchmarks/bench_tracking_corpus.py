@@ -3,7 +3,7 @@ Markdown table.
 
 Per clip (walker, cleaned feet, start frame 1, as `eigengait track` does by default) and robustness
 0, 0.25, 0.5, 0.75, 1: tracked time of the clip's duration, joint RMS error, COM error (RMS, m),
-simulated foot skate (m, mean per stance), mean artificial torque (N·m) and the largest sideways
+simulated foot skate (m, mean per stance / worst stance), mean artificial torque (N·m) and the largest sideways
 push survived.
 
 Push search (coarse): a 0.1 s push along +y on the torso (as `track --push`) at t = 0.5 s, forces
@@ -59,7 +59,7 @@ def main() -> None:
     settings = TrackerSettings(controller=args.controller)
     start = time.perf_counter()
     print(
-        "| clip | robustness | tracked | joint RMS | COM error | foot skate (sim) | "
+        "| clip | robustness | tracked | joint RMS | COM error | foot skate (sim, mean / worst) | "
         "mean artificial torque | largest push survived |\n|---|---:|---:|---:|---:|---:|---:|---|"
     )
     for clip in clips:
@@ -68,11 +68,12 @@ def main() -> None:
         reference = kinematic_replay(world, ref["qpos"], ref["frame_time"])
         for r in ROBUSTNESS:
             res = track(world, reference, r, settings)
-            skate = foot_report(sole_points(world, res.qpos), res.frame_time).foot_skate_m
+            feet = foot_report(sole_points(world, res.qpos), res.frame_time)
             push = largest_push(world, reference, r, res, settings)
             print(
                 f"| `{clip.name}` | {r:g} | {res.duration_s:.2f} of {reference.duration:.2f} s | "
-                f"{res.joint_rms_deg:.1f}° | {res.com_error_m:.3f} m | {skate:.3f} m | "
+                f"{res.joint_rms_deg:.1f}° | {res.com_error_m:.3f} m | "
+                f"{feet.foot_skate_m:.3f} / {feet.foot_skate_max_m:.3f} m | "
                 f"{res.artificial_torque:.1f} N·m | {push} |",
                 flush=True,
             )

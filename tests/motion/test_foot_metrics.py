@@ -55,3 +55,35 @@ def test_cleanup_plan_holds_the_sliding_stance_and_lifts_the_scuff():
     assert report.floor_penetration_m < 1e-9  # was 0.005
     assert cleaned[64:66, :, 2].min() > 0.02  # the scuff is lifted off the floor
     np.testing.assert_allclose(correction[55:60], 0.0)  # mid-swing far from contact is untouched
+
+
+def test_a_bounce_inside_a_stance_is_one_stance_and_its_displacement_counts():
+    # A still heel-and-toe foot that rises to 3 cm for 0.03 s (shorter than BOUNCE_S) and lands
+    # 4 cm further on: one stance whose skate is the 4 cm, not two stances of no skate.
+    points = np.zeros((60, 2, 3))
+    points[:, 1, 0] = 0.18
+    points[20:23, :, 2] = 0.03
+    points[23:, :, 0] += 0.04
+    low = points[..., 2].min(axis=1)
+    assert stances(low, DT) == [(0, 60)]
+    assert stances(low, DT, bounce_s=0.0) == [(0, 20), (23, 60)]
+    report = foot_report({"left": points}, DT)
+    assert report.stances == 1
+    assert report.foot_skate_m == pytest.approx(0.04, abs=1e-9)
+    assert report.ground_clearance_m is None  # a bounce is no swing
+
+
+def test_a_lift_as_long_as_a_step_is_not_a_bounce():
+    points = np.zeros((60, 2, 3))
+    points[20:26, :, 2] = 0.03  # 0.06 s off the floor: longer than BOUNCE_S
+    low = points[..., 2].min(axis=1)
+    assert stances(low, DT) == [(0, 20), (26, 60)]
+
+
+def test_the_worst_stance_is_reported_beside_the_mean():
+    points = _foot()
+    report = foot_report({"left": points, "right": points + [0.0, 0.3, 0.0]}, DT)
+    assert report.stances == 4
+    assert report.foot_skate_m == pytest.approx(0.03, abs=1e-9)
+    assert report.foot_skate_max_m == pytest.approx(0.06, abs=1e-9)
+    assert report.summary()["foot_skate_max_m"] == pytest.approx(0.06)

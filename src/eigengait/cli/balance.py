@@ -95,7 +95,8 @@ def register(app: typer.Typer) -> None:
         settings = TrackerSettings(controller=controller, **foot)
         result = stand(world, robustness, duration, pushes, settings)
         run = result.tracking
-        run.foot_skate_m = foot_report(sole_points(world, run.qpos), run.frame_time).foot_skate_m
+        feet = foot_report(sole_points(world, run.qpos), run.frame_time)
+        run.foot_skate_m, run.foot_skate_max_m = feet.foot_skate_m, feet.foot_skate_max_m
         write_media(world, run.qpos, 1.0 / run.frame_time, media, status_console(as_json))
         summary = {
             "character": loaded.name,

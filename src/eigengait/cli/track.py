@@ -149,8 +149,8 @@ def register(app: typer.Typer) -> None:
             f"tracked {result.duration_s:.2f} s of {reference.duration:.2f} s ({state}); "
             f"joint RMS error {result.joint_rms_deg:.1f}°, COM error {result.com_error_m:.3f} m, "
             f"mean artificial torque {result.artificial_torque:.1f} N·m, foot skate "
-            f"{result.foot_skate_m:.3f} m per stance (robustness {robustness}, {controller} "
-            "controller)."
+            f"{result.foot_skate_m:.3f} m per stance, {result.foot_skate_max_m:.3f} m at worst "
+            f"(robustness {robustness}, {controller} controller)."
         )
         if result.recovery_simulations:
             typer.echo(

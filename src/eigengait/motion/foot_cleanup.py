@@ -10,11 +10,13 @@ the reference.
    pace). A retargeted runner's stance feet slide at up to 1.5 m/s at 2.2 m/s (CMU 16_36): with
    the walking bound alone two of its four stances were missed and then lifted as swing feet
    (step 3), so that the reference ran on feet 5 cm above the floor. Two such runs between which
-   the foot's lowest sole point stays within TOUCH_M of the floor and its sole centre travels less
-   than JOIN_TRAVEL_M are one stance: a retargeted foot sliding fast mid-stance without leaving the
-   floor (CMU 07_06, 05_01: 1-7 cm between the runs) was otherwise found as two stances back to
-   back, each held where it stood at its own middle, and the bounded change between them (step 4)
-   left 10-16 cm of skate in a stance. A swing that skims the floor travels a stride (1 m in 05_01,
+   the foot's lowest sole point stays within TOUCH_M of the floor, or leaves it for less than
+   `foot_metrics.BOUNCE_S` (a bounce), and its sole centre travels less than JOIN_TRAVEL_M are one
+   stance: a retargeted foot sliding fast mid-stance without leaving the floor (CMU 07_06, 05_01:
+   1-7 cm between the runs) was otherwise found as two stances back to back, each held where it
+   stood at its own middle, and the bounded change between them (step 4) left 10-16 cm of skate in
+   a stance; so did a landing heel that bounces 3.6 cm up for 0.03 s (CMU 07_06: 9.9 cm in the
+   stance, with the bounce counted in it). A swing that skims the floor travels a stride (1 m in 05_01,
    whose swing foot rises 2.0-2.6 cm): joined, the walk played 1.25 times faster lost a step and
    fell. A foot higher than STANCE_M but within HOVERING_STANCE_M, the most the grounding leaves
    under a supporting foot (`grounding.FLIGHT_M`), is in a stance too when it also holds its height
@@ -44,8 +46,11 @@ the reference.
 4. Where two holds of a foot meet (less than 2 BLEND_S apart: a low shuffle step is found as
    stances back to back), they may ask for different positions, and a jump between them would put a
    velocity spike of metres per second into the reference: within BLEND_S of such a junction the
-   horizontal correction changes by at most MAX_CORRECTION_SPEED. Outside the holds' still cores
-   the vertical correction changes by at most as much: a foot hovering still up to 8 cm up (a
+   horizontal correction changes by at most MAX_CORRECTION_SPEED, and while the held foot moves
+   from one position to the other (its sole centre faster than SHIFT_SPEED) it is lifted to
+   CLEARANCE_M, as a step: kept on the floor, a CMU laugh's shuffle steps (raw feet 3 cm up) slid
+   18 cm along it. Outside the holds' still cores and at junctions the vertical correction changes
+   by at most MAX_CORRECTION_SPEED: a foot hovering still up to 8 cm up (a
    stance, put on the floor) comes down over a few frames before its hold, not between two.
 5. Each corrected frame: damped least-squares IK (`leg_ik`) moves the hip, knee and ankle so that
    the foot body reaches its reference pose shifted by the correction, orientation kept; root and
@@ -62,7 +67,7 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
-from eigengait.motion.foot_metrics import CONTACT_M, runs
+from eigengait.motion.foot_metrics import BOUNCE_S, CONTACT_M, runs
 from eigengait.motion.grounding import FLIGHT_M
 from eigengait.motion.leg_ik import leg_dofs, solve_leg
 from eigengait.motion.soles import sole_points
@@ -86,6 +91,7 @@ LIFT_S = 0.05
 SOLE_SUPPORT_GAP_M = 2 * CLEARANCE_M  # the other feet this far up: this foot is the only support
 SOLE_SUPPORT_SPEED = 2 * STANCE_SPEED  # m/s, the stance bound of an only support
 MAX_CORRECTION_SPEED = 2.0  # m/s
+SHIFT_SPEED = 0.2  # m/s: a held foot moving faster is being shifted between two holds
 
 
 @dataclass(frozen=True)
@@ -157,7 +163,7 @@ def _holds(
         for a, b in runs(low_enough & slow, frame_time, 0.0)
         if b - a >= shortest or a == 0 or b == len(low)
     ]
-    cores = _joined(still, low, centre)
+    cores = _joined(still, low, centre, frame_time)
     grow, out = int(round(EXTEND_S / frame_time)), []
     for k, (a, b) in enumerate(cores):
         first = out[-1][3] if out else 0
@@ -172,18 +178,20 @@ def _holds(
 
 
 def _joined(
-    cores: list[tuple[int, int]], low: np.ndarray, centre: np.ndarray
+    cores: list[tuple[int, int]], low: np.ndarray, centre: np.ndarray, frame_time: float
 ) -> list[tuple[int, int]]:
     """Still cores [start, end) with each pair between which the foot's lowest sole height `low`
-    (F,) m stays within TOUCH_M of the floor and its sole centre `centre` (F, 2) m travels less
-    than JOIN_TRAVEL_M joined into one: a foot that slides without leaving the floor is one stance,
-    however fast its raw sole slides; one that skims the floor a stride forward has stepped."""
+    (F,) m stays within TOUCH_M of the floor, or leaves it for less than BOUNCE_S (frames of
+    `frame_time` s), and its sole centre `centre` (F, 2) m travels less than JOIN_TRAVEL_M joined
+    into one: a foot that slides or bounces without stepping is one stance, however fast its raw
+    sole slides; one that skims the floor a stride forward has stepped."""
     out: list[tuple[int, int]] = []
     for a, b in cores:
         end = out[-1][1] if out else 0
+        lifted = np.count_nonzero(low[end:a] > TOUCH_M) * frame_time
         if (
             out
-            and low[end:a].max(initial=0.0) <= TOUCH_M
+            and lifted < BOUNCE_S
             and np.linalg.norm(centre[a] - centre[end - 1]) < JOIN_TRAVEL_M
         ):
             out[-1] = (out[-1][0], b)
@@ -238,13 +246,32 @@ def foot_corrections(
         if start - end < 2 * blend:
             junctions[max(end - blend, 0) : start + blend] = True
     correction[:, :2] = _limit_rate(correction[:, :2], MAX_CORRECTION_SPEED * frame_time, junctions)
+    _lift_shifts(correction, centre, low, junctions, frame_time)
     outside_cores = np.ones(n, bool)
     for _, a, b, _ in holds:
         outside_cores[a:b] = False
     correction[:, 2:] = _limit_rate(
-        correction[:, 2:], MAX_CORRECTION_SPEED * frame_time, outside_cores
+        correction[:, 2:], MAX_CORRECTION_SPEED * frame_time, outside_cores | junctions
     )
     return correction, [(start, end) for start, _, _, end in holds]
+
+
+def _lift_shifts(
+    correction: np.ndarray,
+    centre: np.ndarray,
+    low: np.ndarray,
+    junctions: np.ndarray,
+    frame_time: float,
+) -> None:
+    """Raise (in place) the lowest sole point to CLEARANCE_M wherever, within `junctions` (F,), the
+    corrected sole centre (`centre` (F, 2) + correction, m) moves faster than SHIFT_SPEED."""
+    moved = np.linalg.norm(np.diff(centre + correction[:, :2], axis=0), axis=1) / frame_time
+    shifting = np.zeros(len(low), bool)
+    shifting[1:] |= moved > SHIFT_SPEED
+    shifting[:-1] |= moved > SHIFT_SPEED
+    shifting &= junctions
+    raised = low + correction[:, 2]
+    correction[shifting, 2] += np.maximum(CLEARANCE_M - raised[shifting], 0.0)
 
 
 def _limit_rate(values: np.ndarray, largest_step: float, free: np.ndarray) -> np.ndarray:

@@ -127,8 +127,8 @@ def run_track(
     levelling: str = "still",
 ) -> tuple[object, object, object]:
     """Load, retarget, clean the feet (unless `clean` is False), replay and track; returns (world,
-    reference, result); result.foot_skate_m is the simulated motion's skate (m, mean per stance,
-    `foot_metrics`).
+    reference, result); result.foot_skate_m and foot_skate_max_m are the simulated motion's skate (m, mean
+    per stance and worst stance, `foot_metrics`).
 
     `push`: pushes as text, FORCE@TIME[,FORCE@TIME…] in N and s (`control.playback.parse_pushes`),
     sideways (+y) on the torso; `foot`: the foot model as `TrackerSettings` keyword arguments
@@ -175,7 +175,6 @@ def run_track(
         ),
         pushes=pushes,
     )
-    result.foot_skate_m = foot_report(
-        sole_points(world, result.qpos), result.frame_time
-    ).foot_skate_m
+    feet = foot_report(sole_points(world, result.qpos), result.frame_time)
+    result.foot_skate_m, result.foot_skate_max_m = feet.foot_skate_m, feet.foot_skate_max_m
     return world, reference, result

@@ -141,7 +141,8 @@ class TrackerSettings:
 @dataclass
 class TrackingResult:
     """Outcome of a tracking run; errors are RMS over control steps, torques mean magnitudes (N·m);
-    foot skate of the simulated motion (m, mean per stance) when the caller measured it."""
+    foot skate of the simulated motion (m, mean per stance and of the worst stance) when the caller
+    measured it."""
 
     duration_s: float
     fell: bool
@@ -154,16 +155,21 @@ class TrackingResult:
     qpos: np.ndarray = field(repr=False)  # (T, nq) recorded at the reference frame rate
     frame_time: float = 0.0
     foot_skate_m: float | None = None
+    foot_skate_max_m: float | None = None
     recoveries: int = 0
     recovery_simulations: int = 0
 
     def summary(self) -> dict:
-        skate = None if self.foot_skate_m is None else round(self.foot_skate_m, 4)
+        skate, worst = (
+            None if value is None else round(value, 4)
+            for value in (self.foot_skate_m, self.foot_skate_max_m)
+        )
         return {
             "duration_s": round(self.duration_s, 4),
             "fell": self.fell,
             "fall_time_s": self.fall_time_s,
             "foot_skate_m": skate,
+            "foot_skate_max_m": worst,
             "joint_rms_deg": round(self.joint_rms_deg, 3),
             "com_error_m": round(self.com_error_m, 4),
             "artificial_torque": round(self.artificial_torque, 3),
