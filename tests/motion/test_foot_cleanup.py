@@ -269,3 +269,41 @@ def test_a_hovering_stance_is_brought_down_no_faster_than_the_correction_bound()
     assert np.abs(np.diff(correction[:, 2])).max() <= MAX_CORRECTION_SPEED * frame_time + 1e-9
     assert correction[swing + hover // 2, 2] == pytest.approx(-height)
     assert correction[start - 1, 2] < -0.03  # already coming down before the hold
+
+
+def test_a_bounced_landing_is_one_hold():
+    # A heel that lands, bounces 3.6 cm up for 0.03 s (a speed bump splits the still run) and comes
+    # down 1 cm further on: one hold, held still, not two held at different places.
+    frame_time = 1 / 120
+    x = np.zeros(120)
+    z = np.zeros(120)
+    bounce = slice(50, 54)
+    x[bounce], z[bounce] = np.linspace(0.0, 0.01, 4) + 0.03, 0.036
+    x[54:] = 0.01
+    points = _soles(x, z)
+    correction, holds = foot_corrections(points, frame_time)
+    assert len(holds) == 1
+    cleaned = points + correction[:, None, :]
+    assert foot_report({"left": cleaned}, frame_time).foot_skate_m < 0.003
+
+
+def test_a_shuffle_step_between_back_to_back_holds_is_lifted():
+    # A foot that shuffles 15 cm sideways in 0.1 s at 3 cm up between two still stances: two holds
+    # that meet. The shift between their positions is lifted to the swing clearance instead of
+    # sliding along the floor, so each stance is still.
+    frame_time = 1 / 120
+    n_still, n_shift = 60, 12
+    y = np.concatenate([np.zeros(n_still), np.linspace(0.0, 0.15, n_shift), np.full(n_still, 0.15)])
+    z = np.concatenate([np.zeros(n_still), np.full(n_shift, 0.03), np.zeros(n_still)])
+    points = _soles(np.zeros(len(y)), z)
+    points[..., 1] = y[:, None]
+    correction, holds = foot_corrections(points, frame_time)
+    assert len(holds) == 2
+    cleaned = points + correction[:, None, :]
+    report = foot_report({"left": cleaned}, frame_time)
+    assert report.stances == 2 and report.foot_skate_max_m < 0.005
+    moving = np.flatnonzero(np.abs(np.diff(cleaned[:, 0, 1])) > 1e-6) + 1
+    assert moving.size and cleaned[moving, :, 2].min() > CONTACT_M  # off the floor as it moves
+    assert cleaned[moving, :, 2].max() == pytest.approx(CLEARANCE_M)
+    step = np.abs(np.diff(correction, axis=0)).max()
+    assert step <= MAX_CORRECTION_SPEED * frame_time + 1e-9  # lifted without a jump
