@@ -3,8 +3,8 @@ Markdown table.
 
 Per clip (walker, cleaned feet, start frame 1, as `eigengait track` does by default) and robustness
 0, 0.25, 0.5, 0.75, 1: tracked time of the clip's duration, joint RMS error, COM error (RMS, m),
-simulated foot skate (m, mean per stance / worst stance), mean artificial torque (N·m) and the largest sideways
-push survived.
+simulated foot skate (m, mean per stance / worst stance), mean artificial torque (N·m) and the
+largest sideways push survived.
 
 Push search (coarse): a 0.1 s push along +y on the torso (as `track --push`) at t = 0.5 s, forces
 100, 200, 350, 500, 700 N in turn until one fells the character; each pushed run lasts until 4.5 s

@@ -16,9 +16,9 @@ the reference.
    1-7 cm between the runs) was otherwise found as two stances back to back, each held where it
    stood at its own middle, and the bounded change between them (step 4) left 10-16 cm of skate in
    a stance; so did a landing heel that bounces 3.6 cm up for 0.03 s (CMU 07_06: 9.9 cm in the
-   stance, with the bounce counted in it). A swing that skims the floor travels a stride (1 m in 05_01,
-   whose swing foot rises 2.0-2.6 cm): joined, the walk played 1.25 times faster lost a step and
-   fell. A foot higher than STANCE_M but within HOVERING_STANCE_M, the most the grounding leaves
+   stance, with the bounce counted in it). A swing that skims the floor travels a stride (1 m in
+   05_01, whose swing foot rises 2.0-2.6 cm): joined, the walk played 1.25 times faster lost a step
+   and fell. A foot higher than STANCE_M but within HOVERING_STANCE_M, the most the grounding leaves
    under a supporting foot (`grounding.FLIGHT_M`), is in a stance too when it also holds its height
    (its lowest sole point's vertical speed, smoothed likewise, under HOVER_CLIMB_SPEED): retargeted,
    a CMU kick's planted foot hovers 5-9 cm up for 0.7 s, was lifted as a swing, and the body fell as

@@ -127,8 +127,8 @@ def run_track(
     levelling: str = "still",
 ) -> tuple[object, object, object]:
     """Load, retarget, clean the feet (unless `clean` is False), replay and track; returns (world,
-    reference, result); result.foot_skate_m and foot_skate_max_m are the simulated motion's skate (m, mean
-    per stance and worst stance, `foot_metrics`).
+    reference, result); result.foot_skate_m and foot_skate_max_m are the simulated motion's skate
+    (m, mean per stance and worst stance, `foot_metrics`).
 
     `push`: pushes as text, FORCE@TIME[,FORCE@TIME…] in N and s (`control.playback.parse_pushes`),
     sideways (+y) on the torso; `foot`: the foot model as `TrackerSettings` keyword arguments
