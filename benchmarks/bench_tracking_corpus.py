@@ -23,9 +23,7 @@ from pathlib import Path
 
 from eigengait.control.balance.reference import kinematic_replay
 from eigengait.control.balance.tracker import CONTROLLERS, BodyPush, TrackerSettings, track
-from eigengait.motion.foot_metrics import foot_report
-from eigengait.motion.soles import sole_points
-from eigengait.motion.tracking import reference_poses
+from eigengait.motion.tracking import measure_simulated_feet, reference_poses
 
 CORPUS = Path(__file__).resolve().parents[2] / "shared/data/mocap"
 ROBUSTNESS = [0.0, 0.25, 0.5, 0.75, 1.0]
@@ -68,12 +66,12 @@ def main() -> None:
         reference = kinematic_replay(world, ref["qpos"], ref["frame_time"])
         for r in ROBUSTNESS:
             res = track(world, reference, r, settings)
-            feet = foot_report(sole_points(world, res.qpos), res.frame_time)
+            measure_simulated_feet(world, res)
             push = largest_push(world, reference, r, res, settings)
             print(
                 f"| `{clip.name}` | {r:g} | {res.duration_s:.2f} of {reference.duration:.2f} s | "
                 f"{res.joint_rms_deg:.1f}° | {res.com_error_m:.3f} m | "
-                f"{feet.foot_skate_m:.3f} / {feet.foot_skate_max_m:.3f} m | "
+                f"{res.foot_skate_m:.3f} / {res.foot_skate_max_m:.3f} m | "
                 f"{res.artificial_torque:.1f} N·m | {push} |",
                 flush=True,
             )

@@ -72,8 +72,7 @@ def register(app: typer.Typer) -> None:
         from eigengait.control.balance.pushes import sideways_pushes
         from eigengait.control.balance.standing import stand
         from eigengait.control.balance.tracker import TrackerSettings, check_controller
-        from eigengait.motion.foot_metrics import foot_report
-        from eigengait.motion.soles import sole_points
+        from eigengait.motion.tracking import measure_simulated_feet
         from eigengait.sim.world import build_world
 
         foot = balance_settings(robustness, foot_radius, foot_height, foot_friction)
@@ -95,8 +94,7 @@ def register(app: typer.Typer) -> None:
         settings = TrackerSettings(controller=controller, **foot)
         result = stand(world, robustness, duration, pushes, settings)
         run = result.tracking
-        feet = foot_report(sole_points(world, run.qpos), run.frame_time)
-        run.foot_skate_m, run.foot_skate_max_m = feet.foot_skate_m, feet.foot_skate_max_m
+        measure_simulated_feet(world, run)
         write_media(world, run.qpos, 1.0 / run.frame_time, media, status_console(as_json))
         summary = {
             "character": loaded.name,

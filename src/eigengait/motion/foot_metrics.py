@@ -62,11 +62,9 @@ def bridge_bounces(mask: np.ndarray, frame_time: float, bounce_s: float = BOUNCE
     """The boolean mask (F,) with its False gaps shorter than `bounce_s` between two True runs
     filled."""
     mask = np.asarray(mask, bool).copy()
-    on = np.flatnonzero(mask)
-    longest = bounce_s / frame_time
-    for a, b in zip(on[:-1], on[1:]):
-        if 1 < b - a and b - a - 1 < longest:
-            mask[a + 1 : b] = True
+    for a, b in runs(~mask, frame_time, 0.0):
+        if 0 < a and b < len(mask) and b - a < bounce_s / frame_time:
+            mask[a:b] = True
     return mask
 
 

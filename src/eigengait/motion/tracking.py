@@ -143,8 +143,6 @@ def run_track(
         check_controller,
         track,
     )
-    from eigengait.motion.foot_metrics import foot_report
-    from eigengait.motion.soles import sole_points
 
     check_range(
         robustness,
@@ -175,6 +173,15 @@ def run_track(
         ),
         pushes=pushes,
     )
+    measure_simulated_feet(world, result)
+    return world, reference, result
+
+
+def measure_simulated_feet(world, result) -> None:
+    """Set a tracking result's foot_skate_m and foot_skate_max_m (m, mean per stance and worst
+    stance, `foot_metrics`) from its recorded poses."""
+    from eigengait.motion.foot_metrics import foot_report
+    from eigengait.motion.soles import sole_points
+
     feet = foot_report(sole_points(world, result.qpos), result.frame_time)
     result.foot_skate_m, result.foot_skate_max_m = feet.foot_skate_m, feet.foot_skate_max_m
-    return world, reference, result
