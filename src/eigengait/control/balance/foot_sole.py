@@ -46,3 +46,28 @@ def add_soles(model: mujoco.MjModel, foot_spheres: dict[str, list[int]]) -> list
             model.geom_conaffinity[geom] = 0
             changed.append(int(geom))
     return changed
+
+
+def sole_geoms(model: mujoco.MjModel, spheres: list[int]) -> list[int]:
+    """The level boxes of the spheres' foot body that touch the floor (`add_soles`' result on
+    this model)."""
+    body = int(model.geom_bodyid[spheres[0]])
+    return [
+        int(g)
+        for g in np.flatnonzero(model.geom_bodyid == body)
+        if g not in spheres and _level_box(model, int(g)) and model.geom_contype[g]
+    ]
+
+
+def lowest_sole_point(
+    model: mujoco.MjModel, data: mujoco.MjData, spheres: list[int], boxes: list[int]
+) -> np.ndarray:
+    """The lowest point ((3,), world, m) of a foot's floor geometry in the pose in `data` (after
+    kinematics): its contact spheres' bottoms and its sole boxes' bottom corners."""
+    points = [data.geom_xpos[g] - [0.0, 0.0, model.geom_size[g, 0]] for g in spheres]
+    for g in boxes:
+        sx, sy, sz = model.geom_size[g]
+        corners = np.array([[a * sx, b * sy, -sz] for a in (-1, 1) for b in (-1, 1)])
+        points.extend(data.geom_xpos[g] + corners @ data.geom_xmat[g].reshape(3, 3).T)
+    points = np.asarray(points)
+    return points[int(np.argmin(points[:, 2]))]

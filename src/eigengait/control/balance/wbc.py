@@ -11,6 +11,11 @@ units (m/s², rad/s²):
 * landing: a foot the reference has down that touches nothing yet moves over the floor as the
   reference foot does (its contact spheres' centre accelerates at −HOLD_RATE × its horizontal
   velocity relative to the reference foot's), weighted LANDING_WEIGHT;
+* lift-off: a foot the reference raises (its lowest sole point above CONTACT_M and rising) whose
+  own lowest point, the sole box's corners included (`foot_sole.lowest_sole_point`), is lower than
+  the reference's and within LIFT_BELOW_M of the floor: that point's vertical acceleration
+  ω_l² (h_ref − z) + 2 ω_l (ḣ_ref − ż), weighted LIFT_WEIGHT, so a foot the reference lifts does not
+  skim the floor (the sole's box reaches 2 cm past the toe sphere the reference pivots on);
 * held contacts: each contact point of a foot that the reference has on the floor (lowest sole
   point within CONTACT_M), or that carries LOADED of the body weight while the reference foot comes
   down (a landing that comes early), accelerates as −HOLD_RATE × its velocity: it neither slides
@@ -39,6 +44,7 @@ from scipy.optimize import lsq_linear
 
 from eigengait.control.balance.controller import BalanceRig
 from eigengait.control.balance.double_support import CONTACT_M
+from eigengait.control.balance.foot_sole import lowest_sole_point, sole_geoms
 from eigengait.control.balance.pd import joint_error
 from eigengait.control.balance.reference import Reference
 from eigengait.control.balance.takeoff import TAKEOFF_COM_GAIN, takeoff_windows
@@ -51,6 +57,9 @@ COM_WEIGHT = 10.0
 ROOT_WEIGHT = 10.0
 JOINT_WEIGHT = 1.0
 LANDING_WEIGHT = 3.0  # a foot the reference has down that does not touch yet: its ground speed
+LIFT_WEIGHT = 10.0  # a foot the reference raises that skims the floor: its lowest point's height
+LIFT_BANDWIDTH = 20.0  # ω_l, rad/s
+LIFT_BELOW_M = 0.03  # m: the lift-off row acts on a lowest point below this height
 FORCE_WEIGHT = 1e-3  # on β (N)
 # on the artificial torque (N·m over the body mass), × ((1 − R) / R + ARTIFICIAL_FLOOR)
 ARTIFICIAL_WEIGHT = 10.0
@@ -93,7 +102,9 @@ class WholeBodyQP:
         self.robustness = float(robustness)
         self.mass = float(model.body_subtreemass[rig.root_body])
         self.qacc_ref = np.gradient(reference.qvel, reference.frame_time, axis=0)
-        self.foot_sink = np.gradient(reference.foot_height, reference.frame_time, axis=0) < 0
+        self.foot_rate = np.gradient(reference.foot_height, reference.frame_time, axis=0)
+        self.foot_sink = self.foot_rate < 0
+        self.sole_boxes = {f: sole_geoms(model, g) for f, g in rig.foot_spheres.items()}
         self.takeoff = takeoff_windows(reference.foot_height, reference.frame_time)
         self.joints = np.asarray(rig.joint_dofs)
         self.root_turn = np.asarray(rig.root_dofs)[3:6]
@@ -153,6 +164,12 @@ class WholeBodyQP:
         ):
             if height <= CONTACT_M and rig.foot_bodies[foot] not in held_bodies:
                 task(*self._landing_task(data, foot, velocity, size), LANDING_WEIGHT)
+        for k, (foot, height) in enumerate(zip(rig.foot_bodies, target["foot_height"])):
+            rate = self.foot_rate[nearest, k]
+            if height > CONTACT_M and rate > 0 and rig.foot_bodies[foot] not in held_bodies:
+                lift = self._lift_task(data, foot, height, rate, size)
+                if lift is not None:
+                    task(*lift, LIFT_WEIGHT)
         joints = np.zeros((len(self.joints), size))
         joints[np.arange(len(self.joints)), self.joints] = 1.0
         task(joints, self._joint_acceleration(data, target, qacc_ref)[self.joints], JOINT_WEIGHT)
@@ -197,6 +214,21 @@ class WholeBodyQP:
         a = np.zeros((2, size))
         a[:, : self.model.nv] = jac
         return a, -HOLD_RATE * (jac @ data.qvel - reference_velocity)
+
+    def _lift_task(self, data, foot, height, rate, size) -> tuple[np.ndarray, np.ndarray] | None:
+        """The lift-off row (module doc) of a foot the reference raises to `height` (m) at `rate`
+        (m/s); None when the foot's lowest point is already as high, or above LIFT_BELOW_M."""
+        point = lowest_sole_point(
+            self.model, data, self.rig.foot_spheres[foot], self.sole_boxes[foot]
+        )
+        if point[2] >= min(height, LIFT_BELOW_M):
+            return None
+        jac = self._point_jacobian(data, self.rig.foot_bodies[foot], point)[2:3]
+        w = LIFT_BANDWIDTH
+        acc = w * w * (height - point[2]) + 2 * w * (rate - float(jac[0] @ data.qvel))
+        a = np.zeros((1, size))
+        a[:, : self.model.nv] = jac
+        return a, np.array([acc])
 
     def _com_task(self, data, target, size, vertical: float) -> tuple[np.ndarray, np.ndarray]:
         """The COM rows, the vertical one weighted `vertical` times."""
