@@ -87,7 +87,7 @@ def _lowest_point_after_a_raised_reference_foot(walker, monkeypatch, lift_weight
 
 
 def test_a_foot_the_reference_raises_is_lifted_off_the_floor(walker, monkeypatch):
-    # the lift-off row raises the foot, which carries half the weight, by 4.1 mm in 0.3 s (measured);
+    # the lift-off row raises the foot, which carries half the weight, 4.1 mm in 0.3 s (measured);
     # without it the standing pose's joint task keeps the foot on the floor (-0.1 mm)
     lifted = _lowest_point_after_a_raised_reference_foot(walker, monkeypatch, 10.0)
     left = _lowest_point_after_a_raised_reference_foot(walker, monkeypatch, 0.0)
