@@ -36,11 +36,8 @@ def add_soles(model: mujoco.MjModel, foot_spheres: dict[str, list[int]]) -> list
     copy)."""
     changed = []
     for spheres in foot_spheres.values():
-        body = int(model.geom_bodyid[spheres[0]])
         sole_z = float(np.min(model.geom_pos[spheres, 2] - model.geom_size[spheres, 0]))
-        for geom in np.flatnonzero(model.geom_bodyid == body):
-            if geom in spheres or not _level_box(model, int(geom)):
-                continue
+        for geom in _level_boxes(model, spheres):
             model.geom_pos[geom, 2] = sole_z + model.geom_size[geom, 2]
             model.geom_contype[geom] = FOOT_GROUP
             model.geom_conaffinity[geom] = 0
@@ -48,15 +45,20 @@ def add_soles(model: mujoco.MjModel, foot_spheres: dict[str, list[int]]) -> list
     return changed
 
 
-def sole_geoms(model: mujoco.MjModel, spheres: list[int]) -> list[int]:
-    """The level boxes of the spheres' foot body that touch the floor (`add_soles`' result on
-    this model)."""
+def _level_boxes(model: mujoco.MjModel, spheres: list[int]) -> list[int]:
+    """The level boxes (`_level_box`) of the foot body that carries the contact spheres."""
     body = int(model.geom_bodyid[spheres[0]])
     return [
         int(g)
         for g in np.flatnonzero(model.geom_bodyid == body)
-        if g not in spheres and _level_box(model, int(g)) and model.geom_contype[g]
+        if g not in spheres and _level_box(model, int(g))
     ]
+
+
+def sole_geoms(model: mujoco.MjModel, spheres: list[int]) -> list[int]:
+    """The level boxes of the spheres' foot body that touch the floor (`add_soles`' result on
+    this model)."""
+    return [g for g in _level_boxes(model, spheres) if model.geom_contype[g]]
 
 
 def lowest_sole_point(

@@ -103,7 +103,6 @@ class WholeBodyQP:
         self.mass = float(model.body_subtreemass[rig.root_body])
         self.qacc_ref = np.gradient(reference.qvel, reference.frame_time, axis=0)
         self.foot_rate = np.gradient(reference.foot_height, reference.frame_time, axis=0)
-        self.foot_sink = self.foot_rate < 0
         self.sole_boxes = {f: sole_geoms(model, g) for f, g in rig.foot_spheres.items()}
         self.takeoff = takeoff_windows(reference.foot_height, reference.frame_time)
         self.joints = np.asarray(rig.joint_dofs)
@@ -122,7 +121,7 @@ class WholeBodyQP:
         body_weight = self.mass * GRAVITY
         i, j, blend = self.reference.frame_at(float(data.time))
         nearest = i if blend < 0.5 else j
-        sinking = self.foot_sink[nearest]
+        sinking = self.foot_rate[nearest] < 0
         held = [
             (rig.foot_bodies[foot], point[:3])
             for foot, height, sinks in zip(rig.foot_bodies, target["foot_height"], sinking)
