@@ -14,7 +14,7 @@ from typer.testing import CliRunner
 from eigengait.cli.track import register
 from eigengait.motion.bvh import local_transforms, read_bvh, write_bvh
 from eigengait.motion.flat_feet import FLAT_TILT_WARN_DEG
-from shared_data import MOCAP, clip_start
+from shared_data import DM_CONTROL, MOCAP, clip_start
 
 WALK = str(MOCAP / "cmu_02_01_walk.bvh")
 DAZ_WALK = str(MOCAP / "cmu_07_06_walk_daz.bvh")
@@ -143,6 +143,16 @@ def test_bad_inputs_exit_with_status_2(tmp_path):
     assert proc.returncode == 2 and "recoveries" in proc.stderr
     proc = _run(WALK, "--kinematic", "--levelling", "sideways")
     assert proc.returncode == 2 and "levelling" in proc.stderr and "flat" in proc.stderr
+
+
+def test_a_users_model_without_stiffness_reaches_the_mapping_check():
+    """dm_control's humanoid.xml has no joint stiffness (the tracker switches springs off, so it
+    needs none) and shares the built-in humanoid's name but not its joints: the one error is the
+    mapping's, naming the joints it lacks and the mapping file as the fix."""
+    proc = _run(WALK, "--character", str(DM_CONTROL / "suite" / "humanoid.xml"), "--kinematic")
+    assert proc.returncode == 2 and "stiffness" not in proc.stderr
+    assert "no built-in mapping" in proc.stderr and "no joint head" in proc.stderr
+    assert "mapping file" in proc.stderr
 
 
 def test_a_fall_searched_past_is_reported(tmp_path):

@@ -126,3 +126,28 @@ def test_an_unknown_controller_is_refused_before_any_simulation():
     result = _invoke("--controller", "pid")
     assert result.exit_code != 0 and isinstance(result.exception, UserInputError)
     assert result.exception.field == "controller" and "qp" in str(result.exception)
+
+
+def _balance_model(model, *args):
+    """`eigengait balance MODEL --json ARGS` on a user's MJCF file; its JSON."""
+    app = typer.Typer()
+    register(app)
+    app.command("noop")(lambda: None)
+    result = CliRunner().invoke(app, ["balance", str(model), "--json", *args])
+    assert result.exit_code == 0, result.output
+    return json.loads(result.stdout)
+
+
+def test_dm_control_humanoids_stand_without_stiffness_in_their_files():
+    """The suite's humanoid (no joint stiffness: the tracker's springs are off anyway) survives a
+    0.5 N·s/kg push; the CMU humanoid, whose root frame is turned 90° about x in its zero pose,
+    stands (it read as upside down, a fall at its first step)."""
+    from shared_data import DM_CONTROL
+
+    suite = DM_CONTROL / "suite"
+    out = _balance_model(suite / "humanoid.xml", "--push", "204@0.5", "--duration", "2")
+    assert out["mass_kg"] == pytest.approx(40.84, abs=0.01)
+    assert out["pushes"][0]["impulse_n_s_per_kg"] == pytest.approx(0.5, abs=0.01)
+    assert out["fell"] is False and out["pushes_survived"] == 1
+    out = _balance_model(suite / "humanoid_CMU.xml", "--duration", "1")
+    assert out["fell"] is False and out["duration_s"] == pytest.approx(1.0, abs=1e-3)

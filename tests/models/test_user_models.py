@@ -224,6 +224,25 @@ def test_root_layout_of_planar_and_free_roots():
     assert q[2] == pytest.approx(1.1) and free.up_z(q) == pytest.approx(-1.0)
 
 
+def test_a_root_frame_turned_in_the_zero_pose_stands_upright_there():
+    """dm_control's CMU humanoid turns its root body 90° about x: standing in its zero pose it is
+    upright (up_z 1, no tilt, heading 0), and a pitch is read from that pose as on any model."""
+    root = build_world(load_character(MODELS / "suite" / "humanoid_CMU.xml")).root
+    w, x, y, z = root.rest_quat
+    assert (w, x, y, z) == pytest.approx((np.sqrt(0.5), np.sqrt(0.5), 0.0, 0.0))
+    qpos = np.zeros(63)
+    qpos[3:7] = root.rest_quat
+    pitch, roll = root.tilt_deg(qpos)
+    assert root.up_z(qpos) == pytest.approx(1.0) and (pitch, roll) == pytest.approx((0.0, 0.0))
+    assert root.heading(qpos) == pytest.approx(0.0)
+    root.lift_and_pitch(qpos, 0.0, 0.3)  # turned 0.3 rad about world +y
+    turn = np.zeros(4)
+    mujoco.mju_mulQuat(turn, qpos[3:7], np.array([w, -x, -y, -z]))
+    assert root.upright_quat(qpos) == pytest.approx(turn)
+    assert root.up_z(qpos) == pytest.approx(np.cos(0.3))
+    assert abs(root.tilt_deg(qpos)[0]) == pytest.approx(np.degrees(0.3))
+
+
 @pytest.mark.parametrize(
     "xml, expected",
     [

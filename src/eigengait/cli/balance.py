@@ -80,7 +80,7 @@ def register(app: typer.Typer) -> None:
         check_range(duration, "--duration", 0.01, MAX_DURATION_S, unit="s")
         media = MediaOptions(video=video, fps=fps, speed=speed, camera=camera).check()
         refuse_existing([video], force)
-        loaded = load_character(character)
+        loaded = load_character(character, stiffness="auto")  # the tracker's springs are off
         _check_pose(loaded, pose)
         world = build_world(loaded, pose)
         pushes = sideways_pushes(push or [], world.model.body(world.root_body).name)

@@ -90,11 +90,14 @@ class FeedbackGains:
         return self.hip is not None or bool(self.modal)
 
 
-def root_tilt(quat: np.ndarray, angvel_local: np.ndarray) -> np.ndarray:
+def root_tilt(
+    quat: np.ndarray, angvel_local: np.ndarray, upright: np.ndarray | None = None
+) -> np.ndarray:
     """(pitch, roll, ω_pitch, ω_roll) of root quaternions (…×4, wxyz) and local angular velocities
-    (…×3); pitch and roll as `sim.root.quat_pitch_roll` reads them (rad), ω about world y and x
+    (…×3); pitch and roll as `sim.root.quat_pitch_roll` reads them (rad) from `upright` (the root's
+    turn from its zero pose, `RootLayout.upright_quat`; default `quat`), ω about world y and x
     (rad/s)."""
-    pitch, roll = quat_pitch_roll(quat)
+    pitch, roll = quat_pitch_roll(quat if upright is None else upright)
     rotation = quat_to_mat(quat)  # world angular velocity = R ω_local; its x and y rows
     wx, wy = (sum(rotation[..., row, k] * angvel_local[..., k] for k in range(3)) for row in (0, 1))
     return np.stack([pitch, roll, wy, wx], axis=-1)
@@ -125,7 +128,7 @@ class FeatureReader:
         if self.root.quat_qpos is not None:
             a = self.root.quat_qpos
             # a free root's angular velocity: its qvel 3-5
-            return root_tilt(qpos[..., a : a + 4], qvel[..., 3:6])
+            return root_tilt(qpos[..., a : a + 4], qvel[..., 3:6], self.root.upright_quat(qpos))
         return planar_tilt(self.root, qpos, qvel)
 
     def read(self, state: np.ndarray, sensors: np.ndarray, support: str) -> np.ndarray:

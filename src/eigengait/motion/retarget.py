@@ -132,18 +132,27 @@ def load_mapping(path: str | Path) -> Mapping:
     )
 
 
-def builtin_mapping(character_name: str, clip: BvhClip) -> Mapping:
+def builtin_mapping(
+    character_name: str, clip: BvhClip, character_joints: set[str] | None = None
+) -> Mapping:
     """The built-in character's mapping from the clip's joint names (`skeleton_names`); legs and
-    root required."""
+    root required. With `character_joints` (the model's joint names, the free joint as 'root'),
+    the mapping is used only if the model has every joint it names: another model saved under a
+    built-in character's name (dm_control's humanoid.xml) gets no built-in mapping."""
     roles = find_roles(clip)
     wanted = CHARACTER_ROLES.get(character_name, {})
+    absent = sorted(set(wanted.values()) - {"root"} - (character_joints or set(wanted.values())))
     missing = [r for r in wanted if (r in LEG_ROLES or r.endswith("_shin")) and r not in roles]
-    if not wanted or missing:
+    if not wanted or absent or missing:
         known = ", ".join(CHARACTER_ROLES)
+        why = (
+            f"the character has no joint {', '.join(absent)}"
+            if absent
+            else f"missing {', '.join(missing) or 'all'}"
+        )
         raise UserInputError(
             f"the clip's skeleton (root '{clip.joints[0].name}') matches no built-in mapping for "
-            f"character '{character_name}' (built-in mappings: {known}; missing "
-            f"{', '.join(missing) or 'all'}).",
+            f"character '{character_name}' (built-in mappings: {known}; {why}).",
             field="BVH joints",
             fix=(
                 "pass a mapping file (mapping='map.yaml') naming, for each MJCF joint, the BVH "

@@ -2,7 +2,10 @@
 joints.
 
 Frames: world axes, x forward, z up. A free root has position (x, y, z) and orientation quaternion
-in qpos, linear velocity (world) and angular velocity (root frame) in qvel. A planar root
+in qpos, linear velocity (world) and angular velocity (root frame) in qvel. Its uprightness,
+heading, pitch and roll are read from its turn away from its orientation in the model's zero pose
+(`upright_quat`): a model whose root frame is not z-up there (dm_control's CMU humanoid turns its
+root 90° about x) stands upright in that pose, as every other model does. A planar root
 (e.g. slide x, slide z, hinge y) has one qpos/qvel entry per joint; its forward, vertical and pitch
 coordinates are the joints whose axis is x, z and ±y.
 """
@@ -14,7 +17,7 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
-from eigengait.geometry import quat_pitch_roll
+from eigengait.geometry import quat_conj, quat_mul, quat_pitch_roll
 
 AXIS_TOLERANCE = 0.99  # |cos| between a joint axis and a world axis to count as that axis
 
@@ -32,6 +35,16 @@ class RootLayout:
     quat_qpos: int | None = None  # free root: orientation quaternion (w, x, y, z)
     pitch_qpos: int | None = None  # planar root: hinge about ±y (rad)
     pitch_sign: float = 1.0  # +1 if that hinge's axis is +y
+    # free root: its orientation (w, x, y, z) in the zero pose (qpos0), upright by definition
+    rest_quat: tuple[float, float, float, float] = (1.0, 0.0, 0.0, 0.0)
+
+    def upright_quat(self, qpos: np.ndarray) -> np.ndarray:
+        """A free root's turn (…, 4; w, x, y, z; world frame) from its zero-pose orientation:
+        q ⊗ q_rest⁻¹, the identity when it stands as in the model's zero pose."""
+        q = qpos[..., self.quat_qpos : self.quat_qpos + 4]
+        if self.rest_quat == (1.0, 0.0, 0.0, 0.0):
+            return q
+        return quat_mul(q, quat_conj(np.array(self.rest_quat)))
 
     def lift_and_pitch(self, qpos: np.ndarray, height: float, pitch: float) -> None:
         """Raise the root by `height` (m) and pitch it by `pitch` (rad, about world +y), in
@@ -62,13 +75,13 @@ class RootLayout:
         reads 0."""
         if self.quat_qpos is None:
             return np.zeros(qpos.shape[:-1])
-        w, x, y, z = np.moveaxis(qpos[..., self.quat_qpos : self.quat_qpos + 4], -1, 0)
+        w, x, y, z = np.moveaxis(self.upright_quat(qpos), -1, 0)
         return np.arctan2(2 * (x * y + w * z), 1 - 2 * (y * y + z * z))
 
     def up_z(self, qpos: np.ndarray) -> np.ndarray:
         """World z of the root's up axis for qpos rows (…, nq): 1 upright, < 0 upside down."""
         if self.quat_qpos is not None:
-            q = qpos[..., self.quat_qpos : self.quat_qpos + 4]
+            q = self.upright_quat(qpos)
             return 1 - 2 * (q[..., 1] ** 2 + q[..., 2] ** 2)
         if self.pitch_qpos is not None:
             return np.cos(qpos[..., self.pitch_qpos])
@@ -81,7 +94,7 @@ class RootLayout:
         as pitch (same sign convention) and roll 0. NaN for a planar root without that hinge.
         """
         if self.quat_qpos is not None:
-            pitch, roll = quat_pitch_roll(qpos[..., self.quat_qpos : self.quat_qpos + 4])
+            pitch, roll = quat_pitch_roll(self.upright_quat(qpos))
             return np.degrees(pitch), np.degrees(roll)
         if self.pitch_qpos is not None:
             return np.degrees(self.pitch_sign * qpos[..., self.pitch_qpos]), np.zeros(
@@ -95,7 +108,17 @@ def root_layout(model: mujoco.MjModel, root_body: int) -> RootLayout:
     joints = [j for j in range(model.njnt) if model.jnt_bodyid[j] == root_body]
     if len(joints) == 1 and model.jnt_type[joints[0]] == mujoco.mjtJoint.mjJNT_FREE:
         a, d = int(model.jnt_qposadr[joints[0]]), int(model.jnt_dofadr[joints[0]])
-        return RootLayout("free", (d, d + 1, d + 2), a, d, a + 2, d + 2, quat_qpos=a + 3)
+        rest = model.qpos0[a + 3 : a + 7] / np.linalg.norm(model.qpos0[a + 3 : a + 7])
+        return RootLayout(
+            "free",
+            (d, d + 1, d + 2),
+            a,
+            d,
+            a + 2,
+            d + 2,
+            quat_qpos=a + 3,
+            rest_quat=tuple(float(c) for c in rest),
+        )
     found: dict[str, tuple[int, int, float]] = {}
     translation = []
     for j in joints:

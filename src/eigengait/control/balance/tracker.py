@@ -379,8 +379,15 @@ class Tracker:
             else:
                 artificial = self._whole_body_step(target, contacts)
             self._apply_pushes(pushes, push_bodies, t)
-            ball = self.rig.ball_qpos
-            joint_err.append(quat_angle(data.qpos[ball], target["qpos"][ball]))
+            ball, hinge = self.rig.ball_qpos, self.rig.hinge_qpos
+            joint_err.append(
+                np.concatenate(
+                    [
+                        quat_angle(data.qpos[ball], target["qpos"][ball]),
+                        np.abs(data.qpos[hinge] - target["qpos"][hinge]),
+                    ]
+                )
+            )
             com_err.append(np.linalg.norm(data.subtree_com[self.world.root_body] - reference_com))
             torques.append(artificial)
             # a blow-up raises, naming time and body
