@@ -15,8 +15,8 @@ child, End Site or first geom). A body that carries a foot (toe and heel sites) 
 its bone and the BVH bone is flattened onto the floor plane (the sole is flat in the rest pose): the
 built-in humanoid has no ankle, so its shin-and-foot body follows the mocap foot, which keeps stance
 feet flat. The root body takes the root joint's rotation with no offset. Joint quaternions follow
-from parent and child orientations; unmapped joints stay at their relax rotation; hinges keep the
-component about their axis.
+from parent and child orientations; unmapped joints stay at their relax rotation; a lone hinge keeps
+the component about its axis, a body on several hinges gets all of them (`hinge_chain`).
 
 Root position: the BVH root trajectory in world axes, scaled by the ratio of the character's
 standing root height to the BVH root height above its lowest point in the first frame (a leg-length
@@ -45,6 +45,7 @@ from eigengait.motion.conventions import detect_conventions, rest_stands
 from eigengait.motion.flat_feet import clip_flat_frames
 from eigengait.motion.foot_level import level_feet
 from eigengait.motion.grounding import floor_offset, lowest_foot_points
+from eigengait.motion.hinge_chain import hinge_angles
 from eigengait.motion.rest_offsets import planted_frames, rest_offsets
 from eigengait.motion.root_scale import leg_consistent_factor
 from eigengait.motion.skeleton_names import LEG_ROLES, find_roles
@@ -444,6 +445,8 @@ def retarget(
             qpos[:, adr + 3 : adr + 7] = _continuous(mat_to_quat(orient[body]))
         elif model.jnt_type[jid] == mujoco.mjtJoint.mjJNT_BALL:
             qpos[:, adr : adr + 4] = _continuous(quat)
+        elif len(hinges := _body_hinges(model, body)) > 1:
+            qpos[:, model.jnt_qposadr[hinges]] = hinge_angles(relative, model.jnt_axis[hinges])
         else:
             qpos[:, adr] = quat_log(quat) @ model.jnt_axis[jid]
 
@@ -466,6 +469,14 @@ def retarget(
     _clamp_to_joint_ranges(model, qpos)
     _place_root(world, qpos, root_adr, factor * root_path, clip.frame_time)
     return RetargetedClip(qpos, clip.frame_time, hip_scale * factor, factor, levelled, flat_by_foot)
+
+
+def _body_hinges(model: mujoco.MjModel, body: int) -> list[int]:
+    """The body's joints in the model's order when all of them are hinges, else none: a mapped
+    body on several hinges (a hip as hip_x, hip_z, hip_y) has all of them set from its turn."""
+    joints = list(range(model.body_jntadr[body], model.body_jntadr[body] + model.body_jntnum[body]))
+    hinge = mujoco.mjtJoint.mjJNT_HINGE
+    return joints if all(model.jnt_type[j] == hinge for j in joints) else []
 
 
 def _clamp_to_joint_ranges(model: mujoco.MjModel, qpos: np.ndarray) -> None:
