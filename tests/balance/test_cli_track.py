@@ -145,14 +145,20 @@ def test_bad_inputs_exit_with_status_2(tmp_path):
     assert proc.returncode == 2 and "levelling" in proc.stderr and "flat" in proc.stderr
 
 
-def test_a_users_model_without_stiffness_reaches_the_mapping_check():
-    """dm_control's humanoid.xml has no joint stiffness (the tracker switches springs off, so it
-    needs none) and shares the built-in humanoid's name but not its joints: the one error is the
-    mapping's, naming the joints it lacks and the mapping file as the fix."""
-    proc = _run(WALK, "--character", str(DM_CONTROL / "suite" / "humanoid.xml"), "--kinematic")
+def test_a_users_model_is_mapped_by_its_body_names():
+    """dm_control's humanoid.xml: no joint stiffness (the tracker switches springs off, so it
+    needs none) and the built-in humanoid's name but not its joints; its bodies' names
+    (`right_thigh`, `left_lower_arm`) give the mapping. A model whose bodies name no legs (the
+    quadruped) gets one error asking for a mapping file."""
+    proc = _run(
+        WALK, "--character", str(DM_CONTROL / "suite" / "humanoid.xml"), "--kinematic", "--json"
+    )
+    assert proc.returncode == 0, proc.stderr
+    out = json.loads(proc.stdout.splitlines()[-1])
+    assert out["duration_s"] == pytest.approx(2.85, abs=0.01) and out["stances"] >= 4
+    proc = _run(WALK, "--character", str(DM_CONTROL / "suite" / "quadruped.xml"), "--kinematic")
     assert proc.returncode == 2 and "stiffness" not in proc.stderr
-    assert "no built-in mapping" in proc.stderr and "no joint head" in proc.stderr
-    assert "mapping file" in proc.stderr
+    assert "no leg bodies found by name" in proc.stderr and "mapping file" in proc.stderr
 
 
 def test_a_fall_searched_past_is_reported(tmp_path):

@@ -54,7 +54,7 @@ def test_daz_run_maps_and_has_flight(world):
 def test_unmappable_skeleton_and_bad_mapping_files(world, tmp_path):
     clip = read_bvh(MOCAP / "cmu_02_01_walk.bvh")
     clip.joints[clip.joint_index("LeftUpLeg")].name = "Thigh_L_01"
-    with pytest.raises(UserInputError, match="matches no built-in mapping.*left_thigh"):
+    with pytest.raises(UserInputError, match="matches no mapping.*lacks left_thigh"):
         builtin_mapping("humanoid", clip)
     bad = tmp_path / "map.yaml"
     bad.write_text("joints: {Hips: root}\naxes: {x: +z, y: +x, z: -y}\n")

@@ -70,3 +70,28 @@ def test_a_hip_on_three_hinges_follows_the_clips_thigh(tmp_path):
             cos = thigh @ wanted / np.linalg.norm(thigh) / np.linalg.norm(wanted)
             worst = max(worst, float(np.degrees(np.arccos(np.clip(cos, -1, 1)))))
     assert worst < 6.0
+
+
+def test_dm_control_humanoids_are_mapped_by_their_body_names():
+    """The suite humanoid's `right_thigh` … and the CMU humanoid's ASF names (`lfemur`, `ltibia`,
+    `lhumerus`, `lradius`, `thorax`) give each role its body's first joint."""
+    from eigengait.motion.retarget import body_roles
+
+    suite = DM_CONTROL / "suite"
+    humanoid = body_roles(build_world(load_character(suite / "humanoid.xml", stiffness="auto")))
+    assert {k: humanoid[k] for k in ("root", "left_thigh", "right_shin", "left_forearm")} == {
+        "root": "root",
+        "left_thigh": "left_hip_x",
+        "right_shin": "right_knee",
+        "left_forearm": "left_elbow",
+    }
+    cmu = body_roles(build_world(load_character(suite / "humanoid_CMU.xml")))
+    assert {
+        k: cmu[k] for k in ("torso", "left_thigh", "right_shin", "left_foot", "right_upper_arm")
+    } == {
+        "torso": "thoraxrz",
+        "left_thigh": "lfemurrz",
+        "right_shin": "rtibiarx",
+        "left_foot": "lfootrz",
+        "right_upper_arm": "rhumerusrz",
+    }

@@ -48,7 +48,7 @@ from eigengait.motion.grounding import floor_offset, lowest_foot_points
 from eigengait.motion.hinge_chain import hinge_angles
 from eigengait.motion.rest_offsets import planted_frames, rest_offsets
 from eigengait.motion.root_scale import leg_consistent_factor
-from eigengait.motion.skeleton_names import LEG_ROLES, find_roles
+from eigengait.motion.skeleton_names import LEG_ROLES, find_roles, roles_of_names
 from eigengait.motion.soles import sole_points
 from eigengait.sim.world import World
 
@@ -133,27 +133,25 @@ def load_mapping(path: str | Path) -> Mapping:
     )
 
 
-def builtin_mapping(
-    character_name: str, clip: BvhClip, character_joints: set[str] | None = None
-) -> Mapping:
-    """The built-in character's mapping from the clip's joint names (`skeleton_names`); legs and
-    root required. With `character_joints` (the model's joint names, the free joint as 'root'),
-    the mapping is used only if the model has every joint it names: another model saved under a
-    built-in character's name (dm_control's humanoid.xml) gets no built-in mapping."""
+def builtin_mapping(character_name: str, clip: BvhClip, world: World | None = None) -> Mapping:
+    """The character's mapping from the clip's joint names (`skeleton_names`); legs and root
+    required. A built-in character's roles (CHARACTER_ROLES) are used when the model has every
+    joint they name; otherwise, given the character's `world`, its bodies' names are read the same
+    way (`body_roles`: dm_control's `right_thigh` or `lfemur`), each role driving its body's first
+    joint."""
     roles = find_roles(clip)
     wanted = CHARACTER_ROLES.get(character_name, {})
-    absent = sorted(set(wanted.values()) - {"root"} - (character_joints or set(wanted.values())))
+    own = set(wanted.values()) - {"root"} <= set(world.character.joints) if world else True
+    if world is not None and not (wanted and own):
+        wanted = body_roles(world)
     missing = [r for r in wanted if (r in LEG_ROLES or r.endswith("_shin")) and r not in roles]
-    if not wanted or absent or missing:
+    legs = [r for r in LEG_ROLES if r != "root"]
+    if not set(legs) <= set(wanted) or missing:
         known = ", ".join(CHARACTER_ROLES)
-        why = (
-            f"the character has no joint {', '.join(absent)}"
-            if absent
-            else f"missing {', '.join(missing) or 'all'}"
-        )
+        why = f"the clip lacks {', '.join(missing)}" if missing else "no leg bodies found by name"
         raise UserInputError(
-            f"the clip's skeleton (root '{clip.joints[0].name}') matches no built-in mapping for "
-            f"character '{character_name}' (built-in mappings: {known}; {why}).",
+            f"the clip's skeleton (root '{clip.joints[0].name}') matches no mapping for character "
+            f"'{character_name}' (built-in mappings: {known}; {why}).",
             field="BVH joints",
             fix=(
                 "pass a mapping file (mapping='map.yaml') naming, for each MJCF joint, the BVH "
@@ -161,6 +159,24 @@ def builtin_mapping(
             ),
         )
     return Mapping(joints={roles[r]: joint for r, joint in wanted.items() if r in roles})
+
+
+def body_roles(world: World) -> dict[str, str]:
+    """Role → MJCF joint read from the model's body names (`skeleton_names.roles_of_names`): the
+    first joint of the body each role names, the free joint ('root') for the root; bodies with no
+    joint or with the free joint are not read."""
+    model = world.model
+    jointed = [
+        model.body(b).name
+        for b in range(1, model.nbody)
+        if model.body_jntnum[b] and b != world.root_body
+    ]
+    found = roles_of_names(jointed)
+    roles = {"root": "root"}
+    for role, body in found.items():
+        if role != "root":
+            roles[role] = model.joint(int(model.body_jntadr[model.body(body).id])).name
+    return roles
 
 
 def clip_axes(mapping: Mapping, clip: BvhClip, start_frame: int = 1) -> np.ndarray:

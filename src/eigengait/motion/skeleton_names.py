@@ -9,13 +9,15 @@ capture and game rigs:
 | Unreal | `thigh_l` / `calf_l` / `foot_l` |
 | Blender rigs | `thigh.L` / `shin.L` / `foot.L` |
 | SMPL | `L_Hip` / `L_Knee` / `L_Ankle` |
+| CMU's ASF skeleton (dm_control's CMU humanoid's bodies) | `lfemur` / `ltibia` / `lfoot` |
 
 A name is normalised (text after the last `:` or `|`, lower case, without `_ - . ` and spaces),
 then read as a side (`left`/`l` or `right`/`r`, before or after the rest) and a part name. A role
 takes the first of its part aliases that the clip has on that side (e.g. the upper arm is `arm`,
 else `upperarm`, else `shoulder`: Mixamo's and Bandai Namco's `Shoulder` is the collar bone, beside
 an `Arm`/`UpperArm`; SMPL's is the upper arm, beside a `Collar`). Unsided roles (root, torso, head)
-match the whole name. Roles are the body parts the built-in characters can follow.
+match the whole name. Roles are the body parts the built-in characters can follow; a user's MJCF
+model's body names are read the same way (`roles_of_names`).
 """
 
 from __future__ import annotations
@@ -26,15 +28,15 @@ from eigengait.motion.bvh import BvhClip
 
 SIDES = {"left": ("left", "l"), "right": ("right", "r")}
 PART_ALIASES: dict[str, tuple[str, ...]] = {
-    "upper_arm": ("arm", "upperarm", "shldr", "shoulder"),
-    "forearm": ("forearm", "lowerarm", "elbow"),
-    "thigh": ("upleg", "thigh", "upperleg", "hip"),
-    "shin": ("leg", "shin", "lowerleg", "calf", "knee"),
+    "upper_arm": ("arm", "upperarm", "shldr", "shoulder", "humerus"),
+    "forearm": ("forearm", "lowerarm", "elbow", "radius"),
+    "thigh": ("upleg", "thigh", "upperleg", "hip", "femur"),
+    "shin": ("leg", "shin", "lowerleg", "calf", "knee", "tibia"),
     "foot": ("foot", "ankle"),
 }
 UNSIDED_ALIASES: dict[str, tuple[str, ...]] = {
     "root": ("hips", "hip", "pelvis"),
-    "torso": ("spine1", "chest", "spine2", "spine", "upperchest"),
+    "torso": ("spine1", "chest", "spine2", "spine", "upperchest", "thorax"),
     "head": ("head",),
 }
 LEG_ROLES = ("root", "left_thigh", "left_foot", "right_thigh", "right_foot")
@@ -62,11 +64,19 @@ def sided_parts(name: str) -> set[tuple[str, str]]:
 def find_roles(clip: BvhClip) -> dict[str, str]:
     """Role → BVH joint name for every role whose alias the clip has; the root role falls back to
     the BVH root."""
-    whole = {normalise(j.name): j.name for j in clip.joints}
+    found = roles_of_names([j.name for j in clip.joints])
+    found.setdefault("root", clip.joints[0].name)
+    return found
+
+
+def roles_of_names(names: list[str]) -> dict[str, str]:
+    """Role → name for every role whose alias is among `names` (joint or body names, the first
+    match of the role's first alias that any has)."""
+    whole = {normalise(name): name for name in names}  # a repeated name: its last
     sided: dict[tuple[str, str], str] = {}
-    for joint in clip.joints:
-        for reading in sided_parts(joint.name):
-            sided.setdefault(reading, joint.name)
+    for name in names:
+        for reading in sided_parts(name):
+            sided.setdefault(reading, name)
     found = {}
     for role, aliases in UNSIDED_ALIASES.items():
         name = next((whole[a] for a in aliases if a in whole), None)
@@ -77,5 +87,4 @@ def find_roles(clip: BvhClip) -> dict[str, str]:
             name = next((sided[side, a] for a in aliases if (side, a) in sided), None)
             if name is not None:
                 found[f"{side}_{part}"] = name
-    found.setdefault("root", clip.joints[0].name)
     return found

@@ -52,8 +52,7 @@ def reference_poses(
     # the tracker switches the character's springs off, so joints with no stiffness need none
     char = load_character(character, stiffness="auto")
     world = build_world(char)
-    joints = set(world.character.joints)
-    chosen = load_mapping(mapping) if mapping else builtin_mapping(char.name, clip, joints)
+    chosen = load_mapping(mapping) if mapping else builtin_mapping(char.name, clip, world)
     first = first_frame_after_lead_in(clip, start_frame)
     clip, glitches = repair_glitches(clip, first)
     retargeted = retarget(clip, world, chosen, start_frame=first, levelling=levelling)
