@@ -1,4 +1,4 @@
-"""Walks up a MuJoCo model's body tree (body 0 is the world)."""
+"""Walks up a MuJoCo model's body tree (body 0 is the world); a body's own joints."""
 
 from __future__ import annotations
 
@@ -18,3 +18,9 @@ def ancestors(model: mujoco.MjModel, body: int) -> Iterator[int]:
 def in_subtree(model: mujoco.MjModel, body: int, root: int) -> bool:
     """Whether `body` is `root` (a body, not the world) or one of its descendants."""
     return int(root) in ancestors(model, body)
+
+
+def body_joints(model: mujoco.MjModel, body: int) -> range:
+    """Joint ids of `body`'s own joints, in the model's order."""
+    start = int(model.body_jntadr[body])
+    return range(start, start + int(model.body_jntnum[body]))

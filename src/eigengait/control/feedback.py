@@ -43,6 +43,7 @@ from dataclasses import dataclass, field
 import mujoco
 import numpy as np
 
+from eigengait.body_tree import body_joints
 from eigengait.control.pulse import State
 from eigengait.geometry import quat_pitch_roll, quat_to_mat
 from eigengait.sim.world import GRAVITY, World
@@ -178,7 +179,7 @@ def leg_root_joint(world: World, foot: str) -> str:
         body = int(model.body_parentid[body])
     joints = set(world.character.joints)
     for b in reversed(chain):
-        for j in range(int(model.body_jntadr[b]), int(model.body_jntadr[b] + model.body_jntnum[b])):
+        for j in body_joints(model, b):
             if model.joint(j).name in joints:
                 return model.joint(j).name
     raise ValueError(f"foot '{foot}' has no joint between it and the root")

@@ -25,7 +25,7 @@ import mujoco
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from eigengait.body_tree import in_subtree
+from eigengait.body_tree import body_joints, in_subtree
 from eigengait.errors import UserInputError
 from eigengait.geometry import quat_to_mat
 from eigengait.motion.bvh import BvhClip, BvhJoint, write_bvh
@@ -46,7 +46,7 @@ def skeleton_bodies(world: World) -> list[int]:
     model = world.model
     bodies = [b for b in range(model.nbody) if in_subtree(model, b, world.root_body)]
     for b in bodies[1:]:
-        for j in range(model.body_jntadr[b], model.body_jntadr[b] + model.body_jntnum[b]):
+        for j in body_joints(model, b):
             if model.jnt_type[j] in (mujoco.mjtJoint.mjJNT_FREE, mujoco.mjtJoint.mjJNT_SLIDE):
                 raise UserInputError(
                     f"body '{model.body(b).name}' has a sliding or free joint, which BVH cannot "

@@ -37,6 +37,7 @@ import mujoco
 import numpy as np
 from pydantic import BaseModel, ConfigDict, field_validator
 
+from eigengait.body_tree import body_joints
 from eigengait.geometry import mat_to_quat, quat_exp, quat_log, quat_to_mat
 from eigengait.errors import UserInputError
 from eigengait.files import load_model
@@ -141,8 +142,9 @@ def builtin_mapping(character_name: str, clip: BvhClip, world: World | None = No
     joint."""
     roles = find_roles(clip)
     wanted = CHARACTER_ROLES.get(character_name, {})
-    own = set(wanted.values()) - {"root"} <= set(world.character.joints) if world else True
-    if world is not None and not (wanted and own):
+    if world is not None and not (
+        wanted and set(wanted.values()) - {"root"} <= set(world.character.joints)
+    ):
         wanted = body_roles(world)
     missing = [r for r in wanted if (r in LEG_ROLES or r.endswith("_shin")) and r not in roles]
     legs = [r for r in LEG_ROLES if r != "root"]
@@ -490,7 +492,7 @@ def retarget(
 def _body_hinges(model: mujoco.MjModel, body: int) -> list[int]:
     """The body's joints in the model's order when all of them are hinges, else none: a mapped
     body on several hinges (a hip as hip_x, hip_z, hip_y) has all of them set from its turn."""
-    joints = list(range(model.body_jntadr[body], model.body_jntadr[body] + model.body_jntnum[body]))
+    joints = list(body_joints(model, body))
     hinge = mujoco.mjtJoint.mjJNT_HINGE
     return joints if all(model.jnt_type[j] == hinge for j in joints) else []
 

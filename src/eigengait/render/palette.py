@@ -21,6 +21,7 @@ from pathlib import Path
 import mujoco
 import numpy as np
 
+from eigengait.body_tree import body_joints
 from eigengait.errors import UserInputError
 from eigengait.outputs import replacing
 from eigengait.modal.modeset import ModeSet
@@ -204,7 +205,7 @@ def _joint_turn_deg(model: mujoco.MjModel, body: int, qpos: np.ndarray) -> float
     """Largest rotation (degrees) of the body's own ball or hinge joints away from the relax pose
     (qpos0)."""
     turns = [0.0]
-    for j in range(model.body_jntadr[body], model.body_jntadr[body] + model.body_jntnum[body]):
+    for j in body_joints(model, body):
         adr = model.jnt_qposadr[j]
         if model.jnt_type[j] == mujoco.mjtJoint.mjJNT_BALL:
             dot = abs(float(qpos[adr : adr + 4] @ model.qpos0[adr : adr + 4]))
