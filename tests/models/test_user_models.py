@@ -23,7 +23,7 @@ WALKER = MODELS / "suite" / "walker.xml"
 # model -> (internal DOF, rigid air modes, guessed feet)
 EXPECTED = {
     "suite/humanoid.xml": (21, 6, {"right_foot", "left_foot"}),
-    "suite/humanoid_CMU.xml": (56, 6, {"ltoes", "rtoes"}),
+    "suite/humanoid_CMU.xml": (56, 6, {"lfoot", "rfoot"}),
     "suite/quadruped.xml": (
         16,
         12,
@@ -31,7 +31,7 @@ EXPECTED = {
     ),
     "suite/walker.xml": (6, 3, {"right_foot", "left_foot"}),
     "suite/cheetah.xml": (6, 3, {"bfoot", "ffoot"}),
-    "locomotion/humanoid_CMU_V2020.xml": (56, 6, {"ltoes", "rtoes"}),
+    "locomotion/humanoid_CMU_V2020.xml": (56, 6, {"lfoot", "rfoot"}),
 }
 
 
@@ -43,6 +43,48 @@ def test_model_loads_with_its_modes_and_feet(model):
     air = compute_modes(character)
     assert air.rigid_modes == rigid and air.count == dofs
     assert np.all(np.diff(air.frequencies_hz) >= 0) and air.frequencies_hz[0] > 0
+
+
+def _capsule_bottom(model, data, geom):
+    """Lowest world z (m) of a capsule: its lower end's centre minus its radius."""
+    axis = data.geom_xmat[geom].reshape(3, 3)[:, 2] * model.geom_size[geom, 1]
+    return min(data.geom_xpos[geom][2] + s * axis[2] for s in (-1, 1)) - model.geom_size[geom, 0]
+
+
+@pytest.mark.parametrize(
+    "model, length, radius",
+    [
+        ("suite/walker.xml", 0.2, 0.05),
+        ("suite/humanoid.xml", 0.21, 0.027),
+        ("suite/humanoid_CMU.xml", 0.12, 0.02),
+    ],
+)
+def test_guessed_feet_stand_on_heel_and_toe_at_their_soles_ends(model, length, radius):
+    """A capsule foot gets a heel and a toe sphere at its capsules' ends, as low as the capsules'
+    own bottoms (the walker's foot is one 0.2 m capsule of radius 0.05; the suite humanoid's two
+    side by side, 0.21 m; the CMU humanoid's three, 0.12 m, with its toes a body below the foot),
+    the toe in front: toward +x, where the walker faces, or the way the CMU humanoid's toes lie."""
+    character = load_character(MODELS / model, stiffness="auto")
+    world = build_world(character)
+    m, d = world.model, mujoco.MjData(world.model)
+    d.qpos[:] = m.qpos0
+    mujoco.mj_kinematics(m, d)
+    for foot, spheres in world.foot_spheres.items():
+        toe, heel = (d.geom_xpos[g] for g in spheres)
+        np.testing.assert_allclose(m.geom_size[spheres, 0], radius, atol=1e-6)
+        assert np.linalg.norm(toe - heel) == pytest.approx(length, abs=0.01)
+        body = int(m.geom_bodyid[spheres[0]])
+        capsules = [
+            g
+            for g in np.flatnonzero(m.geom_bodyid == body)
+            if int(m.geom_type[g]) == mujoco.mjtGeom.mjGEOM_CAPSULE
+        ]
+        sole = min(_capsule_bottom(m, d, g) for g in capsules)
+        bottoms = [d.geom_xpos[g][2] - m.geom_size[g, 0] for g in spheres]
+        assert min(bottoms) == pytest.approx(sole, abs=1e-9)
+        children = [b for b in range(m.nbody) if m.body_parentid[b] == body]
+        ahead = d.xpos[children[0]] - heel if children else np.array([1.0, 0, 0])
+        assert (toe - heel)[:2] @ ahead[:2] > 0
 
 
 def test_builtin_planar_walker_is_the_users_walker_with_the_auto_stiffness():

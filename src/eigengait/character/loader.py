@@ -95,6 +95,10 @@ def _parse(path: Path) -> mujoco.MjSpec:
 def _add_foot_sites(spec: mujoco.MjSpec, feet: list[FootPoint]) -> None:
     for f in feet:
         spec.body(f.body).add_site(name=f.site, pos=list(f.pos), size=[f.radius, 0, 0])
+        if f.heel is not None:
+            spec.body(f.body).add_site(
+                name=f.heel_site, pos=list(f.heel), size=[f.heel_radius, 0, 0]
+            )
 
 
 def _locate(name_or_path: str | Path) -> tuple[Path, Path, CharacterMetadata]:
@@ -153,13 +157,17 @@ def load_character(
         guessed = [_named_foot(model, body, side) for body in named]
         _add_foot_sites(spec, guessed)
         model = compile_spec(spec, path)
-        sites |= {f.site for f in guessed}
+        sites |= {s for f in guessed for s in (f.site, f.heel_site) if s}
+        heels = {f.site: f.heel_site for f in guessed}
+        for f in meta.feet.values():
+            if f.heel is None and heels.get(f.toe):
+                f.heel = heels[f.toe]
     elif not meta.feet and not any(s.endswith("_toe") for s in sites):
         guessed = find_feet(model, root)
         _add_foot_sites(spec, guessed)
         model = compile_spec(spec, path)
-        sites |= {f.site for f in guessed}
-        meta.feet = {f.body: Foot(toe=f.site) for f in guessed}
+        sites |= {s for f in guessed for s in (f.site, f.heel_site) if s}
+        meta.feet = {f.body: Foot(toe=f.site, heel=f.heel_site) for f in guessed}
         if guessed:
             scene.notes.append(
                 f"feet guessed from the lowest end bodies: {', '.join(f.body for f in guessed)}"

@@ -25,7 +25,7 @@ import mujoco
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from eigengait.body_tree import body_joints, in_subtree
+from eigengait.body_tree import in_subtree
 from eigengait.errors import UserInputError
 from eigengait.geometry import quat_to_mat
 from eigengait.motion.bvh import BvhClip, BvhJoint, write_bvh
@@ -42,19 +42,9 @@ EULER_ORDER = "ZXY"  # intrinsic, matching the channel order above
 
 def skeleton_bodies(world: World) -> list[int]:
     """Body ids of the character in MuJoCo's depth-first order (parents before children), root
-    first."""
+    first. (Below the root every joint is a ball or a hinge: the loader refuses others.)"""
     model = world.model
-    bodies = [b for b in range(model.nbody) if in_subtree(model, b, world.root_body)]
-    for b in bodies[1:]:
-        for j in body_joints(model, b):
-            if model.jnt_type[j] in (mujoco.mjtJoint.mjJNT_FREE, mujoco.mjtJoint.mjJNT_SLIDE):
-                raise UserInputError(
-                    f"body '{model.body(b).name}' has a sliding or free joint, which BVH cannot "
-                    "hold",
-                    field="joints",
-                    fix="BVH export supports ball and hinge joints below the root",
-                )
-    return bodies
+    return [b for b in range(model.nbody) if in_subtree(model, b, world.root_body)]
 
 
 def anchor_points(world: World, data: mujoco.MjData, bodies: list[int]) -> np.ndarray:

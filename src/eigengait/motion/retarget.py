@@ -388,6 +388,20 @@ def _body_rest_bones(
     return bones
 
 
+def facing_turn(world: World, data: mujoco.MjData) -> np.ndarray:
+    """The turn about the vertical (3 × 3) that makes the character in its relax pose (kinematics
+    in `data`) face +x, where the retarget sets the clip's forward: its feet's mean heel-to-toe
+    direction, or none if a foot lacks a heel or a toe. eigengait's characters face +x already;
+    dm_control's CMU humanoid faces −y."""
+    feet = _foot_sites(world)
+    if not feet or len(feet) < len(world.character.feet):
+        return np.eye(3)
+    ahead = sum(data.site_xpos[toe] - data.site_xpos[heel] for heel, toe in feet.values())
+    heading = float(np.arctan2(ahead[1], ahead[0]))
+    c, s = np.cos(heading), np.sin(heading)
+    return np.array([[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]])
+
+
 LEVELLINGS = ("still", "flat")  # the frames a foot is levelled on (`foot_level`, `flat_feet`)
 
 
@@ -414,7 +428,8 @@ def retarget(
     pairs, root = _check_mapping(mapping, clip, world)
     data = mujoco.MjData(model)
     mujoco.mj_kinematics(model, data)
-    rest_world = data.xmat.reshape(-1, 3, 3).copy()
+    turn = facing_turn(world, data)
+    rest_world = turn @ data.xmat.reshape(-1, 3, 3)
     body_of = {b: int(model.jnt_bodyid[j]) for b, j in pairs.items()}
     axes = clip_axes(mapping, clip, start_frame)
 
@@ -426,10 +441,10 @@ def retarget(
     bvh_bones = _bvh_bones(
         clip, pairs, *(global_transforms(clip.rest()) if left is None else (rot, pos))
     )
-    body_bones = _body_rest_bones(world, data, body_of)
+    body_bones = {k: turn @ v for k, v in _body_rest_bones(world, data, body_of).items()}
     if left is not None:
         bvh_bones[root], body_bones[body_of[root]] = _root_up(
-            clip, pairs, root, _thighs(clip, roles), rot, pos, body_of, data.xpos, axes
+            clip, pairs, root, _thighs(clip, roles), rot, pos, body_of, data.xpos @ turn.T, axes
         )
     feet = _foot_sites(world)
     offsets = rest_offsets(
