@@ -1,4 +1,4 @@
-"""Walks up a MuJoCo model's body tree (body 0 is the world); a body's own joints."""
+"""Walks up a MuJoCo model's body tree (body 0 is the world); a body's own joints and hinges."""
 
 from __future__ import annotations
 
@@ -24,3 +24,11 @@ def body_joints(model: mujoco.MjModel, body: int) -> range:
     """Joint ids of `body`'s own joints, in the model's order."""
     start = int(model.body_jntadr[body])
     return range(start, start + int(model.body_jntnum[body]))
+
+
+def body_hinges(model: mujoco.MjModel, body: int) -> list[int]:
+    """The body's joints in the model's order when all of them are hinges, else none (a hip on
+    hip_x, hip_z, hip_y turns as one body part)."""
+    joints = list(body_joints(model, body))
+    hinge = mujoco.mjtJoint.mjJNT_HINGE
+    return joints if all(int(model.jnt_type[j]) == hinge for j in joints) else []

@@ -57,6 +57,6 @@ def test_no_joint_is_past_its_range(world):
         adr = model.jnt_qposadr[j]
         angle = 2 * np.arccos(np.clip(np.abs(poses.qpos[:, adr]), 0, 1))
         assert angle.max() <= model.jnt_range[j, 1] + 1e-6, model.joint(j).name
-    # the scale fitted to the legs: about 0.65 of the hip-height scale for the Daz exports (measured
-    # 0.665)
-    assert 0.55 < poses.root_factor < 0.75
+    # the scale fitted to the legs: about three quarters of the thighs'-height scale for the Daz
+    # exports, whose root travels further than their legs carry it (measured 0.761)
+    assert 0.65 < poses.root_factor < 0.85

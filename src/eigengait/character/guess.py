@@ -29,6 +29,8 @@ SOLE_BAND = (
     0.03  # share of the creature's height: geometry this near a foot's lowest point is its sole
 )
 MIN_SOLE = 0.01  # share of the creature's height: a sole shorter than this is one point
+PLANE_M = 5e-3  # m: sole spheres spread this far across their line span a plane
+UP = np.array([0.0, 0.0, 1.0])
 TIE_M = 1e-3  # m: sole ends this close to equally far from the foot's origin are a tie
 MAX_FOOT_DEPTH = 2  # bodies above a lowest end body that may be its foot (a foot above its toes)
 FOOT_SITE_PREFIX = "eigengait:foot:"
@@ -45,6 +47,7 @@ class FootPoint:
     radius: float
     heel: tuple[float, float, float] | None = None
     heel_radius: float | None = None
+    up: tuple[float, float, float] = (0.0, 0.0, 1.0)  # the sole's normal, body frame
 
     @property
     def site(self) -> str:
@@ -92,9 +95,10 @@ def _bottom(sphere: tuple[np.ndarray, float]) -> float:
 def _foot_of(model, data, body: int, band: float, min_sole: float) -> FootPoint | None:
     """The contact spheres of a foot body (world pose in `data`): its sole (the spheres whose bottom
     lies within `band` of its lowest) as a toe and a heel at its two ends along the sole's long
-    horizontal axis (each the mean of the spheres at that end, as low as the lowest), the toe the end farther from the body's origin (on a sole centred on it, the
-    end toward world +x, MuJoCo's forward); one point, the lowest, if the
-    sole is shorter than `min_sole` (m)."""
+    horizontal axis (each the mean of the spheres at that end, as low as the lowest), the toe the
+    end farther from the body's origin (on a sole centred on it, the end toward world +x, MuJoCo's
+    forward), and the sole's normal (`_sole_normal`); one point, the lowest, if the sole is
+    shorter than `min_sole` (m)."""
     spheres = _body_spheres(model, data, body)
     if not spheres:
         return None
@@ -110,7 +114,7 @@ def _foot_of(model, data, body: int, band: float, min_sole: float) -> FootPoint 
     i, j = np.unravel_index(int(np.argmax(gaps)), gaps.shape)
     if gaps[i, j] < min_sole:
         c, r = min(sole, key=_bottom)
-        return FootPoint(model.body(body).name, local(c), r)
+        return FootPoint(model.body(body).name, local(c), r, up=tuple(R.T @ UP))
     axis = (centres[j, :2] - centres[i, :2]) / gaps[i, j]
     along = (centres[:, :2] - origin[:2]) @ axis
     reach = abs(along.max()) - abs(along.min())
@@ -125,7 +129,20 @@ def _foot_of(model, data, body: int, band: float, min_sole: float) -> FootPoint 
         centre[2] = min(map(_bottom, group)) + r  # as low as the end's lowest sphere
         ends.append((centre, r))
     (toe, r_toe), (heel, r_heel) = ends
-    return FootPoint(model.body(body).name, local(toe), r_toe, local(heel), r_heel)
+    up = tuple(float(x) for x in R.T @ _sole_normal(centres, toe - heel))
+    return FootPoint(model.body(body).name, local(toe), r_toe, local(heel), r_heel, up)
+
+
+def _sole_normal(centres: np.ndarray, heel_to_toe: np.ndarray) -> np.ndarray:
+    """Upward unit normal (world) of the plane through a sole's sphere centres (k, 3), or, for
+    spheres in a line, world up made square to the heel-to-toe line."""
+    spread = np.linalg.svd(centres - centres.mean(axis=0))
+    if len(centres) >= 3 and spread.S[1] > PLANE_M:
+        normal = spread.Vh[2]
+        return normal * np.sign(normal[2])
+    line = heel_to_toe / np.linalg.norm(heel_to_toe)
+    up = UP - (UP @ line) * line
+    return up / np.linalg.norm(up)
 
 
 def foot_at(model: mujoco.MjModel, body: str) -> FootPoint | None:

@@ -94,7 +94,9 @@ def _parse(path: Path) -> mujoco.MjSpec:
 
 def _add_foot_sites(spec: mujoco.MjSpec, feet: list[FootPoint]) -> None:
     for f in feet:
-        spec.body(f.body).add_site(name=f.site, pos=list(f.pos), size=[f.radius, 0, 0])
+        spec.body(f.body).add_site(
+            name=f.site, pos=list(f.pos), size=[f.radius, 0, 0], zaxis=list(f.up)
+        )
         if f.heel is not None:
             spec.body(f.body).add_site(
                 name=f.heel_site, pos=list(f.heel), size=[f.heel_radius, 0, 0]

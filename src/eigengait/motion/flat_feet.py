@@ -18,6 +18,7 @@ from scipy.ndimage import minimum_filter1d
 
 from eigengait.motion.bvh import BvhClip, end_site_positions
 from eigengait.motion.foot_level import foot_up
+from eigengait.motion.soles import sole_up
 from eigengait.sim.world import World
 
 FLAT_BAND_SHARE = 0.12  # of the foot bone's length (ankle to toe)
@@ -56,14 +57,15 @@ def clip_flat_frames(
 def flat_tilt_deg(world: World, qpos: np.ndarray, flat: dict[str, np.ndarray]) -> dict[str, float]:
     """Per foot name in `flat`, the median tilt (degrees) of the character's foot from level over
     the poses qpos (F, nq) flagged (F,) bool: the angle between world up and the foot's up in the
-    character's relax pose, carried by the foot. Feet with no flagged frame are left out."""
+    character's relax pose (its `sole_up`), carried by the foot. Feet with no flagged frame are
+    left out."""
     model, data = world.model, mujoco.MjData(world.model)
     out = {}
     for foot, frames in flat.items():
         if not frames.any():
             continue
         body = int(model.geom_bodyid[world.foot_spheres[foot][0]])
-        rest_up = foot_up(model, data, model.qpos0, body)
+        rest_up = sole_up(world, foot)
         cosines = [foot_up(model, data, q, body) @ rest_up for q in qpos[frames]]
         out[foot] = float(np.degrees(np.median(np.arccos(np.clip(cosines, -1.0, 1.0)))))
     return out

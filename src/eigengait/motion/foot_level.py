@@ -12,7 +12,9 @@ the foot's own frame is averaged over them (v̄) and compared with the rest pose
 in the character's relax pose). The foot's orientation gets the constant correction C = min_arc(v⁰,
 v̄) in its own frame in every frame (W ← W C: then W C v⁰ = W v̄ ≈ up when still), i.e. its ball
 joint's rotation q ← q C. Heel-off and toe-off keep their motion relative to the levelled stance.
-Feet on hinge joints, or with fewer than MIN_STILL_S of still frames, are left as they are. On
+A foot on two or three hinges (dm_control's ankles) gets the hinge angles nearest its corrected
+turn (`hinge_chain`); a foot on one hinge, or with fewer than MIN_STILL_S of still frames, is left
+as it is. The rest pose's level is the foot's `sole_up`. On
 request (`track --levelling flat`) a foot is levelled on the clip's own flat frames instead
 (`flat_feet`): right for walks, whose references then stand flat where the clip's feet do, but the
 tracker holds most runs better from the still-frame levelling (docs/balance.md).
@@ -23,8 +25,10 @@ from __future__ import annotations
 import mujoco
 import numpy as np
 
-from eigengait.geometry import mat_to_quat, min_arc, quat_mul
-from eigengait.motion.soles import sole_points
+from eigengait.body_tree import body_hinges
+from eigengait.geometry import mat_to_quat, min_arc, quat_mul, quat_to_mat
+from eigengait.motion.hinge_chain import hinge_angles
+from eigengait.motion.soles import sole_points, sole_up
 from eigengait.sim.world import World
 
 STILL_HEIGHT_M = 0.02
@@ -68,21 +72,43 @@ def level_feet(
     for foot, geoms in world.foot_spheres.items():
         body = int(model.geom_bodyid[geoms[0]])
         joint = _foot_ball_joint(model, body)
+        hinges = body_hinges(model, body)
         given = (frames or {}).get(foot)
         enough = given is not None and given.sum() * frame_time >= MIN_STILL_S
         still = given if enough else still_frames(soles[foot], frame_time)
-        if joint is None or still.sum() * frame_time < MIN_STILL_S:
+        if (joint is None and len(hinges) < 2) or still.sum() * frame_time < MIN_STILL_S:
             continue
-        rest_up = foot_up(model, data, model.qpos0, body)
+        rest_up = sole_up(world, foot)
         mean_up = np.mean(
             [foot_up(model, data, qpos[i], body) for i in np.flatnonzero(still)], axis=0
         )
         mean_up /= np.linalg.norm(mean_up)
-        correction = mat_to_quat(min_arc(rest_up, mean_up))
-        adr = model.jnt_qposadr[joint]
-        out[:, adr : adr + 4] = quat_mul(qpos[:, adr : adr + 4], correction)
+        correction = min_arc(rest_up, mean_up)
+        if joint is not None:
+            adr = model.jnt_qposadr[joint]
+            out[:, adr : adr + 4] = quat_mul(qpos[:, adr : adr + 4], mat_to_quat(correction))
+        else:
+            turns = _turns_from_parent(model, data, qpos, body)
+            out[:, model.jnt_qposadr[hinges]] = hinge_angles(
+                turns @ correction, model.jnt_axis[hinges]
+            )
         angles[foot] = float(np.degrees(np.arccos(np.clip(rest_up @ mean_up, -1.0, 1.0))))
     return out, angles
+
+
+def _turns_from_parent(
+    model: mujoco.MjModel, data: mujoco.MjData, qpos: np.ndarray, body: int
+) -> np.ndarray:
+    """The body's rotation (F, 3, 3) relative to its parent's frame moved by the body's fixed
+    offset (the turn its own joints make) in each pose of qpos (F, nq)."""
+    parent, local = int(model.body_parentid[body]), quat_to_mat(model.body_quat[body])
+    turns = np.empty((len(qpos), 3, 3))
+    for i, q in enumerate(qpos):
+        data.qpos[:] = q
+        mujoco.mj_kinematics(model, data)
+        frame = data.xmat[parent].reshape(3, 3) @ local
+        turns[i] = frame.T @ data.xmat[body].reshape(3, 3)
+    return turns
 
 
 __all__ = ["foot_up", "level_feet", "still_frames"]

@@ -37,7 +37,7 @@ import mujoco
 import numpy as np
 from pydantic import BaseModel, ConfigDict, field_validator
 
-from eigengait.body_tree import body_joints
+from eigengait.body_tree import body_hinges
 from eigengait.geometry import mat_to_quat, quat_exp, quat_log, quat_to_mat
 from eigengait.errors import UserInputError
 from eigengait.files import load_model
@@ -478,21 +478,31 @@ def retarget(
             qpos[:, adr + 3 : adr + 7] = _continuous(mat_to_quat(orient[body]))
         elif model.jnt_type[jid] == mujoco.mjtJoint.mjJNT_BALL:
             qpos[:, adr : adr + 4] = _continuous(quat)
-        elif len(hinges := _body_hinges(model, body)) > 1:
+        elif len(hinges := body_hinges(model, body)) > 1:
             qpos[:, model.jnt_qposadr[hinges]] = hinge_angles(relative, model.jnt_axis[hinges])
         else:
             qpos[:, adr] = quat_log(quat) @ model.jnt_axis[jid]
 
-    height_bvh = (axes @ pos[0, root])[2] - _lowest_bvh_point(clip, axes, start_frame)
-    hip_scale = float(data.xpos[world.root_body][2] / height_bvh)
-    root_adr = model.jnt_qposadr[pairs[root]]
-    root_path = hip_scale * pos[:, root] @ axes.T
-    root_path[:, :2] -= root_path[0, :2]
-    _place_root(world, qpos, root_adr, root_path, clip.frame_time)
-    factor = leg_consistent_factor(
-        qpos[:, root_adr : root_adr + 3], sole_points(world, qpos), clip.frame_time
+    hips = (
+        [j for j in _thighs(clip, roles) if j in body_of]
+        if {"left_thigh", "right_thigh"} <= set(roles)
+        else []
     )
-    _place_root(world, qpos, root_adr, factor * root_path, clip.frame_time)
+    if len(hips) < 2:  # the roots stand for the hips
+        hips = [root]
+    height_bvh = np.mean([(axes @ pos[0, j])[2] for j in hips]) - _lowest_bvh_point(
+        clip, axes, start_frame
+    )
+    height = np.mean([data.xpos[body_of[j]][2] for j in hips])
+    hip_scale = float(height / height_bvh)
+    root_adr = model.jnt_qposadr[pairs[root]]
+    hip_path = hip_scale * pos[:, hips].mean(axis=1) @ axes.T
+    hip_path[:, :2] -= hip_path[0, :2]
+    below = _hips_from_root(model, qpos, root_adr, [body_of[j] for j in hips])
+    below[:, :2] -= below[0, :2]
+    _place_root(world, qpos, root_adr, hip_path - below, clip.frame_time)
+    factor = leg_consistent_factor(hip_path, sole_points(world, qpos), clip.frame_time)
+    _place_root(world, qpos, root_adr, factor * hip_path - below, clip.frame_time)
     foot_names = {int(model.geom_bodyid[g[0]]): name for name, g in world.foot_spheres.items()}
     flat = clip_flat_frames(clip, rot, pos, axes, [b for b in body_of if body_of[b] in foot_names])
     flat_by_foot = {foot_names[body_of[b]]: frames for b, frames in flat.items()}
@@ -500,16 +510,8 @@ def retarget(
         world, qpos, clip.frame_time, flat_by_foot if levelling == "flat" else None
     )
     _clamp_to_joint_ranges(model, qpos)
-    _place_root(world, qpos, root_adr, factor * root_path, clip.frame_time)
+    _place_root(world, qpos, root_adr, factor * hip_path - below, clip.frame_time)
     return RetargetedClip(qpos, clip.frame_time, hip_scale * factor, factor, levelled, flat_by_foot)
-
-
-def _body_hinges(model: mujoco.MjModel, body: int) -> list[int]:
-    """The body's joints in the model's order when all of them are hinges, else none: a mapped
-    body on several hinges (a hip as hip_x, hip_z, hip_y) has all of them set from its turn."""
-    joints = list(body_joints(model, body))
-    hinge = mujoco.mjtJoint.mjJNT_HINGE
-    return joints if all(model.jnt_type[j] == hinge for j in joints) else []
 
 
 def _clamp_to_joint_ranges(model: mujoco.MjModel, qpos: np.ndarray) -> None:
@@ -527,6 +529,21 @@ def _clamp_to_joint_ranges(model: mujoco.MjModel, qpos: np.ndarray) -> None:
             qpos[:, adr : adr + 4] = quat_exp(
                 rotvec * np.minimum(1.0, high / np.maximum(angle, 1e-12))
             )
+
+
+def _hips_from_root(
+    model: mujoco.MjModel, qpos: np.ndarray, root_adr: int, hips: list[int]
+) -> np.ndarray:
+    """(F, 3) world offset (m) from the root body's origin to the mean origin of the `hips` bodies
+    in each pose of qpos (F, nq): the thighs' joints hang below a root that is the chest
+    (dm_control's suite humanoid) and turn about it with the body."""
+    data = mujoco.MjData(model)
+    out = np.zeros((len(qpos), 3))
+    for i, q in enumerate(qpos):
+        data.qpos[:] = q
+        mujoco.mj_kinematics(model, data)
+        out[i] = data.xpos[hips].mean(axis=0) - q[root_adr : root_adr + 3]
+    return out
 
 
 def _place_root(

@@ -60,6 +60,7 @@ from eigengait.control.balance.virtual import (
     virtual_torque,
 )
 from eigengait.geometry import quat_mul, quat_to_mat
+from eigengait.motion.soles import sole_up
 from eigengait.sim.world import FLOOR, GRAVITY, World
 
 
@@ -184,8 +185,6 @@ def balance_rig(
     joint_dofs = np.asarray(world.internal_qvel)
     foot_bodies = {f: int(model.geom_bodyid[g[0]]) for f, g in world.foot_spheres.items()}
     internal = set(joint_dofs)
-    relaxed = mujoco.MjData(model)
-    mujoco.mj_kinematics(model, relaxed)
     return BalanceRig(
         root_body=world.root_body,
         root_qpos=int(model.jnt_qposadr[root_joint]),
@@ -205,10 +204,7 @@ def balance_rig(
             f: [d for d in joint_dofs if in_subtree(model, b, int(model.dof_bodyid[d]))]
             for f, b in foot_bodies.items()
         },
-        foot_rest_up={
-            f: relaxed.xmat[b].reshape(3, 3).T @ np.array([0.0, 0.0, 1.0])
-            for f, b in foot_bodies.items()
-        },
+        foot_rest_up={f: sole_up(world, f) for f in foot_bodies},
         foot_ball_qpos={
             f: int(model.jnt_qposadr[model.body_jntadr[b]])
             for f, b in foot_bodies.items()
