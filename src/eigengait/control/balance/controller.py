@@ -224,10 +224,17 @@ def balance_rig(
 def foot_contacts(
     model: mujoco.MjModel, data: mujoco.MjData, rig: BalanceRig
 ) -> dict[str, np.ndarray]:
-    """Per foot, its floor contacts that push (k, 4): world position (m) and normal force (N)."""
+    """Per foot, its floor contacts that push (k, 4): world position (m) and normal force (N); a
+    body below a foot (toes on their own joint, as dm_control's CMU humanoid's) touches as its
+    foot."""
     found: dict[str, list] = {f: [] for f in rig.foot_bodies}
     wrench = np.zeros(6)
-    body_to_foot = {b: f for f, b in rig.foot_bodies.items()}
+    body_to_foot = {
+        b: f
+        for f, foot in rig.foot_bodies.items()
+        for b in range(model.nbody)
+        if in_subtree(model, b, foot)
+    }
     for i in range(data.ncon):
         c = data.contact[i]
         if rig.floor not in (c.geom1, c.geom2):
