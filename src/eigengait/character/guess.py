@@ -25,9 +25,8 @@ import numpy as np
 from eigengait.body_tree import in_subtree
 
 FOOT_BAND = 0.1
-SOLE_BAND = (
-    0.03  # share of the creature's height: geometry this near a foot's lowest point is its sole
-)
+# share of the creature's height: geometry this near a foot's lowest point is its sole
+SOLE_BAND = 0.03
 MIN_SOLE = 0.01  # share of the creature's height: a sole shorter than this is one point
 PLANE_M = 5e-3  # m: sole spheres spread this far across their line span a plane
 UP = np.array([0.0, 0.0, 1.0])
