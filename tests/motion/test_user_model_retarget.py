@@ -9,7 +9,8 @@ from eigengait.character import load_character
 from eigengait.motion.bvh import read_bvh
 from eigengait.motion.foot_level import still_frames
 from eigengait.motion.retarget import builtin_mapping, facing_turn, retarget
-from eigengait.motion.soles import sole_points, sole_up
+from eigengait.motion.soles import sole_points
+from eigengait.sim.feet import sole_up
 from eigengait.sim.world import build_world
 from shared_data import DM_CONTROL, MOCAP
 

@@ -28,7 +28,8 @@ import numpy as np
 from eigengait.body_tree import body_hinges
 from eigengait.geometry import mat_to_quat, min_arc, quat_mul, quat_to_mat
 from eigengait.motion.hinge_chain import hinge_angles
-from eigengait.motion.soles import sole_points, sole_up
+from eigengait.motion.soles import sole_points
+from eigengait.sim.feet import sole_up
 from eigengait.sim.world import World
 
 STILL_HEIGHT_M = 0.02

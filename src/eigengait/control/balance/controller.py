@@ -60,7 +60,7 @@ from eigengait.control.balance.virtual import (
     virtual_torque,
 )
 from eigengait.geometry import quat_mul, quat_to_mat
-from eigengait.motion.soles import sole_up
+from eigengait.sim.feet import sole_up
 from eigengait.sim.world import FLOOR, GRAVITY, World
 
 
