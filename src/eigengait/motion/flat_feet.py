@@ -17,8 +17,7 @@ import numpy as np
 from scipy.ndimage import minimum_filter1d
 
 from eigengait.motion.bvh import BvhClip, end_site_positions
-from eigengait.motion.foot_level import foot_up
-from eigengait.sim.feet import sole_up
+from eigengait.sim.feet import foot_up, sole_up
 from eigengait.sim.world import World
 
 FLAT_BAND_SHARE = 0.12  # of the foot bone's length (ankle to toe)

@@ -29,13 +29,12 @@ from eigengait.body_tree import body_hinges
 from eigengait.geometry import mat_to_quat, min_arc, quat_mul, quat_to_mat
 from eigengait.motion.hinge_chain import hinge_angles
 from eigengait.motion.soles import sole_points
-from eigengait.sim.feet import sole_up
+from eigengait.sim.feet import foot_up, sole_up
 from eigengait.sim.world import World
 
 STILL_HEIGHT_M = 0.02
 STILL_SPEED = 0.2  # m/s
 MIN_STILL_S = 0.1
-UP = np.array([0.0, 0.0, 1.0])
 
 
 def _foot_ball_joint(model: mujoco.MjModel, body: int) -> int | None:
@@ -51,13 +50,6 @@ def still_frames(soles: np.ndarray, frame_time: float) -> np.ndarray:
     low = soles[..., 2].min(axis=1)
     speed = np.linalg.norm(np.gradient(soles.mean(axis=1)[:, :2], frame_time, axis=0), axis=1)
     return (low <= STILL_HEIGHT_M) & (speed <= STILL_SPEED)
-
-
-def foot_up(model: mujoco.MjModel, data: mujoco.MjData, qpos: np.ndarray, body: int) -> np.ndarray:
-    """World up seen in the frame of `body` (3,) for pose qpos (nq,)."""
-    data.qpos[:] = qpos
-    mujoco.mj_kinematics(model, data)
-    return data.xmat[body].reshape(3, 3).T @ UP
 
 
 def level_feet(
@@ -112,4 +104,4 @@ def _turns_from_parent(
     return turns
 
 
-__all__ = ["foot_up", "level_feet", "still_frames"]
+__all__ = ["level_feet", "still_frames"]

@@ -79,6 +79,8 @@ class BalanceRig:
     hinge_qpos: np.ndarray
     hinge_dof: np.ndarray
     foot_bodies: dict[str, int]
+    # every body that touches as a foot (the foot body and any below it, as toes) -> its foot
+    foot_of_body: dict[int, str]
     foot_spheres: dict[str, list[int]]
     foot_dofs: dict[str, list[int]]  # internal dofs of each foot's body
     # qpos address of the ball joint turning each foot (feet on other joints: absent)
@@ -195,6 +197,12 @@ def balance_rig(
         hinge_qpos=joints["hinge_qpos"],
         hinge_dof=joints["hinge_dof"],
         foot_bodies=foot_bodies,
+        foot_of_body={
+            b: f
+            for f, foot in foot_bodies.items()
+            for b in range(model.nbody)
+            if in_subtree(model, b, foot)
+        },
         foot_spheres=dict(world.foot_spheres),
         foot_dofs={
             f: [d for d in range(model.nv) if model.dof_bodyid[d] == b and d in internal]
@@ -229,12 +237,7 @@ def foot_contacts(
     foot."""
     found: dict[str, list] = {f: [] for f in rig.foot_bodies}
     wrench = np.zeros(6)
-    body_to_foot = {
-        b: f
-        for f, foot in rig.foot_bodies.items()
-        for b in range(model.nbody)
-        if in_subtree(model, b, foot)
-    }
+    body_to_foot = rig.foot_of_body
     for i in range(data.ncon):
         c = data.contact[i]
         if rig.floor not in (c.geom1, c.geom2):

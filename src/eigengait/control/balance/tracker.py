@@ -245,7 +245,6 @@ class Tracker:
         # the PD's −k_d ω_a, integrated implicitly; the whole-body controller sets its own
         model.dof_damping[self.rig.joint_dofs] = 0.0 if whole_body else k_d[self.rig.joint_dofs]
         self.qp = WholeBodyQP(model, self.rig, reference, robustness) if whole_body else None
-        self.foot_body_set = set(self.rig.foot_bodies.values())
 
     def _switch_springs_off(self) -> None:
         """The character's passive springs (joint stiffness and spring actuators) off: the PD holds
@@ -296,10 +295,7 @@ class Tracker:
             c = data.contact[i]
             if floor in (c.geom1, c.geom2):
                 other = int(model.geom_bodyid[c.geom2 if c.geom1 == floor else c.geom1])
-                if (
-                    other not in self.foot_body_set
-                    and self.model.body_parentid[other] not in self.foot_body_set
-                ):
+                if other not in self.rig.foot_of_body:
                     return True
         return False
 
