@@ -32,3 +32,17 @@ def body_hinges(model: mujoco.MjModel, body: int) -> list[int]:
     joints = list(body_joints(model, body))
     hinge = mujoco.mjtJoint.mjJNT_HINGE
     return joints if all(int(model.jnt_type[j]) == hinge for j in joints) else []
+
+
+def limb_dofs(model: mujoco.MjModel, end_body: int, other_ends: list[int]) -> list[int]:
+    """Dof indices, sorted, of the joints on the chain from `end_body` (included) up to the first
+    body that also carries one of `other_ends` (excluded), or up to the world: a leg's own joints.
+    Where the free root is the chest (dm_control's suite humanoid) the spine between it and the
+    hips moves both legs, so it belongs to neither."""
+    shared = {b for other in other_ends for b in ancestors(model, other)}
+    chain = []
+    for body in ancestors(model, end_body):
+        if body in shared:
+            break
+        chain.append(body)
+    return sorted(d for d in range(model.nv) if int(model.dof_bodyid[d]) in chain)

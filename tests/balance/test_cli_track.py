@@ -156,6 +156,9 @@ def test_a_users_model_is_mapped_by_its_body_names():
     assert proc.returncode == 0, proc.stderr
     out = json.loads(proc.stdout.splitlines()[-1])
     assert out["duration_s"] == pytest.approx(2.85, abs=0.01) and out["stances"] >= 4
+    # its free root is the chest: the cleanup holds a foot with that leg's joints alone (through
+    # the spine it moved the other foot too, and the cleaned feet slid 53 cm per stance)
+    assert out["foot_skate_m"] < 0.02 < out["raw"]["foot_skate_m"]
     proc = _run(WALK, "--character", str(DM_CONTROL / "suite" / "quadruped.xml"), "--kinematic")
     assert proc.returncode == 2 and "stiffness" not in proc.stderr
     assert "no leg bodies found by name" in proc.stderr and "mapping file" in proc.stderr

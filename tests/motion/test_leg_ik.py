@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 
 from eigengait.character import load_character
-from eigengait.motion.leg_ik import leg_dofs, solve_leg
+from eigengait.body_tree import limb_dofs
+from eigengait.motion.leg_ik import solve_leg
 from eigengait.sim.world import build_world
 
 
@@ -14,8 +15,8 @@ from eigengait.sim.world import build_world
 def leg():
     world = build_world(load_character("walker"))
     model = world.model
-    foot = int(model.geom_bodyid[world.foot_spheres["left"][0]])
-    return model, foot, leg_dofs(model, foot, world.root_body)
+    foot, other = (int(model.geom_bodyid[world.foot_spheres[f][0]]) for f in ("left", "right"))
+    return model, foot, np.array(limb_dofs(model, foot, [other]), int)
 
 
 def _foot_pose(model, qpos, foot):

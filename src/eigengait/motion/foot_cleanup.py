@@ -67,9 +67,10 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
+from eigengait.body_tree import limb_dofs
 from eigengait.motion.foot_metrics import BOUNCE_S, CONTACT_M, runs
 from eigengait.motion.grounding import FLIGHT_M
-from eigengait.motion.leg_ik import leg_dofs, solve_leg
+from eigengait.motion.leg_ik import solve_leg
 from eigengait.motion.soles import sole_points
 from eigengait.sim.world import World
 
@@ -322,7 +323,10 @@ def clean_feet(world: World, qpos: np.ndarray, frame_time: float) -> CleanedFeet
         for f in feet
     }
     out, worst = qpos.copy(), 0.0
-    chains = {f: leg_dofs(model, body, world.root_body) for f, body in feet.items()}
+    chains = {
+        f: np.array(limb_dofs(model, body, [world.root_body, *(feet[o] for o in feet if o != f)]))
+        for f, body in feet.items()
+    }
     leg_qpos = {f: _qpos_of_dofs(model, chain) for f, chain in chains.items()}
     for i in range(len(qpos)):
         moving = [f for f in feet if np.any(plan[f][0][i])]

@@ -38,16 +38,6 @@ POSTURE_GAIN = (
 POSTURE_TOLERANCE = 1e-3  # rad: a smaller step toward the preferred pose ends the iterations
 
 
-def leg_dofs(model: mujoco.MjModel, foot_body: int, root_body: int) -> np.ndarray:
-    """Dof indices of the joints on the chain from `root_body` (excluded) down to `foot_body`
-    (included)."""
-    dofs, body = [], foot_body
-    while body != root_body and body > 0:
-        dofs += [d for d in range(model.nv) if model.dof_bodyid[d] == body]
-        body = int(model.body_parentid[body])
-    return np.array(sorted(dofs), int)
-
-
 def solve_leg(
     model: mujoco.MjModel,
     data: mujoco.MjData,
