@@ -149,7 +149,7 @@ def test_a_users_model_is_mapped_by_its_body_names():
     """dm_control's humanoid.xml: no joint stiffness (the tracker switches springs off, so it
     needs none) and the built-in humanoid's name but not its joints; its bodies' names
     (`right_thigh`, `left_lower_arm`) give the mapping. A model whose bodies name no legs (the
-    quadruped) gets one error asking for a mapping file."""
+    quadruped) gets one error asking for a mapping file, a planar one one naming its root."""
     proc = _run(
         WALK, "--character", str(DM_CONTROL / "suite" / "humanoid.xml"), "--kinematic", "--json"
     )
@@ -162,6 +162,10 @@ def test_a_users_model_is_mapped_by_its_body_names():
     proc = _run(WALK, "--character", str(DM_CONTROL / "suite" / "quadruped.xml"), "--kinematic")
     assert proc.returncode == 2 and "stiffness" not in proc.stderr
     assert "no leg bodies found by name" in proc.stderr and "mapping file" in proc.stderr
+    # a planar model (slides and a hinge at its root) cannot follow a 3D clip: said at once
+    proc = _run(WALK, "--character", str(DM_CONTROL / "suite" / "walker.xml"), "--kinematic")
+    assert proc.returncode == 2 and "free-floating root" in proc.stderr
+    assert "walker.xml" in proc.stderr and "<freejoint/>" in proc.stderr
 
 
 def test_a_fall_searched_past_is_reported(tmp_path):

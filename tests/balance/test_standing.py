@@ -151,3 +151,20 @@ def test_dm_control_humanoids_stand_without_stiffness_in_their_files():
     assert out["fell"] is False and out["pushes_survived"] == 1
     out = _balance_model(suite / "humanoid_CMU.xml", "--duration", "1")
     assert out["fell"] is False and out["duration_s"] == pytest.approx(1.0, abs=1e-3)
+
+
+def test_a_planar_model_is_refused_with_its_root_named():
+    """dm_control's planar walker moves its root on two slides and a hinge: the 3D balance
+    controller cannot act on it (its torques came out NaN at the first step); one error names the
+    file, the root body and the fix."""
+    from shared_data import DM_CONTROL
+
+    app = typer.Typer()
+    register(app)
+    app.command("noop")(lambda: None)
+    model = DM_CONTROL / "suite" / "walker.xml"
+    result = CliRunner().invoke(app, ["balance", str(model), "--duration", "0.1"])
+    error = result.exception
+    assert result.exit_code != 0 and isinstance(error, UserInputError)
+    assert error.file == str(model) and error.field == "body 'torso'"
+    assert "rootz, rootx, rooty" in error.message and "<freejoint/>" in error.fix

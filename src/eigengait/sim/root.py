@@ -17,6 +17,7 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
+from eigengait.errors import UserInputError
 from eigengait.geometry import quat_conj, quat_mul, quat_pitch_roll
 
 AXIS_TOLERANCE = 0.99  # |cos| between a joint axis and a world axis to count as that axis
@@ -137,4 +138,23 @@ def root_layout(model: mujoco.MjModel, root_body: int) -> RootLayout:
     fx, fz, hy = (found.get(key, none) for key in ("slide_x", "slide_z", "hinge_y"))
     return RootLayout(
         "planar", tuple(translation), fx[0], fx[1], fz[0], fz[1], pitch_qpos=hy[0], pitch_sign=hy[2]
+    )
+
+
+def require_free_root(model: mujoco.MjModel, root_body: int, source: str, command: str) -> None:
+    """Refuse, with one error naming the model and its root, a creature whose root is not a free
+    joint (a planar model's root slides in x and z and turns about y): `command` balances and
+    tracks in three dimensions."""
+    if root_layout(model, root_body).kind == "free":
+        return
+    joints = [model.joint(j).name or str(j) for j in range(model.njnt)]
+    joints = [n for j, n in enumerate(joints) if model.jnt_bodyid[j] == root_body]
+    raise UserInputError(
+        f"`{command}` needs a creature with a free-floating root; the root body "
+        f"'{model.body(root_body).name}' moves on the joints {', '.join(joints) or '(none)'} "
+        "(a planar model, or one fixed to the world).",
+        file=source,
+        field=f"body '{model.body(root_body).name}'",
+        fix="give the root body a <freejoint/>; planar creatures take `modes`, `optimize` and "
+        "`play`.",
     )

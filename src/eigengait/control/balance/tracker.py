@@ -53,6 +53,7 @@ from eigengait.control.balance.virtual import VirtualGains, mass_scaled_gains
 from eigengait.control.balance.wbc import WholeBodyQP
 from eigengait.errors import UserInputError
 from eigengait.geometry import quat_angle, quat_exp, quat_mul
+from eigengait.sim.root import require_free_root
 from eigengait.inputs import check_choice
 from eigengait.sim.falls import has_fallen
 from eigengait.sim.stepping import step
@@ -212,6 +213,7 @@ class Tracker:
         settings: TrackerSettings = TrackerSettings(),
     ):
         check_controller(settings.controller)
+        require_free_root(world.model, world.root_body, str(world.character.path), "balance")
         self.world, self.reference, self.settings = world, reference, settings
         self.model = model = copy.deepcopy(world.model)
         if settings.soles:
