@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from eigengait.character import load_character
-from eigengait.geometry import quat_exp, quat_to_mat
+from eigengait.geometry import mat_to_quat, quat_angle, quat_exp, quat_to_mat
 from eigengait.motion.bvh import global_transforms, read_bvh
 from eigengait.motion.hinge_chain import hinge_angles
 from eigengait.motion.retarget import clip_axes, load_mapping, retarget
@@ -35,6 +35,40 @@ def test_two_hinges_give_the_nearest_turn_they_can_make():
     # a turn about an axis the chain lacks is left out: x then y hinges, wanted a turn about z
     about_z = quat_to_mat(quat_exp(np.array([[0.0, 0.0, 0.4]])))
     assert hinge_angles(about_z, axes) == pytest.approx(np.zeros((1, 2)), abs=1e-9)
+
+
+# the CMU humanoid's humerus: hinges rz, ry, rx
+ARM_AXES = np.array([[0, 0, 1.0], [0, 1.0, 0], [1.0, 0, 0]])
+ARM_RANGES = np.radians([[-90.0, 90.0], [-90.0, 90.0], [-60.0, 90.0]])
+
+
+def _turn_error_deg(angles, wanted):
+    return np.degrees(quat_angle(mat_to_quat(_chain(angles, ARM_AXES)), mat_to_quat(wanted)))
+
+
+def test_where_the_ranges_bind_the_nearest_turn_they_allow_is_found():
+    # an arm swinging through its ranges and twisted 29-40° about itself beyond them, on about
+    # half of the frames: clamping the exact angles there is far from the nearest allowed turn
+    t = np.linspace(0.0, 2 * np.pi, 120)[:, None]
+    inside = 0.8 * ARM_RANGES[:, 1] * np.sin(t + np.array([0.0, 1.0, 2.0]))
+    twist = (0.6 + 0.1 * np.sin(2 * t)) * np.array([0.0, -1.0, 0.0])
+    wanted = _chain(inside, ARM_AXES) @ quat_to_mat(quat_exp(twist))
+    low, high = ARM_RANGES.T
+    exact = hinge_angles(wanted, ARM_AXES)
+    exact -= 2 * np.pi * np.round(exact / (2 * np.pi))
+    out = np.any((exact < low) | (exact > high), axis=1)
+    assert 0.3 < out.mean() < 0.7
+    bounded = hinge_angles(wanted, ARM_AXES, ARM_RANGES)
+    assert np.all((bounded >= low - 1e-12) & (bounded <= high + 1e-12))
+    clamped = _turn_error_deg(np.clip(exact, low, high), wanted)[out]
+    nearest = _turn_error_deg(bounded, wanted)[out]
+    assert np.all(nearest <= clamped + 0.5) and np.median(nearest) < 0.7 * np.median(clamped)
+
+
+def test_angles_whole_turns_away_come_back_into_their_ranges():
+    angles = np.random.default_rng(3).uniform(-1.0, 1.0, (20, 3))
+    wanted = _chain(angles + 2 * np.pi * np.array([1, -2, 3]), ARM_AXES)
+    assert hinge_angles(wanted, ARM_AXES, ARM_RANGES) == pytest.approx(angles, abs=1e-9)
 
 
 def test_a_hip_on_three_hinges_follows_the_clips_thigh(tmp_path):

@@ -60,9 +60,21 @@ def rest_offsets(
             t = int(np.argmax(np.where(feet[b], cosine, -np.inf)))
             offsets[b] = world_rot[t, b].T @ min_arc(body_bones[b], seen[t])
         else:
-            lateral = np.einsum("fji,fj->i", world_rot[:, b], left)
-            offsets[b] = _frame(bone, lateral) @ _frame(body_bones[b], LEFT).T
+            mine, clips = _twist_reference(body_bones[b], left)
+            lateral = np.einsum("fji,fj->i", world_rot[:, b], clips)
+            offsets[b] = _frame(bone, lateral) @ _frame(body_bones[b], mine).T
     return offsets
+
+
+def _twist_reference(body_bone: np.ndarray, left: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The direction that fixes a bone's twist: the character's left (world) and the clip's (F, 3),
+    unless the body's relax bone lies within 45° of left (an arm held out sideways, as the CMU
+    humanoid's zero pose holds it, whose twist left leaves free), then forward: left × up."""
+    unit = body_bone / np.linalg.norm(body_bone)
+    if abs(unit @ LEFT) < np.cos(np.pi / 4):
+        return LEFT, left
+    forward = np.cross(left, [0.0, 0.0, 1.0])
+    return np.cross(LEFT, [0.0, 0.0, 1.0]), forward / np.linalg.norm(forward, axis=1, keepdims=True)
 
 
 def _frame(bone: np.ndarray, lateral: np.ndarray) -> np.ndarray:

@@ -479,7 +479,10 @@ def retarget(
         elif model.jnt_type[jid] == mujoco.mjtJoint.mjJNT_BALL:
             qpos[:, adr : adr + 4] = _continuous(quat)
         elif len(hinges := body_hinges(model, body)) > 1:
-            qpos[:, model.jnt_qposadr[hinges]] = hinge_angles(relative, model.jnt_axis[hinges])
+            bounded = len(hinges) >= 3  # fewer make a least-squares turn, clamped below
+            qpos[:, model.jnt_qposadr[hinges]] = hinge_angles(
+                relative, model.jnt_axis[hinges], _hinge_ranges(model, hinges) if bounded else None
+            )
         else:
             qpos[:, adr] = quat_log(quat) @ model.jnt_axis[jid]
 
@@ -512,6 +515,12 @@ def retarget(
     _clamp_to_joint_ranges(model, qpos)
     _place_root(world, qpos, root_adr, factor * hip_path - below, clip.frame_time)
     return RetargetedClip(qpos, clip.frame_time, hip_scale * factor, factor, levelled, flat_by_foot)
+
+
+def _hinge_ranges(model: mujoco.MjModel, hinges: list[int]) -> np.ndarray:
+    """(k, 2) ranges (rad) of the hinges, ±inf for one with no limit."""
+    free = np.array([-np.inf, np.inf])
+    return np.array([model.jnt_range[j] if model.jnt_limited[j] else free for j in hinges])
 
 
 def _clamp_to_joint_ranges(model: mujoco.MjModel, qpos: np.ndarray) -> None:
