@@ -10,6 +10,7 @@ from eigengait.control.balance.controller import (
     balance_torque,
     equilibrium_torque,
     foot_contacts,
+    normal_forces,
     pd_target,
     pd_torque,
     plant_torque,
@@ -139,3 +140,28 @@ def test_the_tracker_gives_the_walker_soles():
         )
     # the world's own model: as it was
     assert world.model.geom_pos[boxes[0], 2] > model.geom_pos[boxes[0], 2] + 0.02
+
+
+def test_toes_on_their_own_joint_touch_as_their_foot():
+    """dm_control's CMU humanoid: each foot body carries toes on their own joint. Standing with no
+    clip, every push of the floor on a foot or its toes is read as that foot's, the toes'
+    included, and nothing else touches."""
+    from shared_data import DM_CONTROL
+
+    world = build_world(load_character(DM_CONTROL / "suite/humanoid_CMU.xml", stiffness="auto"))
+    tracker = Tracker(world, standing_reference(world, 0.3), robustness=0.5)
+    tracker.run(duration_s=0.2)
+    model, data, rig = tracker.model, tracker.data, tracker.rig
+    mujoco.mj_forward(model, data)
+    toes = {model.body(name).id: foot for name, foot in (("ltoes", "lfoot"), ("rtoes", "rfoot"))}
+    assert {b: rig.foot_of_body[b] for b in toes} == toes
+    wrench, on_floor, on_toes = np.zeros(6), 0.0, 0.0
+    for i in range(data.ncon):
+        contact = data.contact[i]
+        if rig.floor in (contact.geom1, contact.geom2):
+            mujoco.mj_contactForce(model, data, i, wrench)
+            on_floor += max(wrench[0], 0.0)
+            other = contact.geom2 if contact.geom1 == rig.floor else contact.geom1
+            on_toes += max(wrench[0], 0.0) * (model.geom_bodyid[other] in toes)
+    read = sum(normal_forces(foot_contacts(model, data, rig)).values())
+    assert on_toes > 0.02 * on_floor and read == pytest.approx(on_floor, rel=1e-9)

@@ -3,19 +3,23 @@
 import mujoco
 import numpy as np
 
-from eigengait.sim.build import _cpu_flags, build_fingerprint
+from eigengait.sim.build import _cpu_fields, _cpu_flags, build_fingerprint
 
 
-def test_cpu_flags_keep_the_vector_instructions_of_the_first_cpu(tmp_path):
+def test_cpu_flags_and_model_are_the_first_cpus(tmp_path):
     cpuinfo = tmp_path / "cpuinfo"
     cpuinfo.write_text(
-        "processor\t: 0\nflags\t\t: fpu sse4_2 avx avx2 fma\n\nprocessor\t: 1\nflags\t\t: avx512f\n"
+        "processor\t: 0\nvendor_id\t: AuthenticAMD\nmodel name\t: AMD EPYC\n"
+        "flags\t\t: fpu sse4_2 avx avx2 fma\n\n"
+        "processor\t: 1\nmodel name\t: other\nflags\t\t: avx512f\n"
     )
-    assert _cpu_flags(cpuinfo) == ["sse4_2", "avx", "avx2", "fma"]
+    fields = _cpu_fields(cpuinfo)
+    assert _cpu_flags(fields) == ["sse4_2", "avx", "avx2", "fma"]
+    assert (fields["vendor_id"], fields["model name"]) == ("AuthenticAMD", "AMD EPYC")
     arm = tmp_path / "arm"
     arm.write_text("processor\t: 0\nFeatures\t: fp asimd evtstrm\n")
-    assert _cpu_flags(arm) == ["asimd"]
-    assert _cpu_flags(tmp_path / "absent") == []
+    assert _cpu_flags(_cpu_fields(arm)) == ["asimd"]
+    assert _cpu_fields(tmp_path / "absent") == {} and _cpu_flags({}) == []
 
 
 def test_fingerprint_names_the_versions_that_simulate():
