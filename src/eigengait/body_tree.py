@@ -46,3 +46,12 @@ def limb_dofs(model: mujoco.MjModel, end_body: int, other_ends: list[int]) -> li
             break
         chain.append(body)
     return sorted(d for d in range(model.nv) if int(model.dof_bodyid[d]) in chain)
+
+
+def leg_dofs(model: mujoco.MjModel, root_body: int, feet: dict[str, int]) -> dict[str, list[int]]:
+    """Each foot's own joints (`limb_dofs`, foot name -> dof indices): from the foot body up to
+    the root or the first body that also carries another of `feet` (name -> body)."""
+    return {
+        foot: limb_dofs(model, body, [root_body, *(b for f, b in feet.items() if f != foot)])
+        for foot, body in feet.items()
+    }

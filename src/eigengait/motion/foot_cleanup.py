@@ -67,7 +67,7 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
-from eigengait.body_tree import limb_dofs
+from eigengait.body_tree import leg_dofs
 from eigengait.motion.foot_metrics import BOUNCE_S, CONTACT_M, runs
 from eigengait.motion.grounding import FLIGHT_M
 from eigengait.motion.leg_ik import solve_leg
@@ -323,10 +323,7 @@ def clean_feet(world: World, qpos: np.ndarray, frame_time: float) -> CleanedFeet
         for f in feet
     }
     out, worst = qpos.copy(), 0.0
-    chains = {
-        f: np.array(limb_dofs(model, body, [world.root_body, *(feet[o] for o in feet if o != f)]))
-        for f, body in feet.items()
-    }
+    chains = {f: np.array(d) for f, d in leg_dofs(model, world.root_body, feet).items()}
     leg_qpos = {f: _qpos_of_dofs(model, chain) for f, chain in chains.items()}
     for i in range(len(qpos)):
         moving = [f for f in feet if np.any(plan[f][0][i])]

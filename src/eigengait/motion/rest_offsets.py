@@ -23,6 +23,8 @@ import numpy as np
 from eigengait.geometry import min_arc
 
 LEFT = np.array([0.0, 1.0, 0.0])  # the character's left in its relax pose (world)
+UP = np.array([0.0, 0.0, 1.0])
+FORWARD = np.cross(LEFT, UP)  # the character's forward in its relax pose (world): +x
 PLANTED_SHARE = 0.05  # of a foot joint's height range: the frames it stands at its lowest
 
 
@@ -73,8 +75,8 @@ def _twist_reference(body_bone: np.ndarray, left: np.ndarray) -> tuple[np.ndarra
     unit = body_bone / np.linalg.norm(body_bone)
     if abs(unit @ LEFT) < np.cos(np.pi / 4):
         return LEFT, left
-    forward = np.cross(left, [0.0, 0.0, 1.0])
-    return np.cross(LEFT, [0.0, 0.0, 1.0]), forward / np.linalg.norm(forward, axis=1, keepdims=True)
+    forward = np.cross(left, UP)
+    return FORWARD, forward / np.linalg.norm(forward, axis=1, keepdims=True)
 
 
 def _frame(bone: np.ndarray, lateral: np.ndarray) -> np.ndarray:

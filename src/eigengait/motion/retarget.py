@@ -51,6 +51,7 @@ from eigengait.motion.rest_offsets import planted_frames, rest_offsets
 from eigengait.motion.root_scale import leg_consistent_factor
 from eigengait.motion.skeleton_names import LEG_ROLES, find_roles, roles_of_names
 from eigengait.motion.soles import sole_points
+from eigengait.sim.root import require_free_root
 from eigengait.sim.world import World
 
 # World axis ← file axis, as signed file axis names (CMU convention: up +Y, forward +Z, left +X).
@@ -212,8 +213,10 @@ class RetargetedClip:
 
 
 def _check_mapping(mapping: Mapping, clip: BvhClip, world: World) -> tuple[dict[int, int], int]:
-    """Validate names; returns {bvh joint index: MJCF joint id} and the BVH root index."""
+    """Validate names (the character's root a free joint, a planar one refused by
+    `require_free_root`); returns {bvh joint index: MJCF joint id} and the BVH root index."""
     model = world.model
+    require_free_root(model, world.root_body, str(world.character.path), "track")
     names = {j.name: i for i, j in enumerate(clip.joints)}
     pairs, root = {}, None
     for bvh_name, joint_name in mapping.joints.items():

@@ -46,14 +46,12 @@ def reference_poses(
     from eigengait.motion.skeleton_names import LEG_ROLES, find_roles
     from eigengait.motion.soles import sole_points
     from eigengait.motion.upsample import upsampled
-    from eigengait.sim.root import require_free_root
     from eigengait.sim.world import build_world
 
     clip = read_bvh(clip_path)
     # the tracker switches the character's springs off, so joints with no stiffness need none
     char = load_character(character, stiffness="auto")
     world = build_world(char)
-    require_free_root(world.model, world.root_body, str(char.path), "track")
     chosen = load_mapping(mapping) if mapping else builtin_mapping(char.name, clip, world)
     first = first_frame_after_lead_in(clip, start_frame)
     clip, glitches = repair_glitches(clip, first)

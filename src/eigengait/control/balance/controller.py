@@ -36,7 +36,7 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
-from eigengait.body_tree import in_subtree, limb_dofs
+from eigengait.body_tree import in_subtree, leg_dofs
 from eigengait.control.balance.double_support import load_shares, pressing_force
 from eigengait.control.balance.foot import FootModel, compensation
 from eigengait.control.balance.momentum import (
@@ -209,12 +209,8 @@ def balance_rig(
             for f, b in foot_bodies.items()
         },
         leg_dofs={
-            f: [
-                d
-                for d in limb_dofs(model, b, [o for o in foot_bodies.values() if o != b])
-                if d in internal
-            ]
-            for f, b in foot_bodies.items()
+            f: [d for d in dofs if d in internal]
+            for f, dofs in leg_dofs(model, world.root_body, foot_bodies).items()
         },
         foot_rest_up={f: sole_up(world, f) for f in foot_bodies},
         foot_ball_qpos={
