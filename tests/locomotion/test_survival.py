@@ -260,3 +260,22 @@ def test_only_settings_relative_to_the_starting_gait_need_its_figures(kangaroo):
         assert relative.reads_starting_figures
         with pytest.raises(ValueError, match="StartingFigures"):
             SurvivalScorer(system, start, relative, None)
+
+
+def test_the_speed_weight_prices_a_shortfall_of_the_target_speed(kangaroo):
+    """With a target far beyond the hop's speed, the cost grows by the weight times the shortfall
+    (v* − v) / v*, and nothing else in it changes."""
+    from eigengait.optimize.survival import SurvivalScorer
+
+    system, start = kangaroo
+    costs = []
+    for weight in (0.0, 1.0, 3.0):
+        settings = SurvivalSettings(
+            minutes=1, copies=1, target_speed=10.0, effort_share=None, speed_weight=weight
+        )
+        scorer = SurvivalScorer(system, start, settings, None)
+        costs.append(scorer.score([start], generation=0, horizon=4)[0][0])
+        scorer.close()
+    shortfall = costs[1] - costs[0]
+    assert 0.85 < shortfall < 1.0  # the hop moves at well under 1.5 m/s
+    assert costs[2] - costs[0] == pytest.approx(3 * shortfall)

@@ -367,6 +367,11 @@ def harden_command(
         help="Stance-foot slip penalized beyond this (m, mean per stance; 0: not penalized).",
     ),
     workers: int = typer.Option(1, "--workers", help="Simulation threads."),
+    speed_weight: float = typer.Option(
+        0.5,
+        "--speed-weight",
+        help="Cost of falling short of the target speed by all of it (falling at once costs 1).",
+    ),
     sketch: str = typer.Option(
         None,
         "--sketch",
@@ -415,6 +420,7 @@ def harden_command(
         (max_slip, "--max-slip", 0.0, 10.0),
         (max_tilt, "--max-tilt", 0.0, 180.0),
         (workers, "--workers", 1, 1024),
+        (speed_weight, "--speed-weight", 0.0, 100.0),
     ):
         check_range(value, option, low, high)
     _refuse_force_with_resume(force, resume)
@@ -451,6 +457,7 @@ def harden_command(
         max_slip=max_slip or None,
         threads=workers,
         max_tilt_deg=max_tilt or None,
+        speed_weight=speed_weight,
         paired_feet=tuple(made_from.targets.paired_feet) if paired_feet else (),
         **(event_settings(made_from) if event else {}),
     )

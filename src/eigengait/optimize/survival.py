@@ -8,7 +8,7 @@ with a random sign and an impulse drawn from `push_impulse` (N·s per kg of body
 Every candidate of a generation meets the same pushes (common random numbers), so their ranking
 compares controllers, not luck. The cost of one candidate is
 
-    mean over copies of (1 − cycles survived / H)  +  SPEED_WEIGHT · max(0, v* − v) / v*
+    mean over copies of (1 − cycles survived / H)  +  w_v · max(0, v* − v) / v*
                                                  +  EFFORT_WEIGHT · max(0, E / E* − 1)
                                                  +  SLIP_WEIGHT · max(0, s / s* − 1)
                                                  +  TILT_WEIGHT · max(0, θ / θ* − 1)
@@ -27,9 +27,10 @@ the undisturbed copy from its third cycle on: per pair of feet that should land 
 (in cycles) their mean touchdown phases lie apart beyond `PAIR_TOLERANCE`, and with two pairs, how
 far the pairs lie from half a cycle apart beyond it; a foot that never lands again costs
 `PAIR_MISSING`. `target_speed` (m/s), when given, replaces `speed_share` × the starting speed as
-v*. The horizon H starts at `horizon` cycles and grows by `HORIZON_STEP` (up to `max_horizon`)
-whenever the generation's median candidate survives it: the optimizer always sees the fall it has
-to prevent.
+v*; w_v = `speed_weight` (`SPEED_WEIGHT` unless set: raise it for a gait that buys survival by
+slowing down). The horizon H starts at `horizon` cycles and grows by `HORIZON_STEP` (up to
+`max_horizon`) whenever the generation's median candidate survives it: the optimizer always sees
+the fall it has to prevent.
 
 Searched (normalized, 0 = the starting gait): the period (±20 %), the air ratio (±0.1), both pulse
 durations (±30 %), every non-zero activation ψ (± half its size, at least ±5 N·m), the eight
@@ -126,6 +127,7 @@ class SurvivalSettings:
     threads: int = 1
     max_tilt_deg: float | None = None  # root pitch or roll beyond this is penalized
     target_speed: float | None = None  # m/s: v* of the speed term (None: speed_share × start)
+    speed_weight: float = SPEED_WEIGHT  # w_v: the speed term's weight against survival
     paired_feet: tuple[tuple[str, str], ...] = ()  # feet that should land together
     event_modes: dict[str, tuple[int, ...]] | None = None  # phase -> modes of searched event gains
     # name -> (low, high) of the period (s), air ratio and pulse durations (s) from the sketch's
@@ -317,7 +319,11 @@ class SurvivalScorer:
             if self.target_effort is None
             else np.clip(effort.mean(axis=1) / self.target_effort - 1, 0, None)
         )
-        cost = (1 - cycles.mean(axis=1) / horizon) + SPEED_WEIGHT * lag + EFFORT_WEIGHT * excess
+        cost = (
+            (1 - cycles.mean(axis=1) / horizon)
+            + self.settings.speed_weight * lag
+            + EFFORT_WEIGHT * excess
+        )
         if self.settings.max_slip is not None:
             cost += SLIP_WEIGHT * np.clip(slip.mean(axis=1) / self.settings.max_slip - 1, 0, None)
         return cost + shape, cycles.mean(axis=1)
