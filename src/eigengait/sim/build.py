@@ -1,8 +1,9 @@
 """Which build simulated a recording: a falling gait amplifies rounding, so its figures replay
 exactly only on the same MuJoCo and NumPy versions and the same kind of CPU: the vector
-instructions MuJoCo and NumPy may use, and the CPU's make and model, by which NumPy's OpenBLAS
-picks its kernels (the shipped gaits recorded on one AVX-512 machine replay differently on an AMD
-EPYC with the same instructions: the dog trot falls in its tenth cycle there)."""
+instructions MuJoCo and NumPy may use, and the CPU's make, model and generation (family and model
+numbers: the name alone, "AMD EPYC", covers several), by which NumPy's OpenBLAS picks its kernels
+(docs/locomotion.md, "Survival is chaotic": one AMD EPYC replays the shipped gaits' figures exactly,
+another with the same name and vector instructions plays the dog trot into a fall)."""
 
 from __future__ import annotations
 
@@ -36,14 +37,29 @@ def _cpu_flags(fields: dict[str, str]) -> list[str]:
     return [f for f in VECTOR_FLAGS if f in present]
 
 
+# the /proc/cpuinfo fields that name a CPU: x86's make, name and generation, Arm's designer, part
+CPU_NAME_FIELDS = ("vendor_id", "model name", "cpu family", "model", "CPU implementer", "CPU part")
+
+
+def _cpu_name(fields: dict[str, str]) -> str:
+    """The CPU's make, model and generation from its `fields`, e.g. "AuthenticAMD AMD EPYC cpu
+    family 25 model 17"."""
+    named = {"cpu family", "model", "CPU implementer", "CPU part"}
+    return " ".join(
+        f"{key} {fields[key]}" if key in named else fields[key]
+        for key in CPU_NAME_FIELDS
+        if fields.get(key)
+    )
+
+
 def build_fingerprint() -> dict:
     """MuJoCo and NumPy versions, the machine architecture, its CPU's vector-instruction flags and
-    its make and model."""
+    its make, model and generation."""
     fields = _cpu_fields()
     return {
         "mujoco": mujoco.__version__,
         "numpy": np.__version__,
         "machine": platform.machine(),
         "cpu_flags": _cpu_flags(fields),
-        "cpu": " ".join(v for v in (fields.get("vendor_id"), fields.get("model name")) if v),
+        "cpu": _cpu_name(fields),
     }
