@@ -279,3 +279,45 @@ def test_the_speed_weight_prices_a_shortfall_of_the_target_speed(kangaroo):
     shortfall = costs[1] - costs[0]
     assert 0.85 < shortfall < 1.0  # the hop moves at well under 1.5 m/s
     assert costs[2] - costs[0] == pytest.approx(3 * shortfall)
+
+
+def test_the_hand_on_the_root_weakens_as_candidates_survive_and_the_horizon_waits_for_it(
+    kangaroo, tmp_path
+):
+    """Under a hand at level 2 the hop's candidates survive a 4-cycle horizon: each such generation
+    weakens the hand by ASSIST_DECAY, the horizon does not grow while there is one, and the best
+    candidate is the one found under the weakest hand."""
+    from eigengait.optimize.survival import ASSIST_DECAY, _better
+
+    system, start = kangaroo
+    settings = SurvivalSettings(
+        minutes=60, popsize=4, copies=1, horizon=4, generations=3, assist=2.0
+    )
+    harden(system, start, FIGURES, tmp_path, settings, progress=lambda _: None)
+    generations = json.loads((tmp_path / CHECKPOINT).read_text())["generations"]
+    levels = [2.0] + [g["next_assist"] for g in generations]
+    assert levels[-1] < 2.0  # it weakened
+    for before, after in zip(levels, levels[1:]):
+        assert after == pytest.approx(before) or after == pytest.approx(before * ASSIST_DECAY)
+    assert {g["next_horizon"] for g in generations} == {4}
+    assert generations[-1]["best"]["assist"] == pytest.approx(min(levels[:-1]))
+    best = {"assist": 1.0, "horizon": 8, "cost": 0.5}
+    assert _better(0.8, 4, 0.9, best)  # a weaker hand wins over a longer horizon and a lower cost
+    assert not _better(1.0, 4, 0.1, best) and _better(1.0, 8, 0.4, best)
+
+
+def test_harden_assist_from_the_command_line_refuses_a_planar_root(tmp_path):
+    done = eigengait(
+        "harden",
+        "planar-walker-walk",
+        "-o",
+        str(tmp_path / "run"),
+        "--assist",
+        "1",
+        "--max-minutes",
+        "0.05",
+    )
+    assert done.returncode == 2
+    assert "planar" in done.stderr and "without --assist" in done.stderr
+    bad = eigengait("harden", "kangaroo-hop", "-o", str(tmp_path / "r2"), "--assist", "-1")
+    assert bad.returncode == 2 and "--assist" in bad.stderr

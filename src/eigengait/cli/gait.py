@@ -372,6 +372,12 @@ def harden_command(
         "--speed-weight",
         help="Cost of falling short of the target speed by all of it (falling at once costs 1).",
     ),
+    assist: float = typer.Option(
+        0.0,
+        "--assist",
+        help="Start every play with a hand on the root at this level (1: it cancels gravity's "
+        "toppling moment), weakened as candidates survive (0: none).",
+    ),
     sketch: str = typer.Option(
         None,
         "--sketch",
@@ -421,6 +427,7 @@ def harden_command(
         (max_tilt, "--max-tilt", 0.0, 180.0),
         (workers, "--workers", 1, 1024),
         (speed_weight, "--speed-weight", 0.0, 100.0),
+        (assist, "--assist", 0.0, 100.0),
     ):
         check_range(value, option, low, high)
     _refuse_force_with_resume(force, resume)
@@ -458,6 +465,7 @@ def harden_command(
         threads=workers,
         max_tilt_deg=max_tilt or None,
         speed_weight=speed_weight,
+        assist=assist or None,
         paired_feet=tuple(made_from.targets.paired_feet) if paired_feet else (),
         **(event_settings(made_from) if event else {}),
     )

@@ -5,10 +5,11 @@ The horizon is cut into chunks of `FEEDBACK_DT`; each chunk is one `mujoco.rollo
 candidates still standing. At each chunk boundary the features of every candidate are read from its
 last state (NumPy, whole batch), recorded as the reference during the first cycle, and turned into
 feedback torques afterwards (see `feedback.py`). Sideways pushes are generalized forces on the
-root's y translation. A candidate falls when its COM drops below half the standing height, its root
-turns upside down, or it blows up (`sim/falls.py`'s `failed_steps` and `sim/stepping.py`: a
-non-finite or runaway state, or a torque MuJoCo would refuse; recorded as `blow_up`); it is not
-simulated further.
+root's y translation; an optional hand on the root (`root_assist.py`, optimization only) adds its
+forces, read at each boundary and held like the feedback. A candidate falls when its COM drops
+below half the standing height, its root turns upside down, or it blows up (`sim/falls.py`'s
+`failed_steps` and `sim/stepping.py`: a non-finite or runaway state, or a torque MuJoCo would
+refuse; recorded as `blow_up`); it is not simulated further.
 """
 
 from __future__ import annotations
@@ -33,6 +34,7 @@ from eigengait.control.feedback import (
 )
 from eigengait.control.gait import GaitParameters, GaitSystem
 from eigengait.control.phase_clock import MAX_WAIT, PhaseClock
+from eigengait.control.root_assist import RootAssist
 from eigengait.sim.falls import failed_steps
 from eigengait.sim.stepping import blown_up_dof, first_bad_torque
 
@@ -273,7 +275,11 @@ class ClosedLoopRunner:
         self.pool.close()
 
     def run(
-        self, params: list[GaitParameters], cycles: float, pushes: tuple[Push, ...] = ()
+        self,
+        params: list[GaitParameters],
+        cycles: float,
+        pushes: tuple[Push, ...] = (),
+        assist: RootAssist | None = None,
     ) -> BatchRun:
         model, system, dt = self.model, self.system, self.model.opt.timestep
         nv, nu, n_motor = model.nv, model.nu, system.world.nmotor
@@ -301,9 +307,9 @@ class ClosedLoopRunner:
         fell_time = np.full(P, np.nan)
         blow_up: list = [None] * P
         spec = mujoco.mjtState.mjSTATE_CTRL | (
-            mujoco.mjtState.mjSTATE_QFRC_APPLIED if pushes else 0
+            mujoco.mjtState.mjSTATE_QFRC_APPLIED if pushes or assist else 0
         )
-        width = nu + (nv if pushes else 0)
+        width = nu + (nv if pushes or assist else 0)
         limit = system.torque_limits
 
         def end(i: int, step: int) -> None:
@@ -348,6 +354,9 @@ class ClosedLoopRunner:
             if idx.size == 0:
                 break
             add_pushes(control, pushes, a, dt, nu)
+            if assist is not None:
+                w = nu + assist.first_qvel
+                control[:, :, w : w + 4] += assist.forces(state[idx])[:, None, :]
             time_before = system.world.view.time(state[idx])[:, None]
             s, d = self.pool.rollout(model, self.datas, state[idx], control, control_spec=spec)
             self.steps_simulated += idx.size * (b - a)

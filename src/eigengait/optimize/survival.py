@@ -30,7 +30,12 @@ far the pairs lie from half a cycle apart beyond it; a foot that never lands aga
 v*; w_v = `speed_weight` (`SPEED_WEIGHT` unless set: raise it for a gait that buys survival by
 slowing down). The horizon H starts at `horizon` cycles and grows by `HORIZON_STEP` (up to
 `max_horizon`) whenever the generation's median candidate survives it: the optimizer always sees
-the fall it has to prevent.
+the fall it has to prevent. With `assist` (a level, `control/root_assist.py`) every play starts with
+a hand on the root that catches the body past the targets' tilt and below 0.8 of its height;
+whenever the median candidate survives the horizon the hand weakens by `ASSIST_DECAY` (to nothing
+below `ASSIST_FLOOR`), and only without it does the horizon grow: a gait that falls on its own has
+survivors to rank from the first generation. The best candidate is the one that needed the weakest
+hand, and the final choice is validated with none.
 
 Searched (normalized, 0 = the starting gait): the period (±20 %), the air ratio (±0.1), both pulse
 durations (±30 %), every non-zero activation ψ (± half its size, at least ±5 N·m), the eight
@@ -69,6 +74,7 @@ from eigengait.control.gait_metrics import (
 )
 from eigengait.control.gait import GaitParameters, GaitSystem
 from eigengait.control.lookahead import LookaheadSettings
+from eigengait.control.root_assist import RootAssist
 from eigengait.control.sketch import Sketch, Timing
 from eigengait.errors import UserInputError
 from eigengait.optimize.parameters import timing_bounds
@@ -90,6 +96,8 @@ PAIR_MISSING = 3.0  # the pattern term of a gait with a foot that stops landing
 EVENT_FIRST_SHARE = 1 / 6  # of a staged event search's minutes, before slip and pairs count
 EVENT_POPSIZE = 16  # candidates per generation of a staged event search
 HORIZON_STEP = 4  # cycles added when the median candidate survives the horizon
+ASSIST_DECAY = 0.8  # the hand's level is multiplied by this when the median candidate survives
+ASSIST_FLOOR = 0.1  # a weaker hand is taken away
 CHECKPOINT = "survival.json"
 VALIDATION_GENERATION = -1  # the pushes of the final choice: a stream no generation uses
 
@@ -128,6 +136,7 @@ class SurvivalSettings:
     max_tilt_deg: float | None = None  # root pitch or roll beyond this is penalized
     target_speed: float | None = None  # m/s: v* of the speed term (None: speed_share × start)
     speed_weight: float = SPEED_WEIGHT  # w_v: the speed term's weight against survival
+    assist: float | None = None  # starting level of the hand on the root (None: no hand)
     paired_feet: tuple[tuple[str, str], ...] = ()  # feet that should land together
     event_modes: dict[str, tuple[int, ...]] | None = None  # phase -> modes of searched event gains
     # name -> (low, high) of the period (s), air ratio and pulse durations (s) from the sketch's
@@ -288,9 +297,11 @@ class SurvivalScorer:
         self.runner.close()
 
     def score(
-        self, params: list[GaitParameters], generation: int, horizon: int
+        self, params: list[GaitParameters], generation: int, horizon: int, assist: float = 0.0
     ) -> tuple[np.ndarray, np.ndarray]:
-        """(cost, mean cycles survived) per candidate."""
+        """(cost, mean cycles survived) per candidate, every play under a hand on the root at
+        level `assist` (0: none)."""
+        hand = RootAssist(self.system.world, assist) if assist > 0 else None
         dt = self.dt
         # each candidate's sensor row at (q₀, q̇₀), before its rollouts' first step
         firsts = [self.system.initial_sensors(p) for p in params]
@@ -301,7 +312,7 @@ class SurvivalScorer:
         for c, push in enumerate(
             generation_pushes(self.settings, generation, self.period, horizon, self.mass)
         ):
-            run = self.runner.run(params, horizon, () if push is None else (push,))
+            run = self.runner.run(params, horizon, () if push is None else (push,), hand)
             for i, p in enumerate(params):
                 end = max(int(run.ended[i]), 1)
                 cycles[i, c] = min(
@@ -409,11 +420,12 @@ def harden(
         settings.sigma0,
         {"popsize": settings.popsize, "seed": settings.seed, "verbose": -9},
     )
-    horizon, best = settings.horizon, None
+    horizon, assist, best = settings.horizon, settings.assist or 0.0, None
     for record in history:  # replay: the same seed asks the same candidates
         es.ask()
         es.tell([np.array(z) for z in record["candidates"]], record["costs"])
         horizon, best = record["next_horizon"], record["best"]
+        assist = record.get("next_assist", 0.0)
     spent = history[-1]["elapsed"] if history else 0.0
     t0 = time.perf_counter() - spent
     try:
@@ -421,31 +433,43 @@ def harden(
             settings.generations or 1 << 30
         ):
             zs = es.ask()
-            costs, survived = scorer.score([space.decode(z) for z in zs], es.countiter, horizon)
+            decoded = [space.decode(z) for z in zs]
+            costs, survived = scorer.score(decoded, es.countiter, horizon, assist)
             es.tell(zs, costs.tolist())
             k = int(np.argmin(costs))
-            if best is None or horizon > best["horizon"] or costs[k] < best["cost"]:
-                best = {"cost": float(costs[k]), "horizon": horizon, "z": [float(v) for v in zs[k]]}
-            next_horizon = horizon
+            if best is None or _better(assist, horizon, costs[k], best):
+                best = {
+                    "cost": float(costs[k]),
+                    "horizon": horizon,
+                    "assist": assist,
+                    "z": [float(v) for v in zs[k]],
+                }
+            next_horizon, next_assist = horizon, assist
             if np.median(survived) >= horizon - 0.5:
-                next_horizon = min(horizon + HORIZON_STEP, settings.max_horizon)
+                if assist > 0:
+                    weaker = assist * ASSIST_DECAY
+                    next_assist = weaker if weaker >= ASSIST_FLOOR else 0.0
+                else:
+                    next_horizon = min(horizon + HORIZON_STEP, settings.max_horizon)
             history.append(
                 {
                     "candidates": [[float(v) for v in z] for z in zs],
                     "costs": [float(c) for c in costs],
                     "next_horizon": next_horizon,
+                    "next_assist": next_assist,
                     "best": best,
                     "elapsed": time.perf_counter() - t0,
                 }
             )
             _save(checkpoint, settings, history)
             _log(folder / "log.csv", history)
+            hand = f", hand {assist:.2f}" if assist else ""
             progress(
-                f"generation {len(history)}: horizon {horizon} cycles, best survives "
+                f"generation {len(history)}: horizon {horizon} cycles{hand}, best survives "
                 f"{survived[k]:.1f} (median {np.median(survived):.1f}), cost {costs[k]:.3f}, "
                 f"{time.perf_counter() - t0:.0f} s"
             )
-            horizon = next_horizon
+            horizon, assist = next_horizon, next_assist
         result = _validated(scorer, space, es, best, horizon) if best else start
     finally:
         scorer.close()
@@ -505,6 +529,13 @@ def harden_event_in_stages(
             timing=sketch.timing,
         )
     return start
+
+
+def _better(assist: float, horizon: int, cost: float, best: dict) -> bool:
+    """Whether a candidate of `cost`, scored at `horizon` under a hand at level `assist`, beats the
+    `best` so far: a weaker hand first, then a longer horizon, then a lower cost."""
+    key = (assist, -horizon, cost)
+    return key < (best.get("assist", 0.0), -best["horizon"], best["cost"])
 
 
 def _validated(
