@@ -321,3 +321,16 @@ def test_harden_assist_from_the_command_line_refuses_a_planar_root(tmp_path):
     assert "planar" in done.stderr and "without --assist" in done.stderr
     bad = eigengait("harden", "kangaroo-hop", "-o", str(tmp_path / "r2"), "--assist", "-1")
     assert bad.returncode == 2 and "--assist" in bad.stderr
+
+
+def test_a_run_saved_before_a_setting_existed_resumes_with_its_default(kangaroo, tmp_path):
+    system, start = kangaroo
+    settings = SurvivalSettings(minutes=60, popsize=4, copies=1, horizon=4, generations=1)
+    harden(system, start, FIGURES, tmp_path, settings, progress=lambda _: None)
+    saved = json.loads((tmp_path / CHECKPOINT).read_text())
+    for added in ("speed_weight", "assist"):
+        del saved["settings"][added]
+    (tmp_path / CHECKPOINT).write_text(json.dumps(saved))
+    again = replace(settings, generations=2)
+    harden(system, start, FIGURES, tmp_path, again, resume=True, progress=lambda _: None)
+    assert len(json.loads((tmp_path / CHECKPOINT).read_text())["generations"]) == 2

@@ -56,7 +56,7 @@ from __future__ import annotations
 
 import json
 import time
-from dataclasses import asdict, dataclass, replace
+from dataclasses import asdict, dataclass, fields, replace
 from pathlib import Path
 
 import cma
@@ -568,7 +568,9 @@ def _load_history(path: Path, settings: SurvivalSettings) -> list[dict]:
     mine = {
         k: v for k, v in asdict(settings).items() if k not in ("minutes", "generations", "threads")
     }
-    theirs = {k: _tuples(v) for k, v in saved.items() if k in mine}
+    # a setting added since the run was saved reads as its default
+    defaults = {f.name: f.default for f in fields(SurvivalSettings) if f.name in mine}
+    theirs = {**defaults, **{k: _tuples(v) for k, v in saved.items() if k in mine}}
     if theirs != mine:
         changed = ", ".join(k for k in mine if theirs.get(k) != mine[k])
         raise UserInputError(
