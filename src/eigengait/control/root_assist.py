@@ -7,8 +7,9 @@ gait that falls under such a hand and loosen it whenever its candidates survive
 gait, and it leaves a body alone while it moves within the targets' bounds:
 
 * a moment (world frame) τ = k (θ − θ₀) n − c ω_h once the root's up axis (its zero pose's, turned
-  by its current orientation) leans θ > θ₀ = `FREE_TILT_DEG` from world z; n the unit axis that
-  turns it back, ω_h the horizontal part of the root's angular velocity (heading stays free);
+  by its current orientation) leans θ > θ₀ = `MAX_TILT_DEG` (the targets') from world z; n the
+  unit axis that turns it back, ω_h the horizontal part of the root's angular velocity (heading
+  stays free);
 * a lift F = k_z (z₀ − z) − c_z v_z once the root sinks below z₀ = `FREE_HEIGHT_SHARE` of its
   height in the model's zero pose (the biped's fall is a collapse more often than a topple).
 
@@ -24,12 +25,12 @@ from __future__ import annotations
 
 import numpy as np
 
+from eigengait.control.gait_targets import MAX_TILT_DEG
 from eigengait.errors import UserInputError
 from eigengait.geometry import quat_to_mat
 from eigengait.sim.root import root_layout
 from eigengait.sim.world import GRAVITY, World
 
-FREE_TILT_DEG = 30.0  # the targets' torso bound
 FREE_HEIGHT_SHARE = 0.8  # of the root's zero-pose height
 LIFT_SPAN = 0.3  # of z₀: the further sinking over which the lift grows to the body's weight
 DAMPING_SHARE = 0.1
@@ -51,7 +52,7 @@ class RootAssist:
         settle = DAMPING_SHARE * np.sqrt(h / GRAVITY)  # s
         self.stiffness = level * weight * h  # N·m per rad
         self.damping = self.stiffness * settle  # N·m·s per rad
-        self.free_angle = np.radians(FREE_TILT_DEG)
+        self.free_angle = np.radians(MAX_TILT_DEG)
         self.low = FREE_HEIGHT_SHARE * float(model.qpos0[self.layout.height_qpos])  # m
         self.lift = level * weight / (LIFT_SPAN * self.low)  # N per m
         self.lift_damping = self.lift * settle  # N·s per m
@@ -63,7 +64,8 @@ class RootAssist:
         """Generalized forces (candidates × 4: N on the root's vertical translation, then N·m about
         the root body's axes) for full physics `states` (candidates × nstate)."""
         qpos, qvel = self.view.qpos(states), self.view.qvel(states)
-        a, lay = self.layout.quat_qpos, self.layout
+        lay = self.layout
+        a = lay.quat_qpos
         body = quat_to_mat(qpos[:, a : a + 4])  # root frame -> world
         up = quat_to_mat(lay.upright_quat(qpos))[:, :, 2]
         axis = np.cross(up, [0.0, 0.0, 1.0])
