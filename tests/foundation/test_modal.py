@@ -7,7 +7,10 @@ import pytest
 import yaml
 
 from eigengait.character import builtin_names, load_character
+import eigengait.modal.analysis as analysis
 from eigengait.modal import ModeSet, compute_modes
+from eigengait.modal.eigen import canonical_eigenspaces, constrained_modes, degenerate_blocks
+from eigengait.modal.modeset import canonical_signs
 from eigengait.modal.maximal import maximal_modes
 from eigengait.modal.reduced import mass_matrix
 from eigengait.sim import WorldOptions, build_world
@@ -138,3 +141,62 @@ def test_modeset_round_trip(tmp_path):
     assert back.summary() == modes.summary()
     np.testing.assert_array_equal(back.shapes, modes.shapes)
     np.testing.assert_array_equal(back.torque_basis, modes.torque_basis)
+
+
+def _rounded_differently(seed: int, share: float = 1e-15):
+    """`constrained_modes` on K and M whose every entry is off by `share` of itself (symmetric):
+    what another CPU's linear algebra may hand the solver."""
+
+    def solve(K, M, G=None):
+        rng = np.random.default_rng(seed)
+        dK, dM = (rng.standard_normal(A.shape) * share * abs(A) for A in (K, M))
+        return constrained_modes(K + (dK + dK.T) / 2, M + (dM + dM.T) / 2, G)
+
+    return solve
+
+
+@pytest.mark.parametrize("name", ["dog", "humanoid", "monster"])
+def test_mode_bases_do_not_depend_on_rounding(name, monkeypatch):
+    """The dog's twin legs make exactly repeated frequencies (front and rear pairs) and every
+    symmetric character ties left and right entries: the raw solver's vectors there turn and flip
+    with the last bits of K and M, so a gait's ψ would mean other torques on another machine."""
+    character = load_character(name)
+    phases = [("air", None)] + [("ground", foot) for foot in character.feet]
+    exact = [compute_modes(character, phase, foot) for phase, foot in phases]
+    if name == "dog":
+        assert degenerate_blocks(exact[0].frequencies_hz ** 2)  # the case under test is there
+    for seed in range(2):
+        monkeypatch.setattr(analysis, "constrained_modes", _rounded_differently(seed, 1e-13))
+        for (phase, foot), reference in zip(phases, exact):
+            again = compute_modes(character, phase, foot)
+            np.testing.assert_allclose(again.torque_basis, reference.torque_basis, atol=1e-6)
+            np.testing.assert_allclose(again.shapes, reference.shapes, atol=1e-6)
+
+
+def test_a_repeated_eigenvalue_gets_one_basis_whatever_the_solver_returned():
+    """K = diag(1, 4, 4, 9), M = I: modes 2 and 3 share λ = 4, and any rotation of e2, e3 solves
+    the problem; two different rotations canonicalize to the same orthonormal basis."""
+    lam = np.array([1.0, 4.0, 4.0, 9.0])
+    assert degenerate_blocks(lam) == [slice(1, 3)]
+    eye = np.eye(4)
+    canonical = []
+    for angle in (0.3, 2.1):
+        c, s = np.cos(angle), np.sin(angle)
+        shapes = eye.copy()
+        shapes[:, 1:3] = eye[:, 1:3] @ np.array([[c, -s], [s, c]])
+        canonical.append(canonical_eigenspaces(lam, shapes))
+    first, second = (X * canonical_signs(X) for X in canonical)
+    np.testing.assert_allclose(first, second, atol=1e-12)
+    np.testing.assert_allclose(first.T @ first, eye, atol=1e-12)
+    # the block's basis diagonalizes the coordinate weights: the unit vectors themselves
+    np.testing.assert_allclose(first, eye, atol=1e-12)
+
+
+def test_sign_convention_breaks_a_left_right_tie_by_dof_order():
+    """Equal magnitudes on a left and a right joint, one of them larger by rounding: the first
+    entry decides the sign either way; a clear largest entry decides it as before."""
+    tied = np.array([[0.5], [-0.5 - 1e-13], [0.1]])
+    other = np.array([[0.5 + 1e-13], [-0.5], [0.1]])
+    assert canonical_signs(tied)[0] == canonical_signs(other)[0] == 1.0
+    clear = np.array([[0.2], [-0.9], [0.1]])
+    assert canonical_signs(clear)[0] == -1.0

@@ -10,8 +10,8 @@ import numpy as np
 from eigengait.character.loader import Character
 from eigengait.character.relax import DEFAULT_POSE
 from eigengait.errors import UserInputError
-from eigengait.modal.eigen import constrained_modes, frequencies_hz
-from eigengait.modal.modeset import ModeSet, unit_torque_basis
+from eigengait.modal.eigen import canonical_eigenspaces, constrained_modes, frequencies_hz
+from eigengait.modal.modeset import ModeSet, canonical_signs, unit_torque_basis
 from eigengait.modal.reduced import mass_matrix, point_jacobian, stiffness_matrix
 from eigengait.sim.world import World, WorldOptions, build_world
 
@@ -74,7 +74,9 @@ def compute_modes(
 ) -> ModeSet:
     """Modes of a character (or an already built world) in the air (free) or ground (toe pinned)
     phase; in the ground phase the toes of `partners`, feet on the floor with the stance foot (a
-    trot's diagonal partner), are pinned too."""
+    trot's diagonal partner), are pinned too. The basis of each eigenspace and the sign of each
+    mode are canonical (`canonical_eigenspaces`, `canonical_signs`): rounding, which differs from
+    one CPU's linear algebra to another's, changes neither."""
     if phase not in PHASES:
         raise UserInputError(f"unknown phase '{phase}'", field="phase", fix="use air or ground")
     if partners and phase != "ground":
@@ -97,6 +99,8 @@ def compute_modes(
     else:
         foot = None
     lam, shapes, rigid = constrained_modes(stiffness_matrix(world), mass_matrix(world), G)
+    shapes = canonical_eigenspaces(lam, shapes)
+    shapes = shapes * canonical_signs(shapes[world.internal_qvel])
     return ModeSet(
         character=character.name,
         relax_pose=world.pose,

@@ -5,8 +5,9 @@
 * `shapes` (nv × m): mass-normalized generalized displacements (φᵀ M φ = 1), MuJoCo velocity
   coordinates.
 * `torque_basis` (n_internal × m): the internal-dof part of each shape scaled to unit Euclidean
-  norm, so a mode activation ψ is in N·m. Sign convention: each column's largest-magnitude entry is
-  positive.
+  norm, so a mode activation ψ is in N·m. Sign convention (shapes and torque basis alike): of the
+  column's entries within SIGN_TIE of its largest magnitude, the first in dof order is positive (a
+  symmetric character's left and right joints tie; rounding must not pick between them).
 """
 
 from __future__ import annotations
@@ -21,6 +22,8 @@ from eigengait.errors import UserInputError
 from eigengait.outputs import replacing
 
 FORMAT_VERSION = 1
+# entries within this share of a column's largest magnitude tie with it for the sign convention
+SIGN_TIE = 1e-6
 
 
 @dataclass
@@ -96,9 +99,17 @@ class ModeSet:
         return cls(**meta, **arrays)
 
 
+def canonical_signs(columns: np.ndarray) -> np.ndarray:
+    """±1 per column: the sign that makes the column's leading entry positive, the leading entry
+    being the first (in row order) of those within SIGN_TIE of the largest magnitude."""
+    magnitude = abs(columns)
+    leading = np.argmax(magnitude >= (1 - SIGN_TIE) * magnitude.max(axis=0), axis=0)
+    signs = np.sign(columns[leading, np.arange(columns.shape[1])])
+    return np.where(signs == 0, 1.0, signs)
+
+
 def unit_torque_basis(shapes_internal: np.ndarray) -> np.ndarray:
-    """Columns scaled to unit norm with their largest-magnitude entry positive."""
+    """Columns scaled to unit norm, signed by `canonical_signs`."""
     norms = np.linalg.norm(shapes_internal, axis=0)
     basis = shapes_internal / np.where(norms > 0, norms, 1)
-    signs = np.sign(basis[np.argmax(abs(basis), axis=0), np.arange(basis.shape[1])])
-    return basis * np.where(signs == 0, 1, signs)
+    return basis * canonical_signs(basis)
