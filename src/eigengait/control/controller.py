@@ -22,6 +22,7 @@ from eigengait.control.feedback import (
     EventGains,
     FeedbackGains,
 )
+from eigengait.control.legacy_modes import LEGACY_FORMAT, in_canonical_modes
 from eigengait.control.lookahead import (
     EFFORT_WEIGHT,
     LIGHT_LIMB_SHARE,
@@ -41,7 +42,9 @@ from eigengait.json_text import finite
 from eigengait.sim.stepping import MAX_CONTROL, MAX_SPEED
 from eigengait.sim.world import MAX_ACTIVATION_TIME
 
-FORMAT_VERSION = 1
+# format 2 numbers the modes in the canonical bases; format 1 files are read as they played
+# (control/legacy_modes.py)
+FORMAT_VERSION = 2
 FINGERPRINT_MODES = 6
 # a sketch phase's `allowed: null` means every mode: the plans keep those that exist
 MODES_AT_MOST = 10_000
@@ -316,7 +319,7 @@ def save_controller(controller: ControllerFile, path: Path) -> None:
 def load_controller(path: str | Path) -> ControllerFile:
     path = Path(path)
     data = read_mapping(path)
-    if data.get("eigengait_controller") not in (None, FORMAT_VERSION):
+    if data.get("eigengait_controller") not in (None, LEGACY_FORMAT, FORMAT_VERSION):
         raise UserInputError(
             f"unsupported controller version {data.get('eigengait_controller')}",
             file=path,
@@ -368,7 +371,7 @@ def to_parameters(
     activations = system.dense_activations(
         lambda foot, phase: controller.activations.get(foot, {}).get(phase, {}), source
     )
-    return GaitParameters(
+    params = GaitParameters(
         period=controller.period,
         air_ratio=controller.air_ratio,
         pulse_air=controller.pulse_air,
@@ -379,6 +382,9 @@ def to_parameters(
         qvel0=np.array(controller.initial_qvel),
         feedback=controller.feedback.gains(),
     )
+    if controller.eigengait_controller == LEGACY_FORMAT:
+        return in_canonical_modes(params, system, source)
+    return params
 
 
 def _hz(frequencies) -> str:

@@ -85,32 +85,58 @@ def compute_modes(
             field="partners",
             fix="use phase='ground', or give no partners",
         )
-    world = (
-        source
-        if isinstance(source, World)
-        else build_world(source, pose, WorldOptions(gravity=False))
-    )
-    character = world.character
-    G = None
-    if phase == "ground":
-        foot = stance_foot(character, foot)
-        pinned = [foot, *(partner_foot(character, foot, p) for p in partners)]
-        G = np.vstack([point_jacobian(world, character.feet[f].toe) for f in pinned])
-    else:
-        foot = None
-    lam, shapes, rigid = constrained_modes(stiffness_matrix(world), mass_matrix(world), G)
+    world = _modal_world(source, pose)
+    foot = stance_foot(world.character, foot) if phase == "ground" else None
+    lam, shapes, rigid = _solve(world, foot, partners)
     shapes = canonical_eigenspaces(lam, shapes)
     shapes = shapes * canonical_signs(shapes[world.internal_qvel])
     return ModeSet(
-        character=character.name,
+        character=world.character.name,
         relax_pose=world.pose,
         phase=phase,
         foot=foot,
-        dofs=character.internal_dofs,
+        dofs=world.character.internal_dofs,
         rigid_modes=rigid,
         frequencies_hz=frequencies_hz(lam),
         shapes=shapes,
         torque_basis=unit_torque_basis(shapes[world.internal_qvel]),
-        dof_labels=dof_labels(character),
+        dof_labels=dof_labels(world.character),
         partners=list(partners),
     )
+
+
+def solver_torque_basis(
+    source: Character | World,
+    phase: str = "air",
+    foot: str | None = None,
+    pose: str | dict = DEFAULT_POSE,
+    partners: Sequence[str] = (),
+) -> np.ndarray:
+    """The torque basis as controller files of format 1 numbered their modes: the eigensolver's
+    own vectors, each scaled to unit norm with its largest-magnitude entry positive. Where
+    frequencies repeat or entries tie, which vectors these are depends on the machine's rounding:
+    on the machine that saved such a file, they are the ones it was made in."""
+    world = _modal_world(source, pose)
+    foot = stance_foot(world.character, foot) if phase == "ground" else None
+    _, shapes, _ = _solve(world, foot, partners)
+    internal = shapes[world.internal_qvel]
+    basis = internal / np.linalg.norm(internal, axis=0)
+    signs = np.sign(basis[np.argmax(abs(basis), axis=0), np.arange(basis.shape[1])])
+    return basis * np.where(signs == 0, 1, signs)
+
+
+def _modal_world(source: Character | World, pose: str | dict) -> World:
+    """`source` itself if it is a world, else the character at `pose` without gravity."""
+    if isinstance(source, World):
+        return source
+    return build_world(source, pose, WorldOptions(gravity=False))
+
+
+def _solve(world: World, foot: str | None, partners: Sequence[str]):
+    """(λ, M-orthonormal shapes, rigid count) in the air (foot None) or with the toes of `foot` and
+    its `partners` pinned, as the solver returns them."""
+    G = None
+    if foot is not None:
+        pinned = [foot, *(partner_foot(world.character, foot, p) for p in partners)]
+        G = np.vstack([point_jacobian(world, world.character.feet[f].toe) for f in pinned])
+    return constrained_modes(stiffness_matrix(world), mass_matrix(world), G)
