@@ -280,6 +280,20 @@ def test_play_uses_the_controllers_lookahead_unless_told_not_to(hopper, tmp_path
         assert json.loads(chosen.stdout)[key] == float(value)
         refused = eigengait_cli("play", str(controller), "--cycles", "1", option, bad)
         assert refused.returncode != 0 and option in refused.stderr
+    # another planner seed is another draw of the same plans: other torques, the same ones again
+    # with the same seed
+    assert json.loads(on.stdout)["lookahead_seed"] == 0
+
+    def drawn(seed: str) -> dict:
+        args = ("play", str(controller), "--cycles", "1", "--json", "--planner-seed", seed)
+        return json.loads(eigengait_cli(*args).stdout)
+
+    first, again, other = drawn("0"), drawn("0"), drawn("7")
+    assert other["lookahead_seed"] == 7
+    assert first["mean_squared_torque"] == again["mean_squared_torque"]
+    assert first["mean_squared_torque"] != other["mean_squared_torque"]
+    refused = eigengait_cli("play", str(controller), "--cycles", "1", "--planner-seed", "-1")
+    assert refused.returncode != 0 and "--planner-seed" in refused.stderr
 
 
 def test_plans_can_keep_to_the_sketchs_modes():

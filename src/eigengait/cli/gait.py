@@ -249,6 +249,14 @@ def play_command(
             "controller's (docs/locomotion.md)."
         ),
     ),
+    planner_seed: Optional[int] = typer.Option(
+        None,
+        "--planner-seed",
+        help=(
+            "Seed of the lookahead's random plans, instead of the controller's (another seed: "
+            "another draw of the same planner, to see how much its figures hang on it)."
+        ),
+    ),
     as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
     video: Optional[Path] = typer.Option(None, "--video", help="Write a video (.mp4/.gif)."),
     bvh: Optional[Path] = typer.Option(None, "--bvh", help="Write the motion as BVH."),
@@ -292,7 +300,9 @@ def play_command(
     check_range(slip_weight, "--slip-weight", 0, 1000, fix="use a weight from 0 (off) to 1000")
     check_range(effort_weight, "--effort-weight", 0, 1000, fix="use a weight from 0 (off) to 1000")
     check_range(max_tilt, "--max-tilt", 1, 180, fix="use 1 to 180 degrees from upright")
+    check_range(planner_seed, "--planner-seed", 0, 2**32 - 1, fix="use a seed from 0 to 2³²−1")
     overrides = {
+        "seed": planner_seed,
         "samples": plans,
         "slip_weight": slip_weight,
         "effort_weight": effort_weight,
@@ -329,6 +339,7 @@ def play_command(
         "lookahead_slip_weight": None if planner is None else planner.slip_weight,
         "lookahead_effort_weight": None if planner is None else planner.effort_weight,
         "lookahead_max_tilt_deg": None if planner is None else planner.max_tilt_deg,
+        "lookahead_seed": None if planner is None else planner.seed,
     }
     if c.sketch is not None:
         summary.update(sketch_character(system, params, c.sketch, result.torques))
