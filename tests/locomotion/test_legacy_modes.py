@@ -1,15 +1,18 @@
-"""Controller files of format 1 (modes numbered in the eigensolver's own vectors) play the torques
-they played before the canonical mode bases."""
+"""Controller and sketch files of format 1 (modes numbered in the eigensolver's own vectors) play
+and ask for the torques they did before the canonical mode bases."""
 
 import json
 
 import numpy as np
+import yaml
 
+from eigengait.character import load_character
 from eigengait.control.binding import gait_system
 from eigengait.control.controller import FORMAT_VERSION, load_controller, to_parameters
 from eigengait.control.legacy_modes import LEGACY_FORMAT, mode_transforms
 from eigengait.control.library import resolve
-from eigengait.modal.analysis import solver_torque_basis
+from eigengait.control.sketch import load_sketch
+from eigengait.modal.analysis import compute_modes, solver_torque_basis
 from eigengait.sim import WorldOptions, build_world
 
 
@@ -51,7 +54,7 @@ def test_a_format_1_file_plays_the_torques_of_its_solver_vectors(tmp_path):
             atol=1e-9,
         )
     # the change of basis is a rotation within the repeated pair and sign flips elsewhere
-    T = mode_transforms(system)[("air", foot)]
+    T = mode_transforms(system.character, system.pose, [foot], {})[("air", foot)]
     np.testing.assert_allclose(T @ T.T, np.eye(len(T)), atol=1e-9)
 
 
@@ -63,3 +66,35 @@ def test_a_format_2_file_is_read_as_it_is():
         for phase, rows in phases.items():
             for mode, value in rows.items():
                 assert params.activations[(foot, phase)][mode - 1] == value
+
+
+def _dense(priority: dict[int, float], count: int) -> np.ndarray:
+    psi = np.zeros(count)
+    for mode, value in priority.items():
+        psi[mode - 1] = value
+    return psi
+
+
+def test_a_format_1_sketch_asks_for_the_torques_it_asked_for(tmp_path):
+    """The crouched preset read as format 1: its priority activations, in the canonical bases,
+    push the joints as its numbers did in the solver's own vectors, per phase."""
+    text = resolve("sketch", "crouched").read_text()
+    assert "eigengait_sketch: 2" in text
+    path = tmp_path / "crouched-format-1.yaml"
+    path.write_text(text.replace("eigengait_sketch: 2", "eigengait_sketch: 1"))
+    as_written = yaml.safe_load(path.read_text())
+    sketch = load_sketch(path)
+    assert sketch.eigengait_sketch == 2
+    world = build_world(
+        load_character("humanoid"), "crouched", WorldOptions(gravity=False, floor=False)
+    )
+    for phase in ("air", "ground"):
+        foot = "left" if phase == "ground" else None
+        canonical = compute_modes(world, phase, foot).torque_basis
+        legacy = solver_torque_basis(world, phase, foot)
+        count = canonical.shape[1]
+        np.testing.assert_allclose(
+            canonical @ _dense(sketch.phase(phase).priority, count),
+            legacy @ _dense(as_written[phase]["priority"], count),
+            atol=1e-9,
+        )

@@ -1,11 +1,12 @@
-"""Controller files of format 1 in today's mode bases.
+"""Controller and sketch files of format 1 in today's mode bases.
 
 Format 1 numbered a gait's modes in the eigensolver's own vectors
 (`modal.analysis.solver_torque_basis`): where frequencies repeat (twin limbs) or a mode's left and
 right entries tie, those vectors are whatever the machine's rounding made them. Format 2 numbers
-them in the canonical bases (`modal.analysis.compute_modes`). `in_canonical_modes` re-expresses a
-format-1 controller's activations and modal gains, on the machine reading it, as the same torques
-in the canonical bases: the file plays here what it played here before.
+them in the canonical bases (`modal.analysis.compute_modes`). On the machine reading it,
+`in_canonical_modes` re-expresses a format-1 controller's activations and modal gains as the same
+torques in the canonical bases (the file plays here what it played here before), and
+`sketch_in_canonical_modes` re-signs a format-1 sketch's priority activations.
 """
 
 from __future__ import annotations
@@ -15,10 +16,14 @@ from pathlib import Path
 
 import numpy as np
 
+from eigengait.character import load_character
+from eigengait.character.loader import Character
 from eigengait.control.feedback import EventGains, FeedbackGains
 from eigengait.control.gait import GaitParameters, GaitSystem
+from eigengait.control.sketch import FORMAT_VERSION as SKETCH_FORMAT
+from eigengait.control.sketch import Sketch
 from eigengait.errors import UserInputError
-from eigengait.modal.analysis import solver_torque_basis
+from eigengait.modal.analysis import compute_modes, solver_torque_basis
 from eigengait.sim.world import WorldOptions, build_world
 
 LEGACY_FORMAT = 1
@@ -26,23 +31,39 @@ LEGACY_FORMAT = 1
 EXACT = 1e-9
 
 
-def mode_transforms(system: GaitSystem) -> dict[tuple[str, str], np.ndarray]:
-    """Per (phase, active foot): T (m × m) with canonical ψ = T · format-1 ψ, the same torques."""
-    world = build_world(system.character, system.pose, WorldOptions(gravity=False, floor=False))
+def mode_transforms(
+    character: Character, pose: str | dict, feet: list[str], partners: dict[str, list[str]]
+) -> dict[tuple[str, str], np.ndarray]:
+    """Per (phase, foot of `feet`): T (m × m) with canonical ψ = T · format-1 ψ, the same torques
+    (`partners`: each foot's stance partners)."""
+    world = build_world(character, pose, WorldOptions(gravity=False, floor=False))
     out = {}
-    for foot in system.active_feet:
+    for foot in feet:
         for phase in ("air", "ground"):
-            legacy = solver_torque_basis(
-                world,
-                phase,
-                foot if phase == "ground" else None,
-                partners=system.stance_partners.get(foot, ()),
-            )
-            T, *_ = np.linalg.lstsq(system.basis_matrix(foot, phase), legacy, rcond=None)
+            stance = foot if phase == "ground" else None
+            pinned = partners.get(foot, ()) if stance else ()
+            legacy = solver_torque_basis(world, phase, stance, partners=pinned)
+            canonical = compute_modes(world, phase, stance, partners=pinned).torque_basis
+            T, *_ = np.linalg.lstsq(canonical, legacy, rcond=None)
             for exact in (0.0, 1.0, -1.0):
                 T[abs(T - exact) < EXACT] = exact
             out[(phase, foot)] = T
     return out
+
+
+def _shared(T: dict, phase: str, feet: list[str], source, field: str) -> np.ndarray:
+    """The one change of basis of `phase` for every foot of `feet` (numbers of that phase are
+    shared by them); an error naming `source` and `field` where the feet's bases changed apart."""
+    first, *others = (T[(phase, foot)] for foot in feet)
+    if any(not np.array_equal(first, other) for other in others):
+        raise UserInputError(
+            f"the {phase} modes of the feet {', '.join(feet)} changed differently with the "
+            "canonical mode bases, so their shared numbers cannot be re-expressed",
+            file=source,
+            field=field,
+            fix="make it again from a format-2 sketch (`eigengait sketch new`, then `optimize`)",
+        )
+    return first
 
 
 def in_canonical_modes(
@@ -53,25 +74,14 @@ def in_canonical_modes(
     cannot share them: an error naming `source`."""
     if system.basis != "modal":
         return p
-    T = mode_transforms(system)
+    feet = system.active_feet
+    T = mode_transforms(system.character, system.pose, feet, system.stance_partners)
     activations = {key: T[(key[1], key[0])] @ psi for key, psi in p.activations.items()}
-
-    def phase_transform(phase: str) -> np.ndarray:
-        first, *others = (T[(phase, foot)] for foot in system.active_feet)
-        if any(not np.array_equal(first, other) for other in others):
-            raise UserInputError(
-                f"the {phase} modes of this controller's feet changed differently with the "
-                "canonical mode bases, so their shared feedback gains cannot be re-expressed",
-                file=source,
-                field="feedback",
-                fix="optimize the gait again (`eigengait optimize`), or remove its modal feedback",
-            )
-        return first
 
     def gains(rows: dict[str, tuple[list[int], np.ndarray]]) -> dict:
         out = {}
         for phase, (modes, K) in rows.items():
-            transform = phase_transform(phase)
+            transform = _shared(T, phase, feet, source, "feedback")
             dense = np.zeros((transform.shape[1], K.shape[1]))
             dense[np.asarray(modes) - 1] = K
             moved = transform @ dense
@@ -86,3 +96,32 @@ def in_canonical_modes(
         event=None if event is None else EventGains(speed=event.speed, phases=gains(event.phases)),
     )
     return replace(p, activations=activations, feedback=feedback)
+
+
+def sketch_in_canonical_modes(sketch: Sketch, source: str | Path | None = None) -> Sketch:
+    """`sketch`, read from a format-1 file, with each priority activation signed for the canonical
+    basis (a mode whose sign changed gets its activation negated), as format 2. A mode of a
+    repeated frequency keeps its number and value: it names another vector of the same eigenspace,
+    which no single number can re-express."""
+    current = {"eigengait_sketch": SKETCH_FORMAT}
+    if sketch.basis != "modal":
+        return sketch.model_copy(update=current)
+    character = load_character(sketch.character)
+    feet = sketch.feet or character.meta.gait_order
+    active = feet[:1] if sketch.symmetric and len(feet) > 1 else feet
+    T = mode_transforms(character, sketch.relax_pose, active, sketch.stance_partners)
+    for phase in ("air", "ground"):
+        transform = _shared(T, phase, active, source, f"{phase}.priority")
+        old = sketch.phase(phase)
+        priority = {m: v * _flip(transform, m) for m, v in old.priority.items()}
+        current[phase] = old.model_copy(update={"priority": priority})
+    return sketch.model_copy(update=current)
+
+
+def _flip(transform: np.ndarray, mode: int) -> float:
+    """−1 where the canonical basis flipped 1-based `mode`'s sign alone, else 1."""
+    if mode > transform.shape[1]:
+        return 1.0
+    column = transform[:, mode - 1]
+    alone = np.count_nonzero(column) == 1 and abs(column[mode - 1]) == 1.0
+    return float(column[mode - 1]) if alone else 1.0

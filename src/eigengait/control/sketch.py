@@ -1,7 +1,7 @@
 """The sketch: what an animator chooses before optimizing (thesis §4.3, §5.2).
 
 ```yaml
-eigengait_sketch: 1
+eigengait_sketch: 2
 character: humanoid          # built-in name, MJCF path or character sidecar (NAME.eigengait.yaml)
 relax_pose: default          # preset name or {joint: [rx, ry, rz] degrees}
 feet: [left, right]          # stance order (default: the character's gait_order)
@@ -32,7 +32,10 @@ from eigengait.files import read_mapping, validate
 from eigengait.errors import UserInputError
 from eigengait.sim.world import MAX_ACTIVATION_TIME
 
-FORMAT_VERSION = 1
+# format 2 signs the priority activations for the canonical mode bases; format 1 files are
+# re-signed on reading (control/legacy_modes.py)
+FORMAT_VERSION = 2
+LEGACY_FORMAT = 1
 
 
 class PhaseSketch(BaseModel):
@@ -159,7 +162,7 @@ class Sketch(BaseModel):
 
     @model_validator(mode="after")
     def _version(self):
-        if self.eigengait_sketch != FORMAT_VERSION:
+        if self.eigengait_sketch not in (LEGACY_FORMAT, FORMAT_VERSION):
             raise ValueError(f"unsupported sketch version {self.eigengait_sketch}")
         return self
 
@@ -176,6 +179,10 @@ def load_sketch(path: str | Path) -> Sketch:
     )
     if sketch.character.endswith((".xml", ".yaml")) and not Path(sketch.character).is_absolute():
         sketch.character = str((path.parent / sketch.character).resolve())
+    if sketch.eigengait_sketch == LEGACY_FORMAT:
+        from eigengait.control.legacy_modes import sketch_in_canonical_modes
+
+        return sketch_in_canonical_modes(sketch, path)
     return sketch
 
 

@@ -15,6 +15,7 @@ import numpy as np
 
 from eigengait.character.loader import Character
 from eigengait.modal import compute_modes
+from eigengait.control.sketch import FORMAT_VERSION
 
 PRIORITY_MODES, ALLOWED_MODES = 3, 3
 PSI_ANGLE = 0.2  # rad
@@ -41,7 +42,7 @@ def starter_sketch(character: Character, reference: str) -> dict:
     period = float(np.clip(0.5 / ground.frequencies_hz[0], *PERIOD_RANGE))
     share = period / len(feet)
     return {
-        "eigengait_sketch": 1,
+        "eigengait_sketch": FORMAT_VERSION,
         "description": (
             f"Starter sketch for {character.name}: lowest modes as priority, timing from the "
             f"lowest ground mode ({ground.frequencies_hz[0]:.2f} Hz). Edit freely."
