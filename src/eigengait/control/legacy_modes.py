@@ -6,7 +6,8 @@ right entries tie, those vectors are whatever the machine's rounding made them. 
 them in the canonical bases (`modal.analysis.compute_modes`). On the machine reading it,
 `in_canonical_modes` re-expresses a format-1 controller's activations and modal gains as the same
 torques in the canonical bases (the file plays here what it played here before), and
-`sketch_in_canonical_modes` re-signs a format-1 sketch's priority activations.
+`mode_signs` gives the signs that re-sign a format-1 sketch's priority activations
+(`control.sketch.load_sketch`).
 """
 
 from __future__ import annotations
@@ -20,8 +21,6 @@ from eigengait.character import load_character
 from eigengait.character.loader import Character
 from eigengait.control.feedback import EventGains, FeedbackGains
 from eigengait.control.gait import GaitParameters, GaitSystem
-from eigengait.control.sketch import FORMAT_VERSION as SKETCH_FORMAT
-from eigengait.control.sketch import Sketch
 from eigengait.errors import UserInputError
 from eigengait.modal.analysis import compute_modes, solver_torque_basis
 from eigengait.sim.world import WorldOptions, build_world
@@ -98,30 +97,25 @@ def in_canonical_modes(
     return replace(p, activations=activations, feedback=feedback)
 
 
-def sketch_in_canonical_modes(sketch: Sketch, source: str | Path | None = None) -> Sketch:
-    """`sketch`, read from a format-1 file, with each priority activation signed for the canonical
-    basis (a mode whose sign changed gets its activation negated), as format 2. A mode of a
-    repeated frequency keeps its number and value: it names another vector of the same eigenspace,
-    which no single number can re-express."""
-    current = {"eigengait_sketch": SKETCH_FORMAT}
-    if sketch.basis != "modal":
-        return sketch.model_copy(update=current)
-    character = load_character(sketch.character)
-    feet = sketch.feet or character.meta.gait_order
-    active = feet[:1] if sketch.symmetric and len(feet) > 1 else feet
-    T = mode_transforms(character, sketch.relax_pose, active, sketch.stance_partners)
+def mode_signs(
+    character_name: str,
+    pose: str | dict,
+    feet: list[str] | None,
+    symmetric: bool,
+    partners: dict[str, list[str]],
+    source: str | Path | None = None,
+) -> dict[str, np.ndarray]:
+    """Per phase, ±1 per mode: −1 where the canonical basis flipped that mode's sign alone (a
+    sketch's feet; none: the character's gait order). A mode of a repeated frequency gets 1: it
+    names another vector of the same eigenspace, which no sign re-expresses."""
+    character = load_character(character_name)
+    feet = feet or character.meta.gait_order
+    active = feet[:1] if symmetric and len(feet) > 1 else feet
+    T = mode_transforms(character, pose, active, partners)
+    out = {}
     for phase in ("air", "ground"):
         transform = _shared(T, phase, active, source, f"{phase}.priority")
-        old = sketch.phase(phase)
-        priority = {m: v * _flip(transform, m) for m, v in old.priority.items()}
-        current[phase] = old.model_copy(update={"priority": priority})
-    return sketch.model_copy(update=current)
-
-
-def _flip(transform: np.ndarray, mode: int) -> float:
-    """−1 where the canonical basis flipped 1-based `mode`'s sign alone, else 1."""
-    if mode > transform.shape[1]:
-        return 1.0
-    column = transform[:, mode - 1]
-    alone = np.count_nonzero(column) == 1 and abs(column[mode - 1]) == 1.0
-    return float(column[mode - 1]) if alone else 1.0
+        diagonal = np.diag(transform)
+        alone = (np.count_nonzero(transform, axis=0) == 1) & (abs(diagonal) == 1.0)
+        out[phase] = np.where(alone, diagonal, 1.0)
+    return out

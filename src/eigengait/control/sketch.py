@@ -26,6 +26,7 @@ from typing import Literal
 
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
+from eigengait.control.legacy_modes import mode_signs
 from eigengait.control.simbicon import SimbiconSettings
 from eigengait.control.swing_servo import ServoSettings
 from eigengait.files import read_mapping, validate
@@ -180,10 +181,31 @@ def load_sketch(path: str | Path) -> Sketch:
     if sketch.character.endswith((".xml", ".yaml")) and not Path(sketch.character).is_absolute():
         sketch.character = str((path.parent / sketch.character).resolve())
     if sketch.eigengait_sketch == LEGACY_FORMAT:
-        from eigengait.control.legacy_modes import sketch_in_canonical_modes
-
-        return sketch_in_canonical_modes(sketch, path)
+        return _in_canonical_modes(sketch, path)
     return sketch
+
+
+def _in_canonical_modes(sketch: Sketch, path: Path) -> Sketch:
+    """A format-1 sketch as format 2: each priority activation on a mode whose sign the canonical
+    bases flipped (on this machine) negated, so it asks for the torques it asked for."""
+    update: dict = {"eigengait_sketch": FORMAT_VERSION}
+    if sketch.basis == "modal":
+        signs = mode_signs(
+            sketch.character,
+            sketch.relax_pose,
+            sketch.feet,
+            sketch.symmetric,
+            sketch.stance_partners,
+            path,
+        )
+        for phase, sign in signs.items():
+            old = sketch.phase(phase)
+            priority = {
+                m: v * (float(sign[m - 1]) if m <= len(sign) else 1.0)
+                for m, v in old.priority.items()
+            }
+            update[phase] = old.model_copy(update={"priority": priority})
+    return sketch.model_copy(update=update)
 
 
 def check_modes(sketch: Sketch, counts: dict[str, int], path: str | Path | None = None) -> None:
