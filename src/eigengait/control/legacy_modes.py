@@ -60,7 +60,8 @@ def _shared(T: dict, phase: str, feet: list[str], source, field: str) -> np.ndar
             "canonical mode bases, so their shared numbers cannot be re-expressed",
             file=source,
             field=field,
-            fix="make it again from a format-2 sketch (`eigengait sketch new`, then `optimize`)",
+            fix="mark the file format 2 and check its signs against `eigengait palette`, or make "
+            "it again (`eigengait sketch new`, `eigengait optimize`)",
         )
     return first
 
