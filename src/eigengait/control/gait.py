@@ -48,6 +48,12 @@ class GaitParameters:
     trigger: str = "clock"
 
 
+def free_feet(feet: list[str], symmetric: bool) -> list[str]:
+    """The feet of a gait whose activations are its own: the first only when a symmetric gait
+    mirrors it onto the second, else each foot once."""
+    return feet[:1] if symmetric and len(feet) > 1 else list(dict.fromkeys(feet))
+
+
 @dataclass
 class GaitSystem:
     character: Character
@@ -133,7 +139,7 @@ class GaitSystem:
     @property
     def active_feet(self) -> list[str]:
         """Feet whose activations are free parameters (the first only when mirrored)."""
-        return self.feet[:1] if self.mirror is not None else list(dict.fromkeys(self.feet))
+        return free_feet(self.feet, self.mirror is not None)
 
     @property
     def torque_limits(self) -> np.ndarray:

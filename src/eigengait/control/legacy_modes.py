@@ -20,7 +20,7 @@ import numpy as np
 from eigengait.character import load_character
 from eigengait.character.loader import Character
 from eigengait.control.feedback import EventGains, FeedbackGains
-from eigengait.control.gait import GaitParameters, GaitSystem
+from eigengait.control.gait import GaitParameters, GaitSystem, free_feet
 from eigengait.errors import UserInputError
 from eigengait.modal.analysis import compute_modes, solver_torque_basis
 from eigengait.sim.world import WorldOptions, build_world
@@ -111,7 +111,7 @@ def mode_signs(
     names another vector of the same eigenspace, which no sign re-expresses."""
     character = load_character(character_name)
     feet = feet or character.meta.gait_order
-    active = feet[:1] if symmetric and len(feet) > 1 else feet
+    active = free_feet(feet, symmetric)
     T = mode_transforms(character, pose, active, partners)
     out = {}
     for phase in ("air", "ground"):

@@ -2,8 +2,8 @@
 exactly only on the same MuJoCo and NumPy versions and the same kind of CPU: the vector
 instructions MuJoCo and NumPy may use, and the CPU's make, model and generation (family and model
 numbers: the name alone, "AMD EPYC", covers several), by which NumPy's OpenBLAS picks its kernels
-(docs/locomotion.md, "Survival is chaotic": one AMD EPYC replays the shipped gaits' figures exactly,
-another with the same name and vector instructions plays the dog trot into a fall)."""
+(docs/locomotion.md, "Survival is chaotic"). The mode bases no longer depend on that rounding
+(modal/eigen.py); the simulation of a falling gait still does."""
 
 from __future__ import annotations
 
