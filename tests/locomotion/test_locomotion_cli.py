@@ -1,6 +1,7 @@
 """The locomotion commands as a user runs them: sketch, optimize (resume, refusal), play, bad
 input."""
 
+import csv
 import json
 
 import pytest
@@ -56,6 +57,15 @@ def test_optimize_resume_and_play(tmp_path, eigengait_cli):
     ):
         assert (run / name).exists(), name
     rows = (run / "log.csv").read_text().splitlines()
+    # the evaluations printed are the whole run's: both stages, each stopped after the generation
+    # that spent its share of the budget
+    spent = [
+        int(next(csv.DictReader(lines[-1:], fieldnames=lines[0].split(",")))["evaluations"])
+        for lines in (
+            (run / stage / "log.csv").read_text().splitlines() for stage in ("open-loop", ".")
+        )
+    ]
+    assert all(spent) and f"{sum(spent)} evaluations" in first.stdout
     before = (run / "best_controller.json").read_text()
     again = eigengait_cli("optimize", "basic-run", "-o", run, "--max-evaluations", "40")
     assert again.returncode == 2 and "--resume" in again.stderr and "--force" in again.stderr

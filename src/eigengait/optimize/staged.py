@@ -75,8 +75,8 @@ def optimize_gait(
     seed: int | None = None,
 ) -> MomState:
     """Optimize a sketch into a gait (two stages when it has feedback or a multi-cycle horizon).
-    `seed`: the seed the user asked for explicitly, if any (a resumed run refuses a different
-    one)."""
+    Returns the last stage's state with the evaluations and seconds of both stages. `seed`: the
+    seed the user asked for explicitly, if any (a resumed run refuses a different one)."""
     if not sketch.feedback.mechanisms and sketch.feedback.horizon_cycles == 1:
         return optimize(
             sketch, folder, settings, evaluator, workers, resume, progress, sketch_source, seed=seed
@@ -89,7 +89,7 @@ def optimize_gait(
         )
     if resume and (folder / CHECKPOINT).exists():
         first = load_state(stage / CHECKPOINT)
-        return optimize(
+        last = optimize(
             sketch,
             folder,
             replace(_spent(settings, first), sigma0=CLOSED_LOOP_SIGMA),
@@ -100,6 +100,7 @@ def optimize_gait(
             sketch_source,
             seed=seed,
         )
+        return _whole_run(last, first)
     first = optimize(
         open_loop_sketch(sketch),
         stage,
@@ -111,8 +112,17 @@ def optimize_gait(
         sketch_source,
         seed=seed,
     )
-    return closed_loop_stage(
+    last = closed_loop_stage(
         sketch, folder, _spent(settings, first), first, evaluator, workers, progress, sketch_source
+    )
+    return _whole_run(last, first)
+
+
+def _whole_run(last: MomState, first: MomState) -> MomState:
+    """Stage 2's state `last` counting stage 1's evaluations and seconds too: what the run spent
+    from the sketch, as its budget counts it."""
+    return replace(
+        last, evaluations=last.evaluations + first.evaluations, elapsed=last.elapsed + first.elapsed
     )
 
 
