@@ -57,15 +57,12 @@ def test_optimize_resume_and_play(tmp_path, eigengait_cli):
     ):
         assert (run / name).exists(), name
     rows = (run / "log.csv").read_text().splitlines()
-    # the evaluations printed are the whole run's: both stages, each stopped after the generation
-    # that spent its share of the budget
-    spent = [
-        int(next(csv.DictReader(lines[-1:], fieldnames=lines[0].split(",")))["evaluations"])
-        for lines in (
-            (run / stage / "log.csv").read_text().splitlines() for stage in ("open-loop", ".")
-        )
-    ]
-    assert all(spent) and f"{sum(spent)} evaluations" in first.stdout
+    # the figures printed are the whole run's: both stages, each stopped after the generation that
+    # spent its share of the budget
+    last = [list(csv.DictReader(open(run / stage / "log.csv")))[-1] for stage in ("open-loop", ".")]
+    spent = [int(row["evaluations"]) for row in last]
+    generations = sum(int(row["generation"]) for row in last)
+    assert all(spent) and f"{sum(spent)} evaluations, {generations} generations" in first.stdout
     before = (run / "best_controller.json").read_text()
     again = eigengait_cli("optimize", "basic-run", "-o", run, "--max-evaluations", "40")
     assert again.returncode == 2 and "--resume" in again.stderr and "--force" in again.stderr

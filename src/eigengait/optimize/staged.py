@@ -75,8 +75,9 @@ def optimize_gait(
     seed: int | None = None,
 ) -> MomState:
     """Optimize a sketch into a gait (two stages when it has feedback or a multi-cycle horizon).
-    Returns the last stage's state with the evaluations and seconds of both stages. `seed`: the
-    seed the user asked for explicitly, if any (a resumed run refuses a different one)."""
+    Returns the last stage's state with the generations, evaluations and seconds of both
+    stages. `seed`: the seed the user asked for explicitly, if any (a resumed run refuses a
+    different one)."""
     if not sketch.feedback.mechanisms and sketch.feedback.horizon_cycles == 1:
         return optimize(
             sketch, folder, settings, evaluator, workers, resume, progress, sketch_source, seed=seed
@@ -119,10 +120,13 @@ def optimize_gait(
 
 
 def _whole_run(last: MomState, first: MomState) -> MomState:
-    """Stage 2's state `last` counting stage 1's evaluations and seconds too: what the run spent
-    from the sketch, as its budget counts it."""
+    """Stage 2's state `last` counting stage 1's generations, evaluations and seconds too: what the
+    run spent from the sketch, as its budget counts it."""
     return replace(
-        last, evaluations=last.evaluations + first.evaluations, elapsed=last.elapsed + first.elapsed
+        last,
+        generation=last.generation + first.generation,
+        evaluations=last.evaluations + first.evaluations,
+        elapsed=last.elapsed + first.elapsed,
     )
 
 
